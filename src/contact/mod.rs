@@ -1,0 +1,265 @@
+//! The contact law: pure functions of overlap, rates and materials, no rapier.
+//!
+//! Split like LAMMPS's GRANULAR package, each part small and unit-tested against closed forms:
+//! [`material`] (eq. 2), [`normal`] (Hertz, eqs. 1 and 3), [`damping`] (eq. 12, dissipative sign),
+//! [`friction`] (eq. 11 with a Mindlin stick spring), [`geometry`] (overlaps, eq. 8) and
+//! [`theory`] (closed forms of physics.md). [`evaluate`] combines them for one contact.
+
+pub mod damping;
+pub mod friction;
+pub mod geometry;
+pub mod material;
+pub mod normal;
+pub mod theory;
+
+use crate::math::Vec3;
+pub use material::{Material, MaterialError};
+
+/// Which parts of the law are on (the fidelity levels of the scenario, see `docs/accuracy.md`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LawParts {
+    /// Eq. 12 energy loss; off means elastic Hertz whatever ke says.
+    pub energy_loss: bool,
+    /// Coulomb friction with the stick spring; off means frictionless.
+    pub friction: bool,
+    /// The eq. 9 shift of the contact point along the friction force ("full" fidelity).
+    pub patch_shift: bool,
+}
+
+impl Default for LawParts {
+    fn default() -> Self {
+        Self {
+            energy_loss: true,
+            friction: true,
+            patch_shift: false,
+        }
+    }
+}
+
+/// Constants of the law for one pair of materials (body 1 is the apple).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairLaw {
+    /// Effective modulus E* (Pa).
+    pub e_star_pa: f64,
+    /// Effective shear modulus G* for the Mindlin spring (Pa).
+    pub g_star_pa: f64,
+    /// Body 1's share of the overlap, c1 / (c1 + c2).
+    pub share1: f64,
+    /// Coulomb coefficient.
+    pub friction: f64,
+    /// Eq. 12 energy-loss coefficient ke in (0, 1]; 1 is elastic.
+    pub ke: f64,
+    /// Eq. 12 rate constant lambda (s/m).
+    pub lambda_s_m: f64,
+    /// Body 1's Poisson ratio (eq. 9 patch shift).
+    pub nu1: f64,
+    /// Body 1's shear modulus (eq. 9 patch shift), Pa.
+    pub g1_pa: f64,
+}
+
+impl PairLaw {
+    /// Combines two materials with the pair's friction, ke and lambda.
+    pub fn new(m1: &Material, m2: &Material, friction: f64, ke: f64, lambda_s_m: f64) -> Self {
+        Self {
+            e_star_pa: material::effective_modulus(m1, m2),
+            g_star_pa: material::effective_shear_modulus(m1, m2),
+            share1: material::indentation_share(m1, m2),
+            friction,
+            ke,
+            lambda_s_m,
+            nu1: m1.poisson_ratio,
+            g1_pa: m1.shear_modulus_pa,
+        }
+    }
+}
+
+/// Kinematics of one contact at the current poses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactKinematics {
+    /// Unit normal from body 2 towards body 1.
+    pub normal: Vec3,
+    /// Overlap u > 0 (m).
+    pub overlap_m: f64,
+    /// Effective radius R* (m).
+    pub r_star_m: f64,
+    /// Velocity of body 1's surface point at the contact point minus body 2's (belt included), m/s.
+    pub rel_velocity: Vec3,
+    /// Tangential effective mass of the contact (kg), for the dashpot.
+    pub tangential_mass_kg: f64,
+}
+
+/// What the law returns for one contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactResponse {
+    /// Normal force P >= 0 (N).
+    pub normal_force_n: f64,
+    /// Total force on body 1 (normal + friction), N; body 2 gets the opposite.
+    pub force_on_1: Vec3,
+    /// Friction force on body 1 (N).
+    pub friction_force: Vec3,
+    /// Shift of the point of application from the geometric contact point (eq. 9), m.
+    pub patch_shift: Vec3,
+    /// Contact radius a (m).
+    pub contact_radius_m: f64,
+    /// Mean pressure P / (pi a^2) (Pa).
+    pub mean_pressure_pa: f64,
+    /// Overlap rate du/dt (m/s), > 0 while approaching.
+    pub overlap_rate_m_s: f64,
+    /// Tangential slip speed |s_t| (m/s).
+    pub slip_speed_m_s: f64,
+    /// Whether friction is at the Coulomb limit.
+    pub sliding: bool,
+}
+
+/// Evaluates the full law for one contact. `xi` is the contact's stored tangential displacement;
+/// `damping_ratio` scales the tangential dashpot as a fraction of m_eff / dt (see [`friction`]).
+pub fn evaluate(
+    law: &PairLaw,
+    parts: LawParts,
+    kin: &ContactKinematics,
+    xi: &mut Vec3,
+    tangential_relaxation: f64,
+    dt_s: f64,
+) -> ContactResponse {
+    let n = kin.normal;
+    let u = kin.overlap_m;
+    let k = normal::stiffness(law.e_star_pa, kin.r_star_m);
+    let v_n = kin.rel_velocity.dot(n);
+    let du_dt = -v_n;
+    let elastic = normal::hertz_force(k, u);
+    let p = if parts.energy_loss {
+        elastic * damping::hysteresis_factor(law.ke, law.lambda_s_m, du_dt)
+    } else {
+        elastic
+    };
+    let a = normal::contact_radius(kin.r_star_m, u);
+    let slip_t = kin.rel_velocity - n * v_n;
+    let mut friction_force = Vec3::ZERO;
+    let mut sliding = false;
+    let mut shift = Vec3::ZERO;
+    if parts.friction && law.friction > 0.0 {
+        *xi = friction::project_history(*xi, n);
+        let params = friction::TangentialParams {
+            mu: law.friction,
+            stiffness_n_m: friction::mindlin_stiffness(law.g_star_pa, a),
+            damping_n_s_m: tangential_relaxation * kin.tangential_mass_kg / dt_s,
+        };
+        let t = friction::tangential_force(&params, p, slip_t, xi, dt_s);
+        friction_force = t.force;
+        sliding = t.sliding;
+        if parts.patch_shift && a > 0.0 {
+            // Eq. 9: the pressure centre moves by delta = F_t nu1 / (4 a G1) along F_t.
+            shift = friction_force * (law.nu1 / (4.0 * a * law.g1_pa));
+        }
+    } else {
+        *xi = Vec3::ZERO;
+    }
+    ContactResponse {
+        normal_force_n: p,
+        force_on_1: n * p + friction_force,
+        friction_force,
+        patch_shift: shift,
+        contact_radius_m: a,
+        mean_pressure_pa: normal::mean_pressure(p, a),
+        overlap_rate_m_s: du_dt,
+        slip_speed_m_s: slip_t.length(),
+        sliding,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fig1_law() -> PairLaw {
+        let apple = Material::from_shear(1.1e6, 0.18, Some(800.0)).unwrap();
+        let steel = Material::from_shear(8.1e10, 0.28, None).unwrap();
+        PairLaw::new(&apple, &steel, 0.3, 0.09, 1000.0)
+    }
+
+    fn kin(u: f64, vel: Vec3) -> ContactKinematics {
+        ContactKinematics {
+            normal: Vec3::Z,
+            overlap_m: u,
+            r_star_m: 0.04,
+            rel_velocity: vel,
+            tangential_mass_kg: 0.03,
+        }
+    }
+
+    #[test]
+    fn loading_is_hertz_unloading_is_ke_hertz() {
+        let law = fig1_law();
+        let mut xi = Vec3::ZERO;
+        let load = evaluate(
+            &law,
+            LawParts::default(),
+            &kin(1e-3, Vec3::new(0.0, 0.0, -1.0)),
+            &mut xi,
+            0.5,
+            1e-5,
+        );
+        let k = normal::stiffness(law.e_star_pa, 0.04);
+        assert!((load.normal_force_n - k * 1e-3f64.powf(1.5)).abs() < 1e-9);
+        let unload = evaluate(
+            &law,
+            LawParts::default(),
+            &kin(1e-3, Vec3::new(0.0, 0.0, 1.0)),
+            &mut xi,
+            0.5,
+            1e-5,
+        );
+        assert!((unload.normal_force_n / load.normal_force_n - 0.09).abs() < 1e-9);
+        assert!(unload.normal_force_n >= 0.0);
+    }
+
+    #[test]
+    fn friction_caps_at_mu_p_and_opposes_slip() {
+        let law = fig1_law();
+        let mut xi = Vec3::ZERO;
+        let r = evaluate(
+            &law,
+            LawParts::default(),
+            &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
+            &mut xi,
+            0.5,
+            1e-5,
+        );
+        assert!(r.sliding);
+        assert!((r.friction_force.length() - 0.3 * r.normal_force_n).abs() < 1e-9);
+        assert!(r.friction_force.x < 0.0);
+        let off = evaluate(
+            &law,
+            LawParts {
+                friction: false,
+                ..LawParts::default()
+            },
+            &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
+            &mut xi,
+            0.5,
+            1e-5,
+        );
+        assert_eq!(off.friction_force, Vec3::ZERO);
+    }
+
+    #[test]
+    fn patch_shift_follows_eq9() {
+        let law = fig1_law();
+        let mut xi = Vec3::ZERO;
+        let parts = LawParts {
+            patch_shift: true,
+            ..LawParts::default()
+        };
+        let r = evaluate(
+            &law,
+            parts,
+            &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
+            &mut xi,
+            0.5,
+            1e-5,
+        );
+        let expect = r.friction_force.length() * law.nu1 / (4.0 * r.contact_radius_m * law.g1_pa);
+        assert!((r.patch_shift.length() - expect).abs() < 1e-15);
+        assert!(r.patch_shift.x < 0.0, "shift along F_t");
+    }
+}

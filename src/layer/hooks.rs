@@ -1,0 +1,63 @@
+//! The rapier physics hooks that switch rapier's own contact response off for the pairs we model.
+//!
+//! rapier-notes.md: `filter_contact_pair` returning `None` clears the pair's manifolds (rapier
+//! computes no contact geometry for it) while the pair stays in the narrow phase's graph, so
+//! `NarrowPhase::contact_pairs()` still lists it: that list is our apple-surface candidate list,
+//! and the forces come from our own geometry at the current poses. Pairs with a surface whose
+//! model is `rigid` get rapier's ordinary response (`Some(COMPUTE_RIGID_IMPULSES)`).
+
+use rapier3d_f64::geometry::{ColliderHandle, SolverFlags};
+use rapier3d_f64::pipeline::{PairFilterContext, PhysicsHooks};
+use std::collections::HashMap;
+
+/// What a registered collider is to the layer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// An apple (a ball) whose contacts the layer computes.
+    Apple,
+    /// A surface whose contacts with apples the layer computes (Hertz law).
+    HertzSurface,
+    /// A surface whose contacts with apples rapier solves itself (`"contact_model": "rigid"`).
+    RigidSurface,
+}
+
+/// Pass `&layer.hooks()` to `PhysicsPipeline::step` (or `PhysicsWorld::step_with_events`).
+#[derive(Debug, Clone, Default)]
+pub struct ContactHooks {
+    roles: HashMap<ColliderHandle, Role>,
+}
+
+impl ContactHooks {
+    pub(crate) fn set(&mut self, h: ColliderHandle, role: Role) {
+        self.roles.insert(h, role);
+    }
+
+    pub(crate) fn remove(&mut self, h: ColliderHandle) {
+        self.roles.remove(&h);
+    }
+
+    /// The role of a collider, if registered.
+    pub fn role(&self, h: ColliderHandle) -> Option<Role> {
+        self.roles.get(&h).copied()
+    }
+
+    /// Whether rapier must leave this pair's response to the layer.
+    pub fn layer_owns(&self, c1: ColliderHandle, c2: ColliderHandle) -> bool {
+        matches!(
+            (self.role(c1), self.role(c2)),
+            (Some(Role::Apple), Some(Role::Apple))
+                | (Some(Role::Apple), Some(Role::HertzSurface))
+                | (Some(Role::HertzSurface), Some(Role::Apple))
+        )
+    }
+}
+
+impl PhysicsHooks for ContactHooks {
+    fn filter_contact_pair(&self, context: &PairFilterContext) -> Option<SolverFlags> {
+        if self.layer_owns(context.collider1, context.collider2) {
+            None
+        } else {
+            Some(SolverFlags::COMPUTE_RIGID_IMPULSES)
+        }
+    }
+}

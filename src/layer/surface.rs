@@ -1,0 +1,340 @@
+//! Apple-surface contact geometry at the current poses.
+//!
+//! rapier finds which surfaces are near an apple (its broad phase, from the collider shapes); this
+//! module computes the overlap, normal and surface curvature of each contact from the collider's
+//! pose *now*, never from rapier's manifolds, which describe the previous pose (rapier-notes.md,
+//! "one-step lag"). Planes, spheres, boxes and troughs are analytic; triangle meshes are queried
+//! triangle by triangle through their BVH; any other convex shape goes through parry's `contact`.
+
+use crate::math::Vec3;
+use rapier3d_f64::geometry::Collider;
+use rapier3d_f64::parry::bounding_volume::Aabb;
+use rapier3d_f64::parry::math::Pose;
+use rapier3d_f64::parry::query;
+use rapier3d_f64::parry::shape::{Ball, TriMesh};
+
+/// How the layer computes contacts with a surface collider.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SurfaceShape {
+    /// Read the collider's own shape: half-space (plane), ball (convex sphere, K = 1/R), cuboid
+    /// (box, flat faces; edges and corners treated as flat), triangle mesh (flat triangles), or
+    /// any other convex shape through parry (flat).
+    FromCollider,
+    /// A concave half-pipe (trough) in the collider's local frame: axis along local x from
+    /// -half_length to +half_length, inner radius `radius_m`, open towards local +z, spanning
+    /// `half_angle_rad` on each side of the bottom line (pi/2 for a half pipe). Curvature
+    /// K = -1/R_s across the trough (physics.md section 2 treats a trough like a cup of the same
+    /// radius: the more conforming, higher-force choice). The collider's own shape is only used
+    /// by rapier to find the pair.
+    Trough {
+        /// Inner radius R_s (m).
+        radius_m: f64,
+        /// Half length along local x (m).
+        half_length_m: f64,
+        /// Angular half-width from the bottom line (rad).
+        half_angle_rad: f64,
+    },
+}
+
+/// One apple-surface contact (or near-contact, overlap may be <= 0) at the current poses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceHit {
+    /// Unit normal from the surface towards the apple centre (world).
+    pub normal: Vec3,
+    /// Overlap u (m); <= 0 means apart by -u.
+    pub overlap_m: f64,
+    /// Surface curvature K2 at the contact (1/m): 0 flat, > 0 convex, < 0 concave.
+    pub curvature_1_m: f64,
+}
+
+/// Normals closer than this (cos 30 deg) belong to one contact on a mesh (see [`mesh_hits`]).
+pub const MESH_MERGE_COS: f64 = 0.866_025_403_784_438_6;
+
+/// Appends the hits of an apple (centre, radius) with a surface, keeping those with overlap
+/// > -margin. Several hits are possible only for meshes (an apple in a V or a corner).
+pub fn surface_hits(
+    shape: &SurfaceShape,
+    collider: &Collider,
+    centre: Vec3,
+    radius: f64,
+    margin: f64,
+    out: &mut Vec<SurfaceHit>,
+) {
+    let pose = collider.position();
+    match shape {
+        SurfaceShape::Trough {
+            radius_m,
+            half_length_m,
+            half_angle_rad,
+        } => {
+            if let Some(h) = trough_hit(
+                pose,
+                centre,
+                radius,
+                *radius_m,
+                *half_length_m,
+                *half_angle_rad,
+            ) {
+                if h.overlap_m > -margin {
+                    out.push(h);
+                }
+            }
+        }
+        SurfaceShape::FromCollider => {
+            let s = collider.shape();
+            if let Some(hs) = s.as_halfspace() {
+                let n = pose.rotation * hs.normal;
+                let u = radius - (centre - pose.translation).dot(n);
+                if u > -margin {
+                    out.push(SurfaceHit {
+                        normal: n,
+                        overlap_m: u,
+                        curvature_1_m: 0.0,
+                    });
+                }
+            } else if let Some(b) = s.as_ball() {
+                let d = centre - pose.translation;
+                let dist = d.length();
+                let u = radius + b.radius - dist;
+                if dist > 0.0 && u > -margin {
+                    out.push(SurfaceHit {
+                        normal: d / dist,
+                        overlap_m: u,
+                        curvature_1_m: 1.0 / b.radius,
+                    });
+                }
+            } else if let Some(c) = s.as_cuboid() {
+                if let Some(h) = cuboid_hit(pose, c.half_extents, centre, radius) {
+                    if h.overlap_m > -margin {
+                        out.push(h);
+                    }
+                }
+            } else if let Some(m) = s.as_trimesh() {
+                mesh_hits(pose, m, centre, radius, margin, out);
+            } else {
+                let ball = Ball::new(radius);
+                let ball_pose = Pose::from_translation(centre);
+                if let Ok(Some(c)) = query::contact(&ball_pose, &ball, pose, s, margin) {
+                    out.push(SurfaceHit {
+                        normal: -c.normal1,
+                        overlap_m: -c.dist,
+                        curvature_1_m: 0.0,
+                    });
+                }
+            }
+        }
+    }
+}
+
+fn cuboid_hit(pose: &Pose, half: Vec3, centre: Vec3, radius: f64) -> Option<SurfaceHit> {
+    let p = pose.inverse_transform_point(centre);
+    let q = p.clamp(-half, half);
+    let d = p - q;
+    let dist = d.length();
+    if dist > 0.0 {
+        return Some(SurfaceHit {
+            normal: pose.rotation * (d / dist),
+            overlap_m: radius - dist,
+            curvature_1_m: 0.0,
+        });
+    }
+    // Centre inside the box: leave through the nearest face.
+    let depth = half - p.abs();
+    let (axis, dep) = if depth.x <= depth.y && depth.x <= depth.z {
+        (Vec3::X * p.x.signum(), depth.x)
+    } else if depth.y <= depth.z {
+        (Vec3::Y * p.y.signum(), depth.y)
+    } else {
+        (Vec3::Z * p.z.signum(), depth.z)
+    };
+    Some(SurfaceHit {
+        normal: pose.rotation * axis,
+        overlap_m: radius + dep,
+        curvature_1_m: 0.0,
+    })
+}
+
+fn trough_hit(
+    pose: &Pose,
+    centre: Vec3,
+    radius: f64,
+    rs: f64,
+    half_length: f64,
+    half_angle: f64,
+) -> Option<SurfaceHit> {
+    let p = pose.inverse_transform_point(centre);
+    if p.x.abs() > half_length {
+        return None;
+    }
+    let perp = Vec3::new(0.0, p.y, p.z);
+    let rho = perp.length();
+    if rho == 0.0 || rho >= rs {
+        return None;
+    }
+    // Angle from the bottom line (local -z).
+    let phi = p.y.atan2(-p.z);
+    if phi.abs() > half_angle {
+        return None;
+    }
+    Some(SurfaceHit {
+        normal: pose.rotation * (-perp / rho),
+        overlap_m: radius - (rs - rho),
+        curvature_1_m: -1.0 / rs,
+    })
+}
+
+/// Contacts with a triangle mesh: the closest point of every triangle near the apple, then
+/// merged so that one smooth region gives one contact: hits whose closest points coincide
+/// (a shared edge or vertex) are one, and hits whose normals lie within 30 degrees of a deeper
+/// hit are dropped (a flat floor split into triangles, or a finely tessellated curve, must not
+/// push twice). Triangles are treated as flat (K = 0) and two-sided.
+pub fn mesh_hits(
+    pose: &Pose,
+    mesh: &TriMesh,
+    centre: Vec3,
+    radius: f64,
+    margin: f64,
+    out: &mut Vec<SurfaceHit>,
+) {
+    let p = pose.inverse_transform_point(centre);
+    let reach = radius + margin.max(0.0);
+    let aabb = Aabb::new(p - Vec3::splat(reach), p + Vec3::splat(reach));
+    let mut local: Vec<(f64, Vec3)> = Vec::new();
+    for tri_id in mesh.bvh().intersect_aabb(&aabb) {
+        let tri = mesh.triangle(tri_id);
+        let q = closest_point_on_triangle(p, tri.a, tri.b, tri.c);
+        let d = p - q;
+        let dist = d.length();
+        let u = radius - dist;
+        if u <= -margin {
+            continue;
+        }
+        let n = if dist > 1e-12 * radius {
+            d / dist
+        } else {
+            match tri.normal() {
+                Some(n) => n,
+                None => continue,
+            }
+        };
+        local.push((u, n));
+    }
+    // Deepest first; ties broken by the normal's components for a fixed order.
+    local.sort_by(|a, b| {
+        b.0.total_cmp(&a.0)
+            .then(a.1.x.total_cmp(&b.1.x))
+            .then(a.1.y.total_cmp(&b.1.y))
+            .then(a.1.z.total_cmp(&b.1.z))
+    });
+    let first = out.len();
+    for (u, n) in local {
+        let nw = pose.rotation * n;
+        if out[first..].iter().any(|h| h.normal.dot(nw) > MESH_MERGE_COS) {
+            continue;
+        }
+        out.push(SurfaceHit {
+            normal: nw,
+            overlap_m: u,
+            curvature_1_m: 0.0,
+        });
+    }
+}
+
+/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
+pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let v = vb * denom;
+    let w = vc * denom;
+    a + ab * v + ac * w
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rapier3d_f64::geometry::ColliderBuilder;
+
+    #[test]
+    fn two_triangle_floor_gives_one_hit_even_on_the_diagonal() {
+        let verts = vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ];
+        let col = ColliderBuilder::trimesh(verts, vec![[0, 1, 2], [0, 2, 3]])
+            .unwrap()
+            .build();
+        for centre in [Vec3::new(0.0, 0.0, 0.039), Vec3::new(0.3, -0.2, 0.039)] {
+            let mut hits = Vec::new();
+            surface_hits(
+                &SurfaceShape::FromCollider,
+                &col,
+                centre,
+                0.04,
+                0.0,
+                &mut hits,
+            );
+            assert_eq!(hits.len(), 1, "{hits:?}");
+            assert!((hits[0].overlap_m - 0.001).abs() < 1e-12);
+            assert!((hits[0].normal - Vec3::Z).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn box_and_trough() {
+        let b = ColliderBuilder::cuboid(0.5, 0.5, 0.1).build();
+        let mut hits = Vec::new();
+        surface_hits(
+            &SurfaceShape::FromCollider,
+            &b,
+            Vec3::new(0.1, 0.0, 0.139),
+            0.04,
+            0.0,
+            &mut hits,
+        );
+        assert!((hits[0].overlap_m - 0.001).abs() < 1e-12);
+        let t = ColliderBuilder::ball(0.1).build();
+        let shape = SurfaceShape::Trough {
+            radius_m: 0.1,
+            half_length_m: 1.0,
+            half_angle_rad: std::f64::consts::FRAC_PI_2,
+        };
+        let mut th = Vec::new();
+        surface_hits(&shape, &t, Vec3::new(0.0, 0.0, -0.059), 0.04, 0.0, &mut th);
+        assert!((th[0].overlap_m - 0.001).abs() < 1e-12);
+        assert!((th[0].normal - Vec3::Z).length() < 1e-12);
+        assert_eq!(th[0].curvature_1_m, -10.0);
+    }
+}

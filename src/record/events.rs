@@ -1,0 +1,322 @@
+//! Contact events: one per contact from first touch to separation (issue 2 item 6).
+//!
+//! The layer feeds an [`OpenContact`] with the state at every step the bodies overlap and closes it
+//! when they part. Touch and separation instants are interpolated between steps: with rapier's
+//! symplectic Euler (one solver iteration) the velocity stored with a pose is the one that carried
+//! the body there, constant over the step, so the overlap is linear in time across the crossing and
+//! t_touch = t - u / (du/dt) is exact for the discrete trajectory (physics.md section 10).
+
+use crate::math::{arr3, Vec3};
+use serde::Serialize;
+use std::sync::Arc;
+
+/// The other party of a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind", content = "index")]
+pub enum Party {
+    /// Another apple (its index in the layer).
+    Apple(u32),
+    /// A surface (its index in the layer).
+    Surface(u32),
+}
+
+/// A finished (or, at the end of a run, still open) contact.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContactEvent {
+    /// Name of the apple.
+    pub a: Arc<str>,
+    /// Name of the other body (apple or surface).
+    pub b: Arc<str>,
+    /// Index of apple `a` in the layer.
+    #[serde(skip)]
+    pub a_index: u32,
+    /// The other party.
+    #[serde(skip)]
+    pub b_party: Party,
+    /// First touch (s), interpolated between steps.
+    pub t_start_s: f64,
+    /// Separation (s), interpolated; `None` while the contact is still open at the end.
+    pub t_end_s: Option<f64>,
+    /// t_end - t_start (s).
+    pub duration_s: Option<f64>,
+    /// Largest normal force seen at a step (N).
+    pub peak_force_n: f64,
+    /// Time of that step (s).
+    pub t_peak_s: f64,
+    /// Normal impulse, sum of P dt over the contact (N s): exactly the momentum it transferred.
+    pub impulse_n_s: f64,
+    /// Largest overlap u (m).
+    pub max_overlap_m: f64,
+    /// Largest contact radius a = sqrt(R* u) (m).
+    pub max_contact_radius_m: f64,
+    /// Largest mean contact pressure P / (pi a^2) (Pa).
+    pub max_pressure_pa: f64,
+    /// Normal approach speed at first touch (m/s).
+    pub approach_speed_m_s: f64,
+    /// Normal separation speed at separation (m/s); `None` while open.
+    pub separation_speed_m_s: Option<f64>,
+    /// separation / approach speed; `None` while open or for contacts that start at rest.
+    pub restitution: Option<f64>,
+    /// Work absorbed by the normal force over the contact, sum of P du (J): the hysteresis loss.
+    pub absorbed_energy_j: f64,
+    /// Number of steps with overlap.
+    pub steps: u64,
+    /// Contact point at the peak force (m, world).
+    pub contact_point_m: [f64; 3],
+    /// Force history (time s, normal force N), when recorded; decimated evenly if long.
+    #[serde(skip)]
+    pub history: Option<Vec<(f64, f64)>>,
+}
+
+/// Below this approach speed (m/s) a contact counts as starting at rest: no restitution.
+pub const RESTING_APPROACH_SPEED_M_S: f64 = 1e-3;
+
+/// An evenly decimated (time, force) history with a bounded number of samples.
+#[derive(Debug, Clone, Default)]
+struct History {
+    samples: Vec<(f64, f64)>,
+    stride: u64,
+    seen: u64,
+    cap: usize,
+}
+
+impl History {
+    fn new(cap: usize) -> Self {
+        Self {
+            samples: Vec::new(),
+            stride: 1,
+            seen: 0,
+            cap: cap.max(2),
+        }
+    }
+
+    fn push(&mut self, t: f64, p: f64) {
+        if self.seen % self.stride == 0 {
+            if self.samples.len() >= self.cap {
+                // Keep every other sample and double the stride: still evenly spaced.
+                let kept: Vec<_> = self.samples.iter().copied().step_by(2).collect();
+                self.samples = kept;
+                self.stride *= 2;
+            }
+            if self.seen % self.stride == 0 {
+                self.samples.push((t, p));
+            }
+        }
+        self.seen += 1;
+    }
+}
+
+/// A contact in progress.
+#[derive(Debug, Clone)]
+pub struct OpenContact {
+    t_start: f64,
+    approach: f64,
+    peak: f64,
+    t_peak: f64,
+    impulse: f64,
+    max_u: f64,
+    max_a: f64,
+    max_p: f64,
+    absorbed: f64,
+    prev_u: f64,
+    last_u: f64,
+    last_p: f64,
+    rate: f64,
+    steps: u64,
+    point_at_peak: Vec3,
+    history: Option<History>,
+}
+
+/// One step's observation of an overlapping contact.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactSample {
+    /// Time of the pose (s).
+    pub time_s: f64,
+    /// Step length that follows (s): the force acts over it.
+    pub dt_s: f64,
+    /// Overlap (m).
+    pub overlap_m: f64,
+    /// Normal force (N).
+    pub force_n: f64,
+    /// Contact radius (m).
+    pub contact_radius_m: f64,
+    /// Mean pressure (Pa).
+    pub pressure_pa: f64,
+    /// Contact point (m).
+    pub point: Vec3,
+}
+
+impl OpenContact {
+    /// Opens a contact first seen overlapping at `time_s` with overlap `u` and overlap rate
+    /// `du_dt` (> 0 approaching). The touch instant is interpolated within the last step.
+    pub fn begin(time_s: f64, dt_s: f64, u: f64, du_dt: f64, history_cap: usize) -> Self {
+        let back = if du_dt > 0.0 {
+            (u / du_dt).min(dt_s)
+        } else {
+            0.0
+        };
+        Self {
+            t_start: (time_s - back).max(0.0),
+            approach: du_dt.max(0.0),
+            peak: 0.0,
+            t_peak: time_s,
+            impulse: 0.0,
+            max_u: 0.0,
+            max_a: 0.0,
+            max_p: 0.0,
+            absorbed: 0.0,
+            prev_u: f64::NAN,
+            last_u: 0.0,
+            last_p: 0.0,
+            rate: du_dt,
+            steps: 0,
+            point_at_peak: Vec3::ZERO,
+            history: (history_cap > 0).then(|| History::new(history_cap)),
+        }
+    }
+
+    /// Work absorbed by the force of the last observed pose, given the next overlap.
+    ///
+    /// With symplectic Euler the kinetic energy changes over step k by exactly
+    /// F_k (x_k+1 - x_k-1) / 2, so the energy the contact absorbs is the sum of
+    /// P_k (u_k+1 - u_k-1) / 2: zero to round-off for an elastic impact, the hysteresis loss otherwise.
+    fn absorb(&mut self, next_u: f64) {
+        if self.steps > 0 {
+            self.absorbed += 0.5 * self.last_p * (next_u - self.prev_u);
+        }
+    }
+
+    /// Records one step with overlap.
+    pub fn observe(&mut self, s: &ContactSample) {
+        if self.steps == 0 {
+            // The pose before first touch, on the straight line the step followed.
+            self.prev_u = s.overlap_m - self.rate * s.dt_s;
+        } else {
+            self.absorb(s.overlap_m);
+            self.prev_u = self.last_u;
+        }
+        self.last_u = s.overlap_m;
+        self.last_p = s.force_n;
+        self.impulse += s.force_n * s.dt_s;
+        self.steps += 1;
+        if s.force_n > self.peak {
+            self.peak = s.force_n;
+            self.t_peak = s.time_s;
+            self.point_at_peak = s.point;
+        }
+        self.max_u = self.max_u.max(s.overlap_m);
+        self.max_a = self.max_a.max(s.contact_radius_m);
+        self.max_p = self.max_p.max(s.pressure_pa);
+        if let Some(h) = &mut self.history {
+            h.push(s.time_s, s.force_n);
+        }
+    }
+
+    /// Largest overlap so far (m).
+    pub fn max_overlap_m(&self) -> f64 {
+        self.max_u
+    }
+
+    /// Closes the contact seen apart at `time_s` with overlap `u` <= 0 and separation rate
+    /// `sep` = -du/dt > 0; the parting instant is interpolated within the last step.
+    pub fn finish(mut self, time_s: f64, dt_s: f64, u: f64, sep: f64, names: Names) -> ContactEvent {
+        self.absorb(u);
+        let back = if sep > 0.0 { (-u / sep).min(dt_s) } else { 0.0 };
+        let t_end = (time_s - back).max(self.t_start);
+        self.into_event(Some((t_end, sep.max(0.0))), names)
+    }
+
+    /// The event of a contact still open at the end of a run.
+    pub fn snapshot(&self, names: Names) -> ContactEvent {
+        self.clone().into_event(None, names)
+    }
+
+    fn into_event(self, end: Option<(f64, f64)>, names: Names) -> ContactEvent {
+        let restitution = match end {
+            Some((_, sep)) if self.approach > RESTING_APPROACH_SPEED_M_S => {
+                Some(sep / self.approach)
+            }
+            _ => None,
+        };
+        ContactEvent {
+            a: names.a,
+            b: names.b,
+            a_index: names.a_index,
+            b_party: names.b_party,
+            t_start_s: self.t_start,
+            t_end_s: end.map(|e| e.0),
+            duration_s: end.map(|e| e.0 - self.t_start),
+            peak_force_n: self.peak,
+            t_peak_s: self.t_peak,
+            impulse_n_s: self.impulse,
+            max_overlap_m: self.max_u,
+            max_contact_radius_m: self.max_a,
+            max_pressure_pa: self.max_p,
+            approach_speed_m_s: self.approach,
+            separation_speed_m_s: end.map(|e| e.1),
+            restitution,
+            absorbed_energy_j: self.absorbed,
+            steps: self.steps,
+            contact_point_m: arr3(self.point_at_peak),
+            history: self.history.map(|h| h.samples),
+        }
+    }
+}
+
+/// Who an event is about.
+#[derive(Debug, Clone)]
+pub struct Names {
+    /// Apple name.
+    pub a: Arc<str>,
+    /// Other body's name.
+    pub b: Arc<str>,
+    /// Apple index.
+    pub a_index: u32,
+    /// Other party.
+    pub b_party: Party,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names() -> Names {
+        Names {
+            a: "a".into(),
+            b: "b".into(),
+            a_index: 0,
+            b_party: Party::Surface(0),
+        }
+    }
+
+    #[test]
+    fn interpolates_touch_and_parting() {
+        // u grows at 1 m/s: first seen at t = 1.0 with u = 0.25 mm, dt = 1 ms -> touch at 0.99975.
+        let mut c = OpenContact::begin(1.0, 1e-3, 0.25e-3, 1.0, 0);
+        c.observe(&ContactSample {
+            time_s: 1.0,
+            dt_s: 1e-3,
+            overlap_m: 0.25e-3,
+            force_n: 2.0,
+            contact_radius_m: 1e-3,
+            pressure_pa: 5.0,
+            point: Vec3::ZERO,
+        });
+        let e = c.finish(1.002, 1e-3, -0.5e-3, 1.0, names());
+        assert!((e.t_start_s - 0.99975).abs() < 1e-12);
+        assert!((e.t_end_s.unwrap() - 1.0015).abs() < 1e-12);
+        assert!((e.impulse_n_s - 2e-3).abs() < 1e-15);
+        assert_eq!(e.restitution, Some(1.0));
+    }
+
+    #[test]
+    fn history_decimates_evenly() {
+        let mut h = History::new(8);
+        for i in 0..100 {
+            h.push(i as f64, 0.0);
+        }
+        assert!(h.samples.len() <= 8);
+        let dts: Vec<f64> = h.samples.windows(2).map(|w| w[1].0 - w[0].0).collect();
+        assert!(dts.iter().all(|&d| d == dts[0]), "{dts:?}");
+    }
+}

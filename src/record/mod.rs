@@ -1,0 +1,3 @@
+//! Recording: contact events (filled by the layer) and time series (sampled by the driver).
+
+pub mod events;
