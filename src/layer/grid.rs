@@ -31,7 +31,7 @@ pub struct NeighborList<S> {
     reference: Vec<Vec3>,
     rebuilds: u64,
     cells: HashMap<(i64, i64, i64), (u32, u32)>,
-    order: Vec<(u64, u32)>,
+    order: Vec<((i64, i64, i64), u32)>,
     keys: Vec<(i64, i64, i64)>,
 }
 
@@ -133,18 +133,19 @@ impl<S: Default> NeighborList<S> {
                 (p.z * inv).floor() as i64,
             )
         }));
-        // Sort apples by cell so each cell is a contiguous run; ties by index keep it deterministic.
+        // Sort apples by cell key (exactly, never a hash: colliding hashes interleave cells) so
+        // each cell is one contiguous run; ties by index keep it deterministic.
         self.order.clear();
         for (n, k) in self.keys.iter().enumerate() {
-            self.order.push((morton_like(*k), n as u32));
+            self.order.push((*k, n as u32));
         }
         self.order.sort_unstable();
         self.cells.clear();
         let mut start = 0usize;
         while start < self.order.len() {
-            let key = self.keys[self.order[start].1 as usize];
+            let key = self.order[start].0;
             let mut end = start + 1;
-            while end < self.order.len() && self.keys[self.order[end].1 as usize] == key {
+            while end < self.order.len() && self.order[end].0 == key {
                 end += 1;
             }
             self.cells.insert(key, (start as u32, end as u32));
@@ -175,14 +176,6 @@ impl<S: Default> NeighborList<S> {
         out.sort_unstable();
         out
     }
-}
-
-/// A sort key that keeps apples of one cell together (exact cell equality is checked after).
-fn morton_like(k: (i64, i64, i64)) -> u64 {
-    let h = (k.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        ^ (k.1 as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
-        ^ (k.2 as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
-    h
 }
 
 #[cfg(test)]
@@ -220,6 +213,34 @@ mod tests {
         let got: Vec<_> = list.pairs().iter().map(|p| (p.i, p.j)).collect();
         assert_eq!(got, brute(&pos, &r, 0.01));
         assert!(!list.update(&pos, &r, &active, |_| {}), "no motion, no rebuild");
+    }
+
+    #[test]
+    fn regression_adjacent_cells_with_colliding_hashes() {
+        // A hash of the cell key used as sort key interleaved cells whose hashes collided, and
+        // pairs of adjacent cells were lost (an apple pile fell through itself).
+        let pos = vec![
+            Vec3::new(0.20463681687935084, -0.0958655273965989, 0.03493802636169242),
+            Vec3::new(0.20496990901464243, -0.10377874208606211, 0.10983959130024909),
+        ];
+        let r = vec![0.0392, 0.0392];
+        let mut list: NeighborList<()> = NeighborList::new(0.011);
+        list.update(&pos, &r, &[true, true], |_| {});
+        assert_eq!(list.pairs().len(), 1);
+        // A full column of cells on both sides of zero.
+        let mut pos = Vec::new();
+        for x in -5..5 {
+            for y in -5..5 {
+                for z in 0..30 {
+                    pos.push(Vec3::new(x as f64 * 0.07, y as f64 * 0.07, z as f64 * 0.07));
+                }
+            }
+        }
+        let r = vec![0.04; pos.len()];
+        let mut list: NeighborList<()> = NeighborList::new(0.01);
+        list.update(&pos, &r, &vec![true; pos.len()], |_| {});
+        let got: Vec<_> = list.pairs().iter().map(|p| (p.i, p.j)).collect();
+        assert_eq!(got, brute(&pos, &r, 0.01));
     }
 
     #[test]

@@ -569,6 +569,21 @@ impl ContactLayer {
         &self.surfaces[id.0 as usize].name
     }
 
+    /// Number of surfaces.
+    pub fn surface_count(&self) -> usize {
+        self.surfaces.len()
+    }
+
+    /// How a surface's geometry is computed.
+    pub fn surface_shape(&self, id: SurfaceId) -> &SurfaceShape {
+        &self.surfaces[id.0 as usize].shape
+    }
+
+    /// Whether rapier's own contact handles the surface.
+    pub fn surface_is_rigid(&self, id: SurfaceId) -> bool {
+        self.surfaces[id.0 as usize].rigid
+    }
+
     /// Total contact force on an apple at the last [`apply_forces`](Self::apply_forces) (N).
     pub fn apple_contact_force(&self, id: AppleId) -> Vec3 {
         self.force.get(id.0 as usize).copied().unwrap_or(Vec3::ZERO)
@@ -577,6 +592,15 @@ impl ContactLayer {
     /// Contact torque on an apple at the last step (N m).
     pub fn apple_contact_torque(&self, id: AppleId) -> Vec3 {
         self.torque.get(id.0 as usize).copied().unwrap_or(Vec3::ZERO)
+    }
+
+    /// The apple-apple candidate pairs of the neighbour list (i < j, sorted), and how many times
+    /// the list was rebuilt.
+    pub fn neighbor_pairs(&self) -> (Vec<(u32, u32)>, u64) {
+        (
+            self.grid.pairs().iter().map(|p| (p.i, p.j)).collect(),
+            self.grid.rebuilds(),
+        )
     }
 
     /// Figures of the last step.

@@ -1,0 +1,34 @@
+//! Argument parsing and plain error reporting; every subcommand lives in its own file.
+
+mod run;
+
+use clap::{Parser, Subcommand};
+
+/// applesim: apple contact forces, contact times and slip/roll in fruit-handling lines.
+#[derive(Parser)]
+#[command(name = "applesim", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario and write summary.json, contacts.csv and bodies.csv into a folder.
+    Run(run::Args),
+}
+
+/// Parses the arguments, runs the command, returns the exit code.
+pub fn main() -> i32 {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(a) => run::main(a),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            1
+        }
+    }
+}

@@ -1,0 +1,65 @@
+//! `applesim run SCENARIO --out DIR`.
+
+use applesim::{output, scenario};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scenario file (JSON).
+    scenario: PathBuf,
+    /// Output folder (created if missing).
+    #[arg(long, short, default_value = "out")]
+    out: PathBuf,
+    /// Print nothing but errors.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+pub fn main(a: Args) -> Result<(), String> {
+    let sc = scenario::load(&a.scenario).map_err(|e| e.to_string())?;
+    let base = a
+        .scenario
+        .parent()
+        .map(|p| p.to_path_buf())
+        .unwrap_or_default();
+    let tty = std::io::stderr().is_terminal() && !a.quiet;
+    let mut last = -1i64;
+    let mut progress = |f: f64| {
+        let pct = (f * 100.0) as i64;
+        if tty && pct != last {
+            last = pct;
+            eprint!("\r{pct:3} %");
+        }
+    };
+    let r = output::run_to_dir(&sc, &base, &a.out, &mut progress).map_err(|e| e.to_string());
+    if tty {
+        eprint!("\r      \r");
+    }
+    let r = r?;
+    if !a.quiet {
+        println!(
+            "{} steps of {} s ({} s simulated) in {:.2} s wall time",
+            r.steps, r.time_step_s, r.simulated_time_s, r.wall_time_s
+        );
+        println!("{} contact events", r.events.len());
+        if let Some(e) = r
+            .events
+            .iter()
+            .max_by(|x, y| x.peak_force_n.total_cmp(&y.peak_force_n))
+        {
+            println!(
+                "largest peak force: {:.3} N, '{}' on '{}' at t = {:.6} s",
+                e.peak_force_n, e.a, e.b, e.t_peak_s
+            );
+        }
+        for w in &r.warnings {
+            println!("warning: {w}");
+        }
+        println!(
+            "wrote {}/{{summary.json, contacts.csv, bodies.csv, scenario.json}}",
+            a.out.display()
+        );
+    }
+    Ok(())
+}

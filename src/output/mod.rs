@@ -1,0 +1,235 @@
+//! Outputs of a run: `summary.json`, `contacts.csv`, `bodies.csv` (and the scenario as run).
+//!
+//! Every file is written whole or not at all ([`atomic`]). Numbers are printed in Rust's
+//! shortest round-trip form, so the same run gives byte-identical files; the one exception is
+//! `wall_time_s` in `summary.json`, a measurement of the machine.
+
+pub mod atomic;
+
+use crate::record::events::ContactEvent;
+use crate::record::series::{AppleState, SampleSink};
+use crate::scenario::Scenario;
+use crate::sim::{AppleFinal, RunResult};
+use atomic::AtomicFile;
+use serde::Serialize;
+use std::io::Write;
+use std::path::Path;
+
+/// The `summary.json` document.
+#[derive(Debug, Serialize)]
+pub struct Summary<'a> {
+    /// applesim version that wrote it.
+    pub applesim_version: &'static str,
+    /// The scenario's description.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub description: Option<&'a str>,
+    /// Steps taken.
+    pub steps: u64,
+    /// Simulated time (s).
+    pub simulated_time_s: f64,
+    /// Time step (s).
+    pub time_step_s: f64,
+    /// Wall-clock time of the stepping loop (s).
+    pub wall_time_s: f64,
+    /// Contact events.
+    pub contacts: &'a [ContactEvent],
+    /// Final state and peak force per apple.
+    pub apples: &'a [AppleFinal],
+    /// Warnings.
+    pub warnings: &'a [String],
+}
+
+/// Header of `contacts.csv`.
+pub const CONTACT_HEADER: [&str; 17] = [
+    "a",
+    "b",
+    "t_start_s",
+    "t_end_s",
+    "duration_s",
+    "peak_force_n",
+    "t_peak_s",
+    "impulse_n_s",
+    "max_overlap_m",
+    "max_contact_radius_m",
+    "max_pressure_pa",
+    "approach_speed_m_s",
+    "separation_speed_m_s",
+    "restitution",
+    "absorbed_energy_j",
+    "steps",
+    "contact_point_m",
+];
+
+fn opt(v: Option<f64>) -> String {
+    v.map(|x| x.to_string()).unwrap_or_default()
+}
+
+/// Writes `contacts.csv`.
+pub fn write_contacts(path: &Path, events: &[ContactEvent]) -> std::io::Result<()> {
+    let f = AtomicFile::create(path)?;
+    let mut w = csv::Writer::from_writer(f);
+    w.write_record(CONTACT_HEADER)?;
+    for e in events {
+        w.write_record([
+            e.a.to_string(),
+            e.b.to_string(),
+            e.t_start_s.to_string(),
+            opt(e.t_end_s),
+            opt(e.duration_s),
+            e.peak_force_n.to_string(),
+            e.t_peak_s.to_string(),
+            e.impulse_n_s.to_string(),
+            e.max_overlap_m.to_string(),
+            e.max_contact_radius_m.to_string(),
+            e.max_pressure_pa.to_string(),
+            e.approach_speed_m_s.to_string(),
+            opt(e.separation_speed_m_s),
+            opt(e.restitution),
+            e.absorbed_energy_j.to_string(),
+            e.steps.to_string(),
+            format!(
+                "{} {} {}",
+                e.contact_point_m[0], e.contact_point_m[1], e.contact_point_m[2]
+            ),
+        ])?;
+    }
+    let f = w.into_inner().map_err(|e| e.into_error())?;
+    f.commit()
+}
+
+/// Writes `summary.json`.
+pub fn write_summary(path: &Path, sc: &Scenario, r: &RunResult) -> std::io::Result<()> {
+    let s = Summary {
+        applesim_version: env!("CARGO_PKG_VERSION"),
+        description: sc.description.as_deref(),
+        steps: r.steps,
+        simulated_time_s: r.simulated_time_s,
+        time_step_s: r.time_step_s,
+        wall_time_s: r.wall_time_s,
+        contacts: &r.events,
+        apples: &r.apples,
+        warnings: &r.warnings,
+    };
+    let mut bytes = serde_json::to_vec_pretty(&s).map_err(std::io::Error::other)?;
+    bytes.push(b'\n');
+    atomic::write_file(path, &bytes)
+}
+
+/// Writes the scenario as it was run (`scenario.json`).
+pub fn write_scenario(path: &Path, sc: &Scenario) -> std::io::Result<()> {
+    let mut bytes = serde_json::to_vec_pretty(sc).map_err(std::io::Error::other)?;
+    bytes.push(b'\n');
+    atomic::write_file(path, &bytes)
+}
+
+/// Header of `bodies.csv` (one row per apple per sample).
+pub const BODIES_HEADER: [&str; 14] = [
+    "time_s", "apple", "x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s", "wx_rad_s", "wy_rad_s",
+    "wz_rad_s", "fx_n", "fy_n", "fz_n",
+];
+
+/// A sample sink streaming `bodies.csv` to a temporary file, renamed on [`BodiesCsv::commit`].
+pub struct BodiesCsv {
+    w: csv::Writer<AtomicFile>,
+}
+
+impl BodiesCsv {
+    /// Starts `path`.
+    pub fn create(path: &Path) -> std::io::Result<Self> {
+        let mut w = csv::Writer::from_writer(AtomicFile::create(path)?);
+        w.write_record(BODIES_HEADER)?;
+        Ok(Self { w })
+    }
+
+    /// Finishes the file under its final name.
+    pub fn commit(self) -> std::io::Result<()> {
+        let f = self.w.into_inner().map_err(|e| e.into_error())?;
+        f.commit()
+    }
+}
+
+impl SampleSink for BodiesCsv {
+    fn sample(&mut self, time_s: f64, apples: &[AppleState]) -> std::io::Result<()> {
+        let t = time_s.to_string();
+        for a in apples {
+            let p = a.position;
+            let v = a.velocity;
+            let w = a.angular_velocity;
+            let f = a.contact_force;
+            self.w.write_record([
+                t.as_str(),
+                &a.name,
+                &p.x.to_string(),
+                &p.y.to_string(),
+                &p.z.to_string(),
+                &v.x.to_string(),
+                &v.y.to_string(),
+                &v.z.to_string(),
+                &w.x.to_string(),
+                &w.y.to_string(),
+                &w.z.to_string(),
+                &f.x.to_string(),
+                &f.y.to_string(),
+                &f.z.to_string(),
+            ])?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes the result files of a finished run into `dir` (which must exist).
+pub fn write_results(dir: &Path, sc: &Scenario, r: &RunResult) -> std::io::Result<()> {
+    write_contacts(&dir.join("contacts.csv"), &r.events)?;
+    write_scenario(&dir.join("scenario.json"), sc)?;
+    // The summary last: its presence marks a complete run.
+    write_summary(&dir.join("summary.json"), sc, r)?;
+    Ok(())
+}
+
+/// Flushes a writer, mapping the error (helper for sinks).
+pub fn flush(w: &mut dyn Write) -> std::io::Result<()> {
+    w.flush()
+}
+
+/// Errors of [`run_to_dir`].
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The run itself failed (and wrote nothing).
+    #[error(transparent)]
+    Sim(#[from] crate::sim::SimError),
+    /// An output file could not be written.
+    #[error("writing {path}: {source}")]
+    Io {
+        /// The file or folder.
+        path: std::path::PathBuf,
+        /// OS error.
+        source: std::io::Error,
+    },
+}
+
+fn io_at(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
+    move |source| RunError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Runs a validated scenario and writes `summary.json`, `contacts.csv`, `bodies.csv` and
+/// `scenario.json` into `out_dir` (created if missing). Nothing that looks like a result is
+/// written when the run fails: `bodies.csv` is streamed to a temporary name and the other files
+/// are written only after the last step.
+pub fn run_to_dir(
+    sc: &Scenario,
+    base_dir: &Path,
+    out_dir: &Path,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunResult, RunError> {
+    std::fs::create_dir_all(out_dir).map_err(io_at(out_dir))?;
+    let sim = crate::sim::Simulation::new(sc, base_dir)?;
+    let bodies_path = out_dir.join("bodies.csv");
+    let mut bodies = BodiesCsv::create(&bodies_path).map_err(io_at(&bodies_path))?;
+    let result = sim.run(&mut bodies, progress)?;
+    bodies.commit().map_err(io_at(&bodies_path))?;
+    write_results(out_dir, sc, &result).map_err(io_at(out_dir))?;
+    Ok(result)
+}

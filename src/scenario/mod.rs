@@ -1,0 +1,286 @@
+//! Scenario files: serde types (the JSON contract of README "Scenario format") and validation.
+//!
+//! Every field name carries its unit. Unknown fields are errors (a misspelt field must not be
+//! silently ignored), and every mistake is reported with the JSON path of the field at fault.
+
+pub(crate) mod validate;
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+pub use validate::validate;
+
+/// A user mistake in a scenario, with the path of the field at fault.
+#[derive(Debug, Error)]
+pub enum ScenarioError {
+    /// The file could not be read.
+    #[error("cannot read scenario '{path}': {source}")]
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// OS error.
+        source: std::io::Error,
+    },
+    /// Not valid JSON, or a field missing, unknown or of the wrong type.
+    #[error("{file}: {path}: {message}")]
+    Parse {
+        /// File name (or `<input>`).
+        file: String,
+        /// JSON path of the field (`.` for the top level).
+        path: String,
+        /// What serde saw, with line and column.
+        message: String,
+    },
+    /// A value out of range or inconsistent with another.
+    #[error("{field}: {message}")]
+    Invalid {
+        /// JSON path of the field.
+        field: String,
+        /// What is wrong and what would be right.
+        message: String,
+    },
+}
+
+impl ScenarioError {
+    /// An invalid-value error.
+    pub fn invalid(field: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::Invalid {
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// A complete scenario.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Free text shown in reports.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// Simulated time (s).
+    pub duration_s: f64,
+    /// Time step (s).
+    pub time_step_s: f64,
+    /// Gravity vector (m/s^2), e.g. [0, 0, -9.81]; z is up by convention.
+    pub gravity_m_s2: [f64; 3],
+    /// What is written and how often.
+    #[serde(default)]
+    pub output: OutputSpec,
+    /// Named materials.
+    pub materials: BTreeMap<String, MaterialSpec>,
+    /// Contact coefficients for every pair of materials without its own entry in `pairs`.
+    pub contact: ContactSpec,
+    /// Per-pair overrides of `contact`.
+    #[serde(default)]
+    pub pairs: Vec<PairSpec>,
+    /// Which parts of the contact law are on and the stability limits.
+    #[serde(default)]
+    pub model: ModelSpec,
+    /// Apples placed one by one.
+    #[serde(default)]
+    pub apples: Vec<AppleSpec>,
+    /// Surfaces (platforms, walls, belts, ...).
+    #[serde(default)]
+    pub surfaces: Vec<SurfaceSpec>,
+}
+
+/// Output settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Interval of the `bodies.csv` time series (s); rounded to a whole number of steps.
+    #[serde(default = "default_sample_interval")]
+    pub sample_interval_s: f64,
+    /// Keep each contact's force history (for plots and the pulse fit); capped per contact.
+    #[serde(default = "default_true")]
+    pub force_history: bool,
+}
+
+fn default_sample_interval() -> f64 {
+    1e-3
+}
+
+fn default_true() -> bool {
+    true
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            sample_interval_s: default_sample_interval(),
+            force_history: true,
+        }
+    }
+}
+
+/// A material: shear or Young's modulus (one of them), Poisson's ratio, and density when an
+/// apple's mass is derived from it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Shear modulus G (Pa).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_modulus_pa: Option<f64>,
+    /// Young's modulus E (Pa).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub youngs_modulus_pa: Option<f64>,
+    /// Poisson's ratio, in (-1, 0.5).
+    pub poisson_ratio: f64,
+    /// Density (kg/m^3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density_kg_m3: Option<f64>,
+}
+
+/// Contact coefficients.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// Coulomb friction coefficient (>= 0).
+    pub friction: f64,
+    /// Eq. 12 energy-loss coefficient ke in (0, 1]; 1 is elastic, e -> sqrt(ke) for lambda v >> 1.
+    pub ke: f64,
+    /// Eq. 12 rate constant lambda (s/m, >= 0).
+    pub lambda_s_m: f64,
+}
+
+/// Overrides of the contact coefficients for one pair of materials.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairSpec {
+    /// The two material names (either order).
+    pub materials: [String; 2],
+    /// Friction for this pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// ke for this pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ke: Option<f64>,
+    /// lambda for this pair (s/m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lambda_s_m: Option<f64>,
+}
+
+/// Model options.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// Largest overlap allowed, as a fraction of the smaller radius, before the run is refused.
+    #[serde(default = "default_max_overlap_ratio")]
+    pub max_overlap_ratio: f64,
+    /// Fewest steps an impact may be resolved in before the run is refused.
+    #[serde(default = "default_min_steps")]
+    pub min_steps_per_impact: f64,
+}
+
+fn default_max_overlap_ratio() -> f64 {
+    0.5
+}
+
+fn default_min_steps() -> f64 {
+    10.0
+}
+
+impl Default for ModelSpec {
+    fn default() -> Self {
+        Self {
+            max_overlap_ratio: default_max_overlap_ratio(),
+            min_steps_per_impact: default_min_steps(),
+        }
+    }
+}
+
+/// One apple, a uniform solid sphere.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AppleSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// Diameter (m).
+    pub diameter_m: f64,
+    /// Mass (kg); default density x volume.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
+    /// Centre (m).
+    pub position_m: [f64; 3],
+    /// Centre velocity (m/s).
+    #[serde(default)]
+    pub velocity_m_s: [f64; 3],
+    /// Angular velocity (rad/s).
+    #[serde(default)]
+    pub angular_velocity_rad_s: [f64; 3],
+}
+
+/// How a surface's contacts with apples are computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactModel {
+    /// Our Hertz law with eq. 12 and friction (forces recorded).
+    #[default]
+    Hertz,
+    /// rapier's own contact (restitution, friction), where forces there do not matter.
+    Rigid,
+}
+
+/// A surface. `type` selects the kind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum SurfaceSpec {
+    /// An infinite flat platform: the half-space below the plane through `point_m` with
+    /// outward unit normal `normal`.
+    Plane(PlaneSpec),
+}
+
+impl SurfaceSpec {
+    /// The surface's name.
+    pub fn name(&self) -> &str {
+        match self {
+            SurfaceSpec::Plane(p) => &p.name,
+        }
+    }
+}
+
+/// An infinite plane.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// A point of the plane (m).
+    pub point_m: [f64; 3],
+    /// Outward unit normal (towards the apples).
+    pub normal: [f64; 3],
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+}
+
+/// Parses a scenario from JSON text; `file` names the source in messages.
+pub fn from_json(text: &str, file: &str) -> Result<Scenario, ScenarioError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        ScenarioError::Parse {
+            file: file.to_string(),
+            path: if path.is_empty() { ".".into() } else { path },
+            message: e.into_inner().to_string(),
+        }
+    })
+}
+
+/// Reads, parses and validates a scenario file.
+pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let sc = from_json(&text, &path.display().to_string())?;
+    validate(&sc)?;
+    Ok(sc)
+}

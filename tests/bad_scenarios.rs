@@ -1,0 +1,227 @@
+//! Every kind of mistake a user makes in a scenario gives a clear message naming the field (or
+//! the pair) and a non-zero exit, never a panic, and leaves no result files behind.
+//! Runs the real `applesim` binary.
+
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn base() -> Value {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/drop_on_steel.json"),
+    )
+    .unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("applesim-bad-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs `applesim run` on `text`; asserts exit code 1 (an error, not a panic: 101), that stderr
+/// mentions every `needles` string, and that no summary was written.
+fn refused(name: &str, text: &str, needles: &[&str]) {
+    let dir = tmp(name);
+    let file = dir.join("scenario.json");
+    std::fs::write(&file, text).unwrap();
+    let out = dir.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .args(["run", file.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    println!("{name}: {}", err.trim());
+    assert_eq!(o.status.code(), Some(1), "{name}: exit {:?}, stderr {err}", o.status);
+    assert!(err.starts_with("error: "), "{name}: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
+    }
+    assert!(!out.join("summary.json").exists(), "{name}: a summary was written");
+    assert!(!out.join("bodies.csv").exists(), "{name}: bodies.csv was written");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn mutated(name: &str, f: impl FnOnce(&mut Value), needles: &[&str]) {
+    let mut v = base();
+    f(&mut v);
+    refused(name, &serde_json::to_string_pretty(&v).unwrap(), needles);
+}
+
+#[test]
+fn syntax_error() {
+    refused("syntax", "{ \"duration_s\": 0.03, ", &["line"]);
+}
+
+#[test]
+fn not_an_object() {
+    refused("array", "[1, 2]", &["expected"]);
+}
+
+#[test]
+fn missing_file() {
+    let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .args(["run", "/nonexistent/scenario.json"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/scenario.json"));
+}
+
+#[test]
+fn missing_field() {
+    mutated("missing", |v| { v.as_object_mut().unwrap().remove("duration_s"); }, &["duration_s", "missing"]);
+}
+
+#[test]
+fn unknown_field() {
+    mutated("unknown", |v| { v["materials"]["apple"]["shear_modulos_pa"] = json!(1e6); }, &["materials.apple", "shear_modulos_pa"]);
+}
+
+#[test]
+fn wrong_type() {
+    mutated("type", |v| v["apples"][0]["diameter_m"] = json!("eighty"), &["apples[0].diameter_m"]);
+}
+
+#[test]
+fn negative_modulus() {
+    mutated("neg-modulus", |v| v["materials"]["apple"]["shear_modulus_pa"] = json!(-1.1e6), &["materials.apple.shear_modulus_pa", "-1100000"]);
+}
+
+#[test]
+fn poisson_half() {
+    mutated("nu-half", |v| v["materials"]["steel"]["poisson_ratio"] = json!(0.5), &["materials.steel.poisson_ratio", "0.5"]);
+}
+
+#[test]
+fn poisson_below_minus_one() {
+    mutated("nu-low", |v| v["materials"]["apple"]["poisson_ratio"] = json!(-1.2), &["materials.apple.poisson_ratio"]);
+}
+
+#[test]
+fn both_moduli() {
+    mutated("both", |v| v["materials"]["apple"]["youngs_modulus_pa"] = json!(2.6e6), &["materials.apple", "both"]);
+}
+
+#[test]
+fn no_modulus() {
+    mutated("none", |v| { v["materials"]["apple"].as_object_mut().unwrap().remove("shear_modulus_pa"); }, &["materials.apple", "shear_modulus_pa or youngs_modulus_pa"]);
+}
+
+#[test]
+fn negative_density() {
+    mutated("density", |v| v["materials"]["apple"]["density_kg_m3"] = json!(-800), &["materials.apple.density_kg_m3"]);
+}
+
+#[test]
+fn no_mass_and_no_density() {
+    mutated("no-mass", |v| {
+        v["materials"]["apple"].as_object_mut().unwrap().remove("density_kg_m3");
+        v["apples"][0].as_object_mut().unwrap().remove("mass_kg");
+    }, &["apples[0].mass_kg", "density"]);
+}
+
+#[test]
+fn unknown_material() {
+    mutated("material", |v| v["apples"][0]["material"] = json!("pear"), &["apples[0].material", "pear"]);
+}
+
+#[test]
+fn zero_diameter() {
+    mutated("diameter", |v| v["apples"][0]["diameter_m"] = json!(0.0), &["apples[0].diameter_m"]);
+}
+
+#[test]
+fn negative_mass() {
+    mutated("mass", |v| v["apples"][0]["mass_kg"] = json!(-0.1), &["apples[0].mass_kg"]);
+}
+
+#[test]
+fn duplicate_names() {
+    mutated("dup", |v| {
+        let mut a = v["apples"][0].clone();
+        a["position_m"] = json!([0.5, 0, 0.0401]);
+        v["apples"].as_array_mut().unwrap().push(a);
+    }, &["apples[1].name", "a1", "twice"]);
+}
+
+#[test]
+fn overlapping_apples() {
+    mutated("overlap", |v| {
+        let mut a = v["apples"][0].clone();
+        a["name"] = json!("a2");
+        a["position_m"] = json!([0.07, 0, 0.0401]);
+        v["apples"].as_array_mut().unwrap().push(a);
+    }, &["apples[1].position_m", "'a2'", "'a1'", "inside"]);
+}
+
+#[test]
+fn apple_inside_surface() {
+    mutated("inside", |v| v["apples"][0]["position_m"] = json!([0, 0, 0.03]), &["apples[0].position_m", "'floor'", "inside"]);
+}
+
+#[test]
+fn zero_normal() {
+    mutated("normal0", |v| v["surfaces"][0]["normal"] = json!([0, 0, 0]), &["surfaces[0].normal", "unit"]);
+}
+
+#[test]
+fn non_unit_normal() {
+    mutated("normal2", |v| v["surfaces"][0]["normal"] = json!([0, 0, 2]), &["surfaces[0].normal", "length 2"]);
+}
+
+#[test]
+fn unknown_surface_type() {
+    mutated("stype", |v| v["surfaces"][0]["type"] = json!("floor"), &["surfaces[0].type", "unknown variant"]);
+}
+
+#[test]
+fn negative_time_step() {
+    mutated("dt", |v| v["time_step_s"] = json!(-1e-5), &["time_step_s"]);
+}
+
+#[test]
+fn zero_duration() {
+    mutated("duration", |v| v["duration_s"] = json!(0), &["duration_s"]);
+}
+
+#[test]
+fn ke_out_of_range() {
+    mutated("ke0", |v| v["contact"]["ke"] = json!(0.0), &["contact.ke", "(0, 1]"]);
+    mutated("ke2", |v| v["contact"]["ke"] = json!(1.5), &["contact.ke"]);
+}
+
+#[test]
+fn negative_friction() {
+    mutated("mu", |v| v["contact"]["friction"] = json!(-0.3), &["contact.friction"]);
+}
+
+#[test]
+fn negative_lambda() {
+    mutated("lambda", |v| v["contact"]["lambda_s_m"] = json!(-10), &["contact.lambda_s_m"]);
+}
+
+#[test]
+fn pair_with_unknown_material() {
+    mutated("pair", |v| v["pairs"] = json!([{ "materials": ["apple", "rubber"], "friction": 0.5 }]), &["pairs[0].materials[1]", "rubber"]);
+}
+
+#[test]
+fn pair_given_twice() {
+    mutated("pair2", |v| v["pairs"] = json!([
+        { "materials": ["apple", "steel"], "friction": 0.5 },
+        { "materials": ["steel", "apple"], "ke": 0.5 }]), &["pairs[1].materials", "twice"]);
+}
+
+#[test]
+fn zero_sample_interval() {
+    mutated("sample", |v| v["output"]["sample_interval_s"] = json!(0), &["output.sample_interval_s"]);
+}
+
+#[test]
+fn unstable_time_step_names_the_pair_and_a_step_that_works() {
+    // 1.4 m/s on steel lasts 5.6 ms: dt = 1e-3 resolves it in 5.6 steps.
+    mutated("unstable", |v| v["time_step_s"] = json!(1e-3), &["'a1'", "'floor'", "time_step_s <="]);
+}

@@ -1,0 +1,77 @@
+//! Eq. 12 with the dissipative sign (physics.md section 3): restitution never exceeds 1, depends
+//! only on ke and lambda v0 without gravity, and matches the integrated table of physics.md.
+
+mod common;
+use common::*;
+
+fn restitution(ke: f64, lambda: f64, v0: f64, dt: f64) -> f64 {
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.gravity_m_s2 = [0.0, 0.0, 0.0];
+    sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
+    sc.contact.ke = ke;
+    sc.contact.lambda_s_m = lambda;
+    sc.time_step_s = dt;
+    // Unloading lasts up to 1/sqrt(ke) times the loading (physics.md section 3): run long enough.
+    let t_h = 0.0083 * (0.2 / v0).powf(0.2);
+    sc.duration_s = (1.5 * t_h * (1.0 + 1.0 / ke.sqrt())).max(0.03);
+    sc.output.sample_interval_s = 0.01;
+    let (r, _) = run(&sc);
+    let e = &r.events[0];
+    assert!(e.t_end_s.is_some(), "apple left the plate (ke {ke}, lambda {lambda}, v0 {v0})");
+    e.restitution.unwrap()
+}
+
+#[test]
+fn restitution_never_exceeds_one() {
+    let mut worst: f64 = 0.0;
+    for &ke in &[1e-4, 0.01, 0.09, 0.25, 0.5, 0.9, 1.0] {
+        for &lambda in &[0.1, 1.0, 10.0, 100.0, 1e3, 1e4] {
+            for &v0 in &[0.2, 1.4] {
+                let e = restitution(ke, lambda, v0, 5e-5);
+                worst = worst.max(e);
+                assert!(e <= 1.0 + 1e-6, "e = {e} > 1 at ke {ke}, lambda {lambda}, v0 {v0}");
+                if ke < 1.0 {
+                    assert!(e < 1.0, "dissipative ke {ke} gave e = {e}");
+                }
+            }
+        }
+    }
+    println!("largest restitution over 84 cases: {worst}");
+}
+
+#[test]
+fn matches_physics_md_table() {
+    // (lambda v0, ke, e) from physics.md section 3; the table has three digits.
+    let table = [
+        (1.0, 1e-6, 0.620),
+        (2.0, 1e-6, 0.477),
+        (5.0, 1e-6, 0.308),
+        (10.0, 1e-6, 0.206),
+        (20.0, 1e-6, 0.131),
+        (100.0, 1e-6, 0.040),
+        (1.0, 0.09, 0.664),
+        (5.0, 0.09, 0.394),
+        (20.0, 0.09, 0.309),
+        (100.0, 0.09, 0.300),
+        (1.0, 0.25, 0.738),
+        (10.0, 0.25, 0.510),
+        (100.0, 0.25, 0.500),
+    ];
+    for &(lv, ke, want) in &table {
+        // Same lambda v0 at two speeds: scale-free.
+        for &v0 in &[0.5, 1.0] {
+            let e = restitution(ke, lv / v0, v0, 1e-5);
+            println!("lambda v0 = {lv}, ke = {ke}, v0 = {v0}: e = {e:.4} (table {want})");
+            assert!((e - want).abs() <= 0.0015, "e = {e}, table {want}");
+        }
+    }
+}
+
+#[test]
+fn tends_to_sqrt_ke() {
+    for &ke in &[0.09, 0.25, 0.64] {
+        let e = restitution(ke, 1e4, 1.0, 1e-5);
+        println!("ke = {ke}: e = {e:.5}, sqrt(ke) = {:.5}", ke.sqrt());
+        assert!((e - ke.sqrt()).abs() < 0.002, "e = {e}");
+    }
+}
