@@ -77,7 +77,7 @@ fn main() {
     let sc = pile(40);
     let n = sc.apples.len() as f64;
     let mut sim = Simulation::new(&sc, root).unwrap();
-    let mut report = |name: &str, sim: &mut Simulation, steps: u64| {
+    let report = |name: &str, sim: &mut Simulation, steps: u64| {
         let t = time_window(sim, steps);
         let contacts = sim.world().layer.stats().contacts as f64 / n;
         println!(

@@ -32,10 +32,6 @@ impl ContactHooks {
         self.roles.insert(h, role);
     }
 
-    pub(crate) fn remove(&mut self, h: ColliderHandle) {
-        self.roles.remove(&h);
-    }
-
     /// The role of a collider, if registered.
     pub fn role(&self, h: ColliderHandle) -> Option<Role> {
         self.roles.get(&h).copied()

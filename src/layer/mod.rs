@@ -549,6 +549,11 @@ impl ContactLayer {
         &self.apples[id.0 as usize].name
     }
 
+    /// The collider of an apple.
+    pub fn apple_collider(&self, id: AppleId) -> ColliderHandle {
+        self.apples[id.0 as usize].collider
+    }
+
     /// The rigid body of an apple.
     pub fn apple_body(&self, id: AppleId) -> RigidBodyHandle {
         self.apples[id.0 as usize].body

@@ -332,7 +332,7 @@ mod tests {
             half_angle_rad: std::f64::consts::FRAC_PI_2,
         };
         let mut th = Vec::new();
-        surface_hits(&shape, &t, Vec3::new(0.0, 0.0, -0.059), 0.04, 0.0, &mut th);
+        surface_hits(&shape, &t, Vec3::new(0.0, 0.0, -0.061), 0.04, 0.0, &mut th);
         assert!((th[0].overlap_m - 0.001).abs() < 1e-12);
         assert!((th[0].normal - Vec3::Z).length() < 1e-12);
         assert_eq!(th[0].curvature_1_m, -10.0);
