@@ -8,6 +8,7 @@ use crate::record::series::{AppleState, SampleSink};
 use crate::scenario::Scenario;
 use crate::world::{self, BuildError, World};
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 use thiserror::Error;
@@ -70,6 +71,49 @@ pub struct RunResult {
     pub apples: Vec<AppleFinal>,
     /// Things the user should know that did not stop the run.
     pub warnings: Vec<String>,
+    /// Key results as flat, unit-suffixed numbers (one row of a batch table): every feature that
+    /// produces a headline figure adds its keys here. Only finite values.
+    pub metrics: BTreeMap<String, f64>,
+}
+
+/// The headline figures of a run (see [`RunResult::metrics`]).
+pub fn base_metrics(events: &[ContactEvent], apples: &[AppleFinal]) -> BTreeMap<String, f64> {
+    let mut m = BTreeMap::new();
+    m.insert("contact_events".into(), events.len() as f64);
+    let max = |it: &mut dyn Iterator<Item = f64>| it.fold(f64::NAN, f64::max);
+    m.insert(
+        "max_peak_force_n".into(),
+        max(&mut events.iter().map(|e| e.peak_force_n)),
+    );
+    m.insert(
+        "max_pressure_pa".into(),
+        max(&mut events.iter().map(|e| e.max_pressure_pa)),
+    );
+    m.insert(
+        "max_overlap_m".into(),
+        max(&mut events.iter().map(|e| e.max_overlap_m)),
+    );
+    let durations: Vec<f64> = events.iter().filter_map(|e| e.duration_s).collect();
+    m.insert("max_contact_duration_s".into(), max(&mut durations.iter().copied()));
+    if !durations.is_empty() {
+        m.insert(
+            "mean_contact_duration_s".into(),
+            durations.iter().sum::<f64>() / durations.len() as f64,
+        );
+    }
+    let speeds: Vec<f64> = apples
+        .iter()
+        .map(|a| crate::math::vec3(a.final_velocity_m_s).length())
+        .collect();
+    m.insert("max_final_speed_m_s".into(), max(&mut speeds.iter().copied()));
+    if !speeds.is_empty() {
+        m.insert(
+            "mean_final_speed_m_s".into(),
+            speeds.iter().sum::<f64>() / speeds.len() as f64,
+        );
+    }
+    m.retain(|_, v| v.is_finite());
+    m
 }
 
 /// A running simulation.
@@ -234,7 +278,7 @@ impl Simulation {
                 touch(j as usize);
             }
         }
-        let apples = self
+        let apples: Vec<AppleFinal> = self
             .states
             .iter()
             .enumerate()
@@ -265,7 +309,9 @@ impl Simulation {
                 ));
             }
         }
+        let metrics = base_metrics(&events, &apples);
         RunResult {
+            metrics,
             steps: self.step,
             time_step_s: self.dt,
             simulated_time_s: self.time_s(),

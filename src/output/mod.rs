@@ -37,6 +37,8 @@ pub struct Summary<'a> {
     pub apples: &'a [AppleFinal],
     /// Warnings.
     pub warnings: &'a [String],
+    /// Key results as flat, unit-suffixed numbers (what `applesim merge` tabulates).
+    pub metrics: &'a std::collections::BTreeMap<String, f64>,
 }
 
 /// Header of `contacts.csv`.
@@ -109,6 +111,7 @@ pub fn write_summary(path: &Path, sc: &Scenario, r: &RunResult) -> std::io::Resu
         contacts: &r.events,
         apples: &r.apples,
         warnings: &r.warnings,
+        metrics: &r.metrics,
     };
     let mut bytes = serde_json::to_vec_pretty(&s).map_err(std::io::Error::other)?;
     bytes.push(b'\n');
