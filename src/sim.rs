@@ -23,7 +23,9 @@ pub enum SimError {
     #[error(transparent)]
     Layer(#[from] LayerError),
     /// rapier quarantined a body whose state went non-finite.
-    #[error("non-finite state of '{body}' at t = {time_s} s (rapier quarantined it): the run blew up")]
+    #[error(
+        "non-finite state of '{body}' at t = {time_s} s (rapier quarantined it): the run blew up"
+    )]
     Quarantine {
         /// Body name.
         body: String,
@@ -94,7 +96,10 @@ pub fn base_metrics(events: &[ContactEvent], apples: &[AppleFinal]) -> BTreeMap<
         max(&mut events.iter().map(|e| e.max_overlap_m)),
     );
     let durations: Vec<f64> = events.iter().filter_map(|e| e.duration_s).collect();
-    m.insert("max_contact_duration_s".into(), max(&mut durations.iter().copied()));
+    m.insert(
+        "max_contact_duration_s".into(),
+        max(&mut durations.iter().copied()),
+    );
     if !durations.is_empty() {
         m.insert(
             "mean_contact_duration_s".into(),
@@ -105,7 +110,10 @@ pub fn base_metrics(events: &[ContactEvent], apples: &[AppleFinal]) -> BTreeMap<
         .iter()
         .map(|a| crate::math::vec3(a.final_velocity_m_s).length())
         .collect();
-    m.insert("max_final_speed_m_s".into(), max(&mut speeds.iter().copied()));
+    m.insert(
+        "max_final_speed_m_s".into(),
+        max(&mut speeds.iter().copied()),
+    );
     if !speeds.is_empty() {
         m.insert(
             "mean_final_speed_m_s".into(),
@@ -207,8 +215,11 @@ impl Simulation {
         Ok(())
     }
 
-    /// Computes forces at the current poses, samples if due, and advances one step.
+    /// Feeds in due apples, computes forces at the current poses, samples if due, and advances
+    /// one step.
     pub fn step(&mut self, sink: &mut dyn SampleSink) -> Result<(), SimError> {
+        let t = self.time_s();
+        self.world.emit_due(t)?;
         self.force_pass()?;
         if self.step % self.stride == 0 {
             self.refresh_states();
@@ -293,13 +304,25 @@ impl Simulation {
             })
             .collect();
         let mut warnings = Vec::new();
-        let worst = events
-            .iter()
-            .map(|e| (e.max_overlap_m, e))
-            .fold(None::<(f64, &ContactEvent)>, |acc, x| match acc {
+        let postponed = self.world.postponed_emissions();
+        if postponed > 0 {
+            warnings.push(format!(
+                "{postponed} fed-in apples waited for their spot to clear (the source emits faster than apples leave it)"
+            ));
+        }
+        let pending = self.world.pending_emissions();
+        if pending > 0 {
+            warnings.push(format!(
+                "{pending} apples of the sources were never fed in: the run ended first"
+            ));
+        }
+        let worst = events.iter().map(|e| (e.max_overlap_m, e)).fold(
+            None::<(f64, &ContactEvent)>,
+            |acc, x| match acc {
                 Some(a) if a.0 >= x.0 => Some(a),
                 _ => Some(x),
-            });
+            },
+        );
         if let Some((u, e)) = worst {
             let r = self.world.layer.apple_radius(AppleId(e.a_index));
             if u > 0.1 * r {

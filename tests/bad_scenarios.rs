@@ -24,23 +24,47 @@ fn tmp(name: &str) -> PathBuf {
 /// Runs `applesim run` on `text`; asserts exit code 1 (an error, not a panic: 101), that stderr
 /// mentions every `needles` string, and that no summary was written.
 fn refused(name: &str, text: &str, needles: &[&str]) {
+    refused_with_files(name, text, &[], needles)
+}
+
+/// Like [`refused`], with extra files written beside the scenario (meshes).
+fn refused_with_files(name: &str, text: &str, files: &[(&str, &str)], needles: &[&str]) {
     let dir = tmp(name);
+    for (f, content) in files {
+        std::fs::write(dir.join(f), content).unwrap();
+    }
     let file = dir.join("scenario.json");
     std::fs::write(&file, text).unwrap();
     let out = dir.join("out");
     let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
-        .args(["run", file.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     println!("{name}: {}", err.trim());
-    assert_eq!(o.status.code(), Some(1), "{name}: exit {:?}, stderr {err}", o.status);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{name}: exit {:?}, stderr {err}",
+        o.status
+    );
     assert!(err.starts_with("error: "), "{name}: {err}");
     for n in needles {
         assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
     }
-    assert!(!out.join("summary.json").exists(), "{name}: a summary was written");
-    assert!(!out.join("bodies.csv").exists(), "{name}: bodies.csv was written");
+    assert!(
+        !out.join("summary.json").exists(),
+        "{name}: a summary was written"
+    );
+    assert!(
+        !out.join("bodies.csv").exists(),
+        "{name}: bodies.csv was written"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -72,109 +96,197 @@ fn missing_file() {
 
 #[test]
 fn missing_field() {
-    mutated("missing", |v| { v.as_object_mut().unwrap().remove("duration_s"); }, &["duration_s", "missing"]);
+    mutated(
+        "missing",
+        |v| {
+            v.as_object_mut().unwrap().remove("duration_s");
+        },
+        &["duration_s", "missing"],
+    );
 }
 
 #[test]
 fn unknown_field() {
-    mutated("unknown", |v| { v["materials"]["apple"]["shear_modulos_pa"] = json!(1e6); }, &["materials.apple", "shear_modulos_pa"]);
+    mutated(
+        "unknown",
+        |v| {
+            v["materials"]["apple"]["shear_modulos_pa"] = json!(1e6);
+        },
+        &["materials.apple", "shear_modulos_pa"],
+    );
 }
 
 #[test]
 fn wrong_type() {
-    mutated("type", |v| v["apples"][0]["diameter_m"] = json!("eighty"), &["apples[0].diameter_m"]);
+    mutated(
+        "type",
+        |v| v["apples"][0]["diameter_m"] = json!("eighty"),
+        &["apples[0].diameter_m"],
+    );
 }
 
 #[test]
 fn negative_modulus() {
-    mutated("neg-modulus", |v| v["materials"]["apple"]["shear_modulus_pa"] = json!(-1.1e6), &["materials.apple.shear_modulus_pa", "-1100000"]);
+    mutated(
+        "neg-modulus",
+        |v| v["materials"]["apple"]["shear_modulus_pa"] = json!(-1.1e6),
+        &["materials.apple.shear_modulus_pa", "-1100000"],
+    );
 }
 
 #[test]
 fn poisson_half() {
-    mutated("nu-half", |v| v["materials"]["steel"]["poisson_ratio"] = json!(0.5), &["materials.steel.poisson_ratio", "0.5"]);
+    mutated(
+        "nu-half",
+        |v| v["materials"]["steel"]["poisson_ratio"] = json!(0.5),
+        &["materials.steel.poisson_ratio", "0.5"],
+    );
 }
 
 #[test]
 fn poisson_below_minus_one() {
-    mutated("nu-low", |v| v["materials"]["apple"]["poisson_ratio"] = json!(-1.2), &["materials.apple.poisson_ratio"]);
+    mutated(
+        "nu-low",
+        |v| v["materials"]["apple"]["poisson_ratio"] = json!(-1.2),
+        &["materials.apple.poisson_ratio"],
+    );
 }
 
 #[test]
 fn both_moduli() {
-    mutated("both", |v| v["materials"]["apple"]["youngs_modulus_pa"] = json!(2.6e6), &["materials.apple", "both"]);
+    mutated(
+        "both",
+        |v| v["materials"]["apple"]["youngs_modulus_pa"] = json!(2.6e6),
+        &["materials.apple", "both"],
+    );
 }
 
 #[test]
 fn no_modulus() {
-    mutated("none", |v| { v["materials"]["apple"].as_object_mut().unwrap().remove("shear_modulus_pa"); }, &["materials.apple", "shear_modulus_pa or youngs_modulus_pa"]);
+    mutated(
+        "none",
+        |v| {
+            v["materials"]["apple"]
+                .as_object_mut()
+                .unwrap()
+                .remove("shear_modulus_pa");
+        },
+        &["materials.apple", "shear_modulus_pa or youngs_modulus_pa"],
+    );
 }
 
 #[test]
 fn negative_density() {
-    mutated("density", |v| v["materials"]["apple"]["density_kg_m3"] = json!(-800), &["materials.apple.density_kg_m3"]);
+    mutated(
+        "density",
+        |v| v["materials"]["apple"]["density_kg_m3"] = json!(-800),
+        &["materials.apple.density_kg_m3"],
+    );
 }
 
 #[test]
 fn no_mass_and_no_density() {
-    mutated("no-mass", |v| {
-        v["materials"]["apple"].as_object_mut().unwrap().remove("density_kg_m3");
-        v["apples"][0].as_object_mut().unwrap().remove("mass_kg");
-    }, &["apples[0].mass_kg", "density"]);
+    mutated(
+        "no-mass",
+        |v| {
+            v["materials"]["apple"]
+                .as_object_mut()
+                .unwrap()
+                .remove("density_kg_m3");
+            v["apples"][0].as_object_mut().unwrap().remove("mass_kg");
+        },
+        &["apples[0].mass_kg", "density"],
+    );
 }
 
 #[test]
 fn unknown_material() {
-    mutated("material", |v| v["apples"][0]["material"] = json!("pear"), &["apples[0].material", "pear"]);
+    mutated(
+        "material",
+        |v| v["apples"][0]["material"] = json!("pear"),
+        &["apples[0].material", "pear"],
+    );
 }
 
 #[test]
 fn zero_diameter() {
-    mutated("diameter", |v| v["apples"][0]["diameter_m"] = json!(0.0), &["apples[0].diameter_m"]);
+    mutated(
+        "diameter",
+        |v| v["apples"][0]["diameter_m"] = json!(0.0),
+        &["apples[0].diameter_m"],
+    );
 }
 
 #[test]
 fn negative_mass() {
-    mutated("mass", |v| v["apples"][0]["mass_kg"] = json!(-0.1), &["apples[0].mass_kg"]);
+    mutated(
+        "mass",
+        |v| v["apples"][0]["mass_kg"] = json!(-0.1),
+        &["apples[0].mass_kg"],
+    );
 }
 
 #[test]
 fn duplicate_names() {
-    mutated("dup", |v| {
-        let mut a = v["apples"][0].clone();
-        a["position_m"] = json!([0.5, 0, 0.0401]);
-        v["apples"].as_array_mut().unwrap().push(a);
-    }, &["apples[1].name", "a1", "twice"]);
+    mutated(
+        "dup",
+        |v| {
+            let mut a = v["apples"][0].clone();
+            a["position_m"] = json!([0.5, 0, 0.0401]);
+            v["apples"].as_array_mut().unwrap().push(a);
+        },
+        &["apples[1].name", "a1", "twice"],
+    );
 }
 
 #[test]
 fn overlapping_apples() {
-    mutated("overlap", |v| {
-        let mut a = v["apples"][0].clone();
-        a["name"] = json!("a2");
-        a["position_m"] = json!([0.07, 0, 0.0401]);
-        v["apples"].as_array_mut().unwrap().push(a);
-    }, &["apples[1].position_m", "'a2'", "'a1'", "inside"]);
+    mutated(
+        "overlap",
+        |v| {
+            let mut a = v["apples"][0].clone();
+            a["name"] = json!("a2");
+            a["position_m"] = json!([0.07, 0, 0.0401]);
+            v["apples"].as_array_mut().unwrap().push(a);
+        },
+        &["apples[1].position_m", "'a2'", "'a1'", "inside"],
+    );
 }
 
 #[test]
 fn apple_inside_surface() {
-    mutated("inside", |v| v["apples"][0]["position_m"] = json!([0, 0, 0.03]), &["apples[0].position_m", "'floor'", "inside"]);
+    mutated(
+        "inside",
+        |v| v["apples"][0]["position_m"] = json!([0, 0, 0.03]),
+        &["apples[0].position_m", "'floor'", "inside"],
+    );
 }
 
 #[test]
 fn zero_normal() {
-    mutated("normal0", |v| v["surfaces"][0]["normal"] = json!([0, 0, 0]), &["surfaces[0].normal", "unit"]);
+    mutated(
+        "normal0",
+        |v| v["surfaces"][0]["normal"] = json!([0, 0, 0]),
+        &["surfaces[0].normal", "unit"],
+    );
 }
 
 #[test]
 fn non_unit_normal() {
-    mutated("normal2", |v| v["surfaces"][0]["normal"] = json!([0, 0, 2]), &["surfaces[0].normal", "length 2"]);
+    mutated(
+        "normal2",
+        |v| v["surfaces"][0]["normal"] = json!([0, 0, 2]),
+        &["surfaces[0].normal", "length 2"],
+    );
 }
 
 #[test]
 fn unknown_surface_type() {
-    mutated("stype", |v| v["surfaces"][0]["type"] = json!("floor"), &["surfaces[0].type", "unknown variant"]);
+    mutated(
+        "stype",
+        |v| v["surfaces"][0]["type"] = json!("floor"),
+        &["surfaces[0].type", "unknown variant"],
+    );
 }
 
 #[test]
@@ -189,39 +301,233 @@ fn zero_duration() {
 
 #[test]
 fn ke_out_of_range() {
-    mutated("ke0", |v| v["contact"]["ke"] = json!(0.0), &["contact.ke", "(0, 1]"]);
+    mutated(
+        "ke0",
+        |v| v["contact"]["ke"] = json!(0.0),
+        &["contact.ke", "(0, 1]"],
+    );
     mutated("ke2", |v| v["contact"]["ke"] = json!(1.5), &["contact.ke"]);
 }
 
 #[test]
 fn negative_friction() {
-    mutated("mu", |v| v["contact"]["friction"] = json!(-0.3), &["contact.friction"]);
+    mutated(
+        "mu",
+        |v| v["contact"]["friction"] = json!(-0.3),
+        &["contact.friction"],
+    );
 }
 
 #[test]
 fn negative_lambda() {
-    mutated("lambda", |v| v["contact"]["lambda_s_m"] = json!(-10), &["contact.lambda_s_m"]);
+    mutated(
+        "lambda",
+        |v| v["contact"]["lambda_s_m"] = json!(-10),
+        &["contact.lambda_s_m"],
+    );
 }
 
 #[test]
 fn pair_with_unknown_material() {
-    mutated("pair", |v| v["pairs"] = json!([{ "materials": ["apple", "rubber"], "friction": 0.5 }]), &["pairs[0].materials[1]", "rubber"]);
+    mutated(
+        "pair",
+        |v| v["pairs"] = json!([{ "materials": ["apple", "rubber"], "friction": 0.5 }]),
+        &["pairs[0].materials[1]", "rubber"],
+    );
 }
 
 #[test]
 fn pair_given_twice() {
-    mutated("pair2", |v| v["pairs"] = json!([
+    mutated(
+        "pair2",
+        |v| {
+            v["pairs"] = json!([
         { "materials": ["apple", "steel"], "friction": 0.5 },
-        { "materials": ["steel", "apple"], "ke": 0.5 }]), &["pairs[1].materials", "twice"]);
+        { "materials": ["steel", "apple"], "ke": 0.5 }])
+        },
+        &["pairs[1].materials", "twice"],
+    );
 }
 
 #[test]
 fn zero_sample_interval() {
-    mutated("sample", |v| v["output"]["sample_interval_s"] = json!(0), &["output.sample_interval_s"]);
+    mutated(
+        "sample",
+        |v| v["output"]["sample_interval_s"] = json!(0),
+        &["output.sample_interval_s"],
+    );
 }
 
 #[test]
 fn unstable_time_step_names_the_pair_and_a_step_that_works() {
     // 1.4 m/s on steel lasts 5.6 ms: dt = 1e-3 resolves it in 5.6 steps.
-    mutated("unstable", |v| v["time_step_s"] = json!(1e-3), &["'a1'", "'floor'", "time_step_s <="]);
+    mutated(
+        "unstable",
+        |v| v["time_step_s"] = json!(1e-3),
+        &["'a1'", "'floor'", "time_step_s <="],
+    );
+}
+
+// Geometry mistakes (issue 3).
+
+fn with_surface(name: &str, surface: Value, needles: &[&str]) {
+    mutated(
+        name,
+        |v| v["surfaces"].as_array_mut().unwrap().push(surface),
+        needles,
+    );
+}
+
+#[test]
+fn missing_mesh_file() {
+    with_surface(
+        "mesh-missing",
+        json!({"name": "tray", "type": "mesh", "material": "steel",
+        "file": "no_such_tray.obj", "position_m": [0, 0, -1]}),
+        &["surfaces[1].file", "no_such_tray.obj", "not found"],
+    );
+}
+
+#[test]
+fn empty_mesh() {
+    let mut v = base();
+    v["surfaces"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"name": "tray", "type": "mesh",
+        "material": "steel", "file": "empty.obj", "position_m": [0, 0, -1]}));
+    refused_with_files(
+        "mesh-empty",
+        &v.to_string(),
+        &[("empty.obj", "# nothing here\n")],
+        &["surfaces[1].file", "empty.obj", "no triangle"],
+    );
+}
+
+#[test]
+fn mesh_of_unknown_format() {
+    let mut v = base();
+    v["surfaces"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"name": "tray", "type": "mesh",
+        "material": "steel", "file": "tray.ply", "position_m": [0, 0, -1]}));
+    refused_with_files(
+        "mesh-ply",
+        &v.to_string(),
+        &[("tray.ply", "ply\n")],
+        &["surfaces[1].file", "unknown mesh format"],
+    );
+}
+
+#[test]
+fn zero_size_box() {
+    with_surface(
+        "box0",
+        json!({"name": "wall", "type": "box", "material": "steel",
+        "size_m": [0.1, 0.0, 0.3], "position_m": [1, 0, 0.15]}),
+        &["surfaces[1].size_m[1]"],
+    );
+}
+
+#[test]
+fn rotation_with_zero_axis() {
+    with_surface(
+        "rot0",
+        json!({"name": "wall", "type": "box", "material": "steel",
+        "size_m": [0.1, 0.1, 0.3], "position_m": [1, 0, 0.15],
+        "rotation": {"axis": [0, 0, 0], "angle_deg": 30}}),
+        &["surfaces[1].rotation.axis"],
+    );
+}
+
+#[test]
+fn rotation_given_twice() {
+    with_surface(
+        "rot2",
+        json!({"name": "wall", "type": "box", "material": "steel",
+        "size_m": [0.1, 0.1, 0.3], "position_m": [1, 0, 0.15],
+        "rotation": {"axis": [0, 0, 1], "angle_deg": 30, "euler_xyz_deg": [0, 0, 30]}}),
+        &["surfaces[1].rotation", "either"],
+    );
+}
+
+#[test]
+fn flat_chute_without_width() {
+    with_surface(
+        "chute-w",
+        json!({"name": "c", "type": "chute", "profile": "flat", "material": "steel",
+        "length_m": 1.0, "incline_deg": 20, "position_m": [1, 0, 0.5]}),
+        &["surfaces[1].width_m"],
+    );
+}
+
+#[test]
+fn trough_tighter_than_the_apple() {
+    // An apple of radius 40 mm cannot lie in a trough of radius 30 mm: conforming contact.
+    with_surface(
+        "trough",
+        json!({"name": "t", "type": "chute", "profile": "trough", "material": "steel",
+        "length_m": 1.0, "radius_m": 0.03, "position_m": [1, 0, 0.5]}),
+        &["'a1'", "'t'", "conforming"],
+    );
+}
+
+#[test]
+fn bin_wall_with_unknown_material() {
+    with_surface(
+        "binmat",
+        json!({"name": "b", "type": "bin", "material": "steel",
+        "wall_materials": {"floor": "foam"}, "inner_size_m": [0.4, 0.4, 0.3], "position_m": [2, 0, 0]}),
+        &["surfaces[1].wall_materials.floor", "foam"],
+    );
+}
+
+#[test]
+fn overlapping_generated_apples() {
+    mutated(
+        "gen-overlap",
+        |v| {
+            v["generators"] = json!([{"type": "grid", "name": "g", "material": "apple",
+        "diameter_m": 0.08, "count": [2, 1, 1], "spacing_m": [0.07, 0.1, 0.1], "origin_m": [1, 1, 0.5]}])
+        },
+        &["generators", "'g-2'", "'g-1'", "inside"],
+    );
+}
+
+#[test]
+fn random_fill_that_cannot_fit() {
+    mutated(
+        "gen-full",
+        |v| {
+            v["generators"] = json!([{"type": "random_fill", "name": "r", "material": "apple",
+        "diameter_m": 0.08, "count": 50, "region_min_m": [1, 1, 0.0], "region_max_m": [1.2, 1.2, 0.2], "seed": 1}])
+        },
+        &["generators[0].count", "placed only"],
+    );
+}
+
+#[test]
+fn source_with_zero_rate() {
+    mutated(
+        "src-rate",
+        |v| {
+            v["sources"] = json!([{"name": "s", "material": "apple", "diameter_m": 0.08,
+        "position_m": [1, 1, 1], "rate_per_s": 0, "count": 3}])
+        },
+        &["sources[0].rate_per_s"],
+    );
+}
+
+#[test]
+fn generated_name_clash() {
+    mutated(
+        "gen-name",
+        |v| {
+            v["apples"][0]["name"] = json!("g-1");
+            v["generators"] = json!([{"type": "grid", "name": "g", "material": "apple",
+            "diameter_m": 0.08, "count": [1, 1, 1], "spacing_m": [0.1, 0.1, 0.1], "origin_m": [1, 1, 0.5]}]);
+        },
+        &["generators", "'g-1'", "already used"],
+    );
 }

@@ -36,7 +36,11 @@ fn five_elastic_bounces_keep_their_energy() {
         let e = energy(a.position.z, v.length(), a.contact_force.z);
         worst = worst.max((e - e0).abs() / e0);
     }
-    println!("{} bounces, largest energy deviation {:.5} %", res.events.len(), 100.0 * worst);
+    println!(
+        "{} bounces, largest energy deviation {:.5} %",
+        res.events.len(),
+        100.0 * worst
+    );
     assert!(worst < 0.001, "energy drifted by {:.4} %", 100.0 * worst);
     for e in &res.events[..5] {
         assert!((e.restitution.unwrap() - 1.0).abs() < 1e-3);

@@ -18,9 +18,19 @@ fn fig1_apple_on_steel(v0: f64) {
     let k = normal::stiffness(effective_modulus(&apple, &steel), 0.04);
     let cf = theory::elastic_impact(0.107, v0, k, 0.04);
     assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 0.005);
-    assert_rel("contact time", e.duration_s.unwrap(), cf.contact_time_s, 0.005);
+    assert_rel(
+        "contact time",
+        e.duration_s.unwrap(),
+        cf.contact_time_s,
+        0.005,
+    );
     assert_rel("max overlap", e.max_overlap_m, cf.max_overlap_m, 0.005);
-    assert_rel("max contact radius", e.max_contact_radius_m, cf.max_contact_radius_m, 0.005);
+    assert_rel(
+        "max contact radius",
+        e.max_contact_radius_m,
+        cf.max_contact_radius_m,
+        0.005,
+    );
     assert_rel("rebound speed", e.separation_speed_m_s.unwrap(), v0, 0.001);
     assert_rel("impulse", e.impulse_n_s, 2.0 * 0.107 * v0, 0.001);
 }
@@ -48,9 +58,19 @@ fn two_equal_apples_head_on() {
     let k = normal::stiffness(effective_modulus(&apple, &apple), r_star);
     let cf = theory::elastic_impact(m_star, 1.0, k, r_star);
     assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 0.005);
-    assert_rel("contact time", e.duration_s.unwrap(), cf.contact_time_s, 0.005);
+    assert_rel(
+        "contact time",
+        e.duration_s.unwrap(),
+        cf.contact_time_s,
+        0.005,
+    );
     assert_rel("max overlap", e.max_overlap_m, cf.max_overlap_m, 0.005);
-    assert_rel("relative rebound speed", e.separation_speed_m_s.unwrap(), 1.0, 0.001);
+    assert_rel(
+        "relative rebound speed",
+        e.separation_speed_m_s.unwrap(),
+        1.0,
+        0.001,
+    );
     // Each apple leaves with the other's speed, momentum conserved.
     let left = &r.apples[0];
     assert_rel("left final speed", -left.final_velocity_m_s[0], 0.5, 0.001);
@@ -67,7 +87,11 @@ fn force_never_pulls() {
     let (_, series) = run(&sc);
     let mut touched = false;
     for (_, s) in series.of(0) {
-        assert!(s.contact_force.z >= 0.0, "pulling force {}", s.contact_force.z);
+        assert!(
+            s.contact_force.z >= 0.0,
+            "pulling force {}",
+            s.contact_force.z
+        );
         touched |= s.contact_force.z > 0.0;
     }
     assert!(touched);

@@ -17,7 +17,10 @@ fn restitution(ke: f64, lambda: f64, v0: f64, dt: f64) -> f64 {
     sc.output.sample_interval_s = 0.01;
     let (r, _) = run(&sc);
     let e = &r.events[0];
-    assert!(e.t_end_s.is_some(), "apple left the plate (ke {ke}, lambda {lambda}, v0 {v0})");
+    assert!(
+        e.t_end_s.is_some(),
+        "apple left the plate (ke {ke}, lambda {lambda}, v0 {v0})"
+    );
     e.restitution.unwrap()
 }
 
@@ -31,7 +34,10 @@ fn restitution_never_exceeds_one() {
                 worst = worst.max(e);
                 // ke = 1 is elastic: e = 1 up to the integration error of the rebound, about 1e-6
                 // at 165 steps per contact (symplectic Euler, physics.md section 10).
-                assert!(e <= 1.0 + 1e-5, "e = {e} > 1 at ke {ke}, lambda {lambda}, v0 {v0}");
+                assert!(
+                    e <= 1.0 + 1e-5,
+                    "e = {e} > 1 at ke {ke}, lambda {lambda}, v0 {v0}"
+                );
                 if ke < 1.0 {
                     assert!(e < 1.0, "dissipative ke {ke} gave e = {e}");
                 }

@@ -47,7 +47,10 @@ fn slip_roll(v0: f64, w0: f64, mu: f64) -> (f64, f64, f64, f64) {
 fn check(v0: f64, w0: f64, mu: f64) {
     let (t, v, w, lever) = slip_roll(v0, w0, mu);
     let cf = theory::slip_to_roll(v0, w0, 0.04, mu, 9.81);
-    println!("v0 {v0} w0 {w0} mu {mu}: t {t:.6} (closed form {:.6}), v {v:.6} ({:.6}), w {w:.4}", cf.time_s, cf.speed_m_s);
+    println!(
+        "v0 {v0} w0 {w0} mu {mu}: t {t:.6} (closed form {:.6}), v {v:.6} ({:.6}), w {w:.4}",
+        cf.time_s, cf.speed_m_s
+    );
     assert_rel("time to rolling", t, cf.time_s, 0.01);
     assert_rel("rolling speed", v, cf.speed_m_s, 0.01);
     let tight = theory::slip_to_roll_with_lever(v0, w0, 0.04, lever, mu, 9.81);

@@ -151,7 +151,11 @@ mod tests {
         while s > 0.01 {
             let f = tangential_force(&p, 10.0, Vec3::new(s, 0.0, 0.0), &mut xi, 1e-5);
             assert!(f.sliding);
-            assert!((f.force.x + 3.0).abs() < 1e-9, "F = {:?} at s = {s}", f.force);
+            assert!(
+                (f.force.x + 3.0).abs() < 1e-9,
+                "F = {:?} at s = {s}",
+                f.force
+            );
             s += f.force.x / 0.03 * 1e-5;
         }
     }

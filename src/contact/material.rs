@@ -19,7 +19,9 @@ pub enum MaterialError {
         value: f64,
     },
     /// nu outside the open interval (-1, 0.5) where an isotropic solid is stable.
-    #[error("poisson_ratio = {0}: must lie in (-1, 0.5) (0.5 is incompressible, outside Hertz theory)")]
+    #[error(
+        "poisson_ratio = {0}: must lie in (-1, 0.5) (0.5 is incompressible, outside Hertz theory)"
+    )]
     BadPoisson(f64),
     /// Density zero, negative or not finite.
     #[error("density_kg_m3 = {0}: must be a finite number > 0")]

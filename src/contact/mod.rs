@@ -86,6 +86,8 @@ pub struct ContactKinematics {
     pub rel_velocity: Vec3,
     /// Tangential effective mass of the contact (kg), for the dashpot.
     pub tangential_mass_kg: f64,
+    /// Normal effective mass of the contact (kg), for the cap on eq. 12's rate part.
+    pub normal_mass_kg: f64,
 }
 
 /// What the law returns for one contact.
@@ -112,13 +114,15 @@ pub struct ContactResponse {
 }
 
 /// Evaluates the full law for one contact. `xi` is the contact's stored tangential displacement;
-/// `damping_ratio` scales the tangential dashpot as a fraction of m_eff / dt (see [`friction`]).
+/// `relaxation` is the fraction of the "velocity-kill" rate m / dt that bounds the rate-dependent
+/// forces of this contact: the tangential dashpot (see [`friction`]) and the rate part of eq. 12
+/// (see [`damping::hysteresis_force`]).
 pub fn evaluate(
     law: &PairLaw,
     parts: LawParts,
     kin: &ContactKinematics,
     xi: &mut Vec3,
-    tangential_relaxation: f64,
+    relaxation: f64,
     dt_s: f64,
 ) -> ContactResponse {
     let n = kin.normal;
@@ -128,7 +132,8 @@ pub fn evaluate(
     let du_dt = -v_n;
     let elastic = normal::hertz_force(k, u);
     let p = if parts.energy_loss {
-        elastic * damping::hysteresis_factor(law.ke, law.lambda_s_m, du_dt)
+        let cap = relaxation * kin.normal_mass_kg / dt_s;
+        damping::hysteresis_force(elastic, law.ke, law.lambda_s_m, du_dt, cap)
     } else {
         elastic
     };
@@ -142,7 +147,7 @@ pub fn evaluate(
         let params = friction::TangentialParams {
             mu: law.friction,
             stiffness_n_m: friction::mindlin_stiffness(law.g_star_pa, a),
-            damping_n_s_m: tangential_relaxation * kin.tangential_mass_kg / dt_s,
+            damping_n_s_m: relaxation * kin.tangential_mass_kg / dt_s,
         };
         let t = friction::tangential_force(&params, p, slip_t, xi, dt_s);
         friction_force = t.force;
@@ -184,6 +189,7 @@ mod tests {
             r_star_m: 0.04,
             rel_velocity: vel,
             tangential_mass_kg: 0.03,
+            normal_mass_kg: 0.107,
         }
     }
 

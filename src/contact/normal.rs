@@ -95,7 +95,9 @@ mod tests {
         let k = 7.1545e5;
         let (n, u_end) = (100_000, 2e-3);
         let du = u_end / n as f64;
-        let w: f64 = (0..n).map(|i| hertz_force(k, (i as f64 + 0.5) * du) * du).sum();
+        let w: f64 = (0..n)
+            .map(|i| hertz_force(k, (i as f64 + 0.5) * du) * du)
+            .sum();
         assert!((w - elastic_energy(k, u_end)).abs() / w < 1e-8);
     }
 }

@@ -200,7 +200,9 @@ mod tests {
         let mut r = Vec::new();
         let mut seed = 12345u64;
         let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
         for _ in 0..400 {
@@ -212,7 +214,10 @@ mod tests {
         assert!(list.update(&pos, &r, &active, |_| {}));
         let got: Vec<_> = list.pairs().iter().map(|p| (p.i, p.j)).collect();
         assert_eq!(got, brute(&pos, &r, 0.01));
-        assert!(!list.update(&pos, &r, &active, |_| {}), "no motion, no rebuild");
+        assert!(
+            !list.update(&pos, &r, &active, |_| {}),
+            "no motion, no rebuild"
+        );
     }
 
     #[test]
@@ -220,8 +225,16 @@ mod tests {
         // A hash of the cell key used as sort key interleaved cells whose hashes collided, and
         // pairs of adjacent cells were lost (an apple pile fell through itself).
         let pos = vec![
-            Vec3::new(0.20463681687935084, -0.0958655273965989, 0.03493802636169242),
-            Vec3::new(0.20496990901464243, -0.10377874208606211, 0.10983959130024909),
+            Vec3::new(
+                0.20463681687935084,
+                -0.0958655273965989,
+                0.03493802636169242,
+            ),
+            Vec3::new(
+                0.20496990901464243,
+                -0.10377874208606211,
+                0.10983959130024909,
+            ),
         ];
         let r = vec![0.0392, 0.0392];
         let mut list: NeighborList<()> = NeighborList::new(0.011);
@@ -245,7 +258,11 @@ mod tests {
 
     #[test]
     fn carries_state_over_rebuilds() {
-        let pos = vec![Vec3::ZERO, Vec3::new(0.08, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
+        let pos = vec![
+            Vec3::ZERO,
+            Vec3::new(0.08, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+        ];
         let r = vec![0.04; 3];
         let active = vec![true; 3];
         let mut list: NeighborList<u32> = NeighborList::new(0.01);
@@ -257,7 +274,10 @@ mod tests {
         list.update(&moved, &r, &active, |_| dropped += 1);
         assert_eq!(dropped, 0);
         assert_eq!(list.pairs().len(), 2);
-        assert_eq!((list.pairs()[0].i, list.pairs()[0].j, list.pairs()[0].state), (0, 1, 7));
+        assert_eq!(
+            (list.pairs()[0].i, list.pairs()[0].j, list.pairs()[0].state),
+            (0, 1, 7)
+        );
         assert_eq!(list.pairs()[1].state, 0);
     }
 }

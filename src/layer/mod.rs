@@ -61,10 +61,8 @@ use crate::math::{is_finite, Vec3};
 use crate::record::events::{ContactEvent, ContactSample, Names, OpenContact, Party};
 pub use hooks::{ContactHooks, Role};
 use rapier3d_f64::dynamics::{RigidBodyHandle, RigidBodySet};
+use rapier3d_f64::geometry::{ColliderHandle, ColliderSet, Group, InteractionGroups, NarrowPhase};
 use rapier3d_f64::pipeline::ActiveHooks;
-use rapier3d_f64::geometry::{
-    ColliderHandle, ColliderSet, Group, InteractionGroups, NarrowPhase,
-};
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 pub use surface::{SurfaceHit, SurfaceShape};
@@ -149,13 +147,47 @@ impl Default for Guard {
     }
 }
 
+/// When apples at rest stop being simulated, and what wakes them.
+///
+/// An awake apple counts as *still* when |v| and |w| R are both below `speed_m_s`; it falls
+/// asleep after `time_s` of stillness during which it touched no apple that was not still and no
+/// moving surface (a belt, a moving body). A sleeper is not integrated (rapier's sleeping) and its
+/// contacts with other sleepers and fixed surfaces are frozen, not evaluated. It wakes when a
+/// contact with an awake apple starts or ends, or when the overlap of such a contact moves by
+/// more than `wake_overlap_ratio` of its value at the time of sleeping (the neighbour pushes
+/// harder or lets go). Waking cascades: a woken apple that moves shifts its own contacts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SleepConfig {
+    /// Whether apples may sleep at all.
+    pub enabled: bool,
+    /// Stillness threshold (m/s).
+    pub speed_m_s: f64,
+    /// Stillness time before sleeping (s).
+    pub time_s: f64,
+    /// Relative change of a contact's overlap that wakes a sleeper.
+    pub wake_overlap_ratio: f64,
+}
+
+impl Default for SleepConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            speed_m_s: 0.005,
+            time_s: 0.2,
+            wake_overlap_ratio: 0.05,
+        }
+    }
+}
+
 /// Settings of the layer.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LayerConfig {
     /// Which parts of the contact law are on.
     pub parts: LawParts,
-    /// Tangential dashpot as a fraction of the velocity-kill rate m_eff / dt, shared among an
-    /// apple's contacts (see [`contact::friction`]): 0.5 removes at most half the slip per step.
+    /// Bound of the rate-dependent forces as a fraction of the velocity-kill rate m_eff / dt,
+    /// shared among an apple's contacts: the tangential dashpot (see [`contact::friction`]) and
+    /// the rate part of eq. 12 (see [`contact::damping::hysteresis_force`]). 0.5 removes at most
+    /// half the relative velocity per step, which keeps explicit stepping stable.
     pub tangential_relaxation: f64,
     /// Verlet skin of the apple-apple list as a fraction of the largest apple radius.
     pub grid_skin_ratio: f64,
@@ -165,6 +197,8 @@ pub struct LayerConfig {
     pub guard: Guard,
     /// The collision group that marks apples; apple-apple pairs are excluded from rapier with it.
     pub apple_group: Group,
+    /// Sleeping of apples at rest.
+    pub sleep: SleepConfig,
 }
 
 impl Default for LayerConfig {
@@ -176,6 +210,7 @@ impl Default for LayerConfig {
             force_history_cap: 0,
             guard: Guard::default(),
             apple_group: Group::GROUP_32,
+            sleep: SleepConfig::default(),
         }
     }
 }
@@ -244,10 +279,28 @@ struct SurfaceEntry {
 }
 
 /// State carried by a contact pair across steps.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct PairState {
     xi: Vec3,
     open: Option<Box<OpenContact>>,
+    /// Force on body 1 at the last evaluation (reported for sleepers' frozen contacts).
+    last_force: Vec3,
+    /// Overlap at the last evaluation.
+    last_u: f64,
+    /// Overlap when one of the two fell asleep (NaN while both are awake).
+    ref_u: f64,
+}
+
+impl Default for PairState {
+    fn default() -> Self {
+        Self {
+            xi: Vec3::ZERO,
+            open: None,
+            last_force: Vec3::ZERO,
+            last_u: 0.0,
+            ref_u: f64::NAN,
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -301,7 +354,9 @@ pub struct ContactLayer {
     laws_dirty: bool,
     apples: Vec<AppleEntry>,
     surfaces: Vec<SurfaceEntry>,
-    by_collider: HashMap<ColliderHandle, (Role, u32)>,
+    /// Role and index of registered colliders, indexed by the collider's arena index (a plain
+    /// table: the candidate scan does two lookups per rapier pair every step).
+    by_collider: Vec<Option<(ColliderHandle, Role, u32)>>,
     grid: grid::NeighborList<PairState>,
     surface_slots: BTreeMap<(u32, u32), Vec<Slot>>,
     // Per-step buffers.
@@ -313,6 +368,14 @@ pub struct ContactLayer {
     force: Vec<Vec3>,
     torque: Vec<Vec3>,
     count: Vec<u16>,
+    still: Vec<bool>,
+    busy: Vec<bool>,
+    still_time: Vec<f64>,
+    asleep: Vec<bool>,
+    sleep_force: Vec<Vec3>,
+    to_wake: Vec<u32>,
+    stats_sleeps: u64,
+    stats_wakeups: u64,
     hits: Vec<Hit>,
     scratch: Vec<SurfaceHit>,
     candidates: Vec<(u32, u32)>,
@@ -340,7 +403,7 @@ impl ContactLayer {
             laws_dirty: true,
             apples: Vec::new(),
             surfaces: Vec::new(),
-            by_collider: HashMap::new(),
+            by_collider: Vec::new(),
             surface_slots: BTreeMap::new(),
             pos: Vec::new(),
             vel: Vec::new(),
@@ -350,6 +413,14 @@ impl ContactLayer {
             force: Vec::new(),
             torque: Vec::new(),
             count: Vec::new(),
+            still: Vec::new(),
+            busy: Vec::new(),
+            still_time: Vec::new(),
+            asleep: Vec::new(),
+            sleep_force: Vec::new(),
+            to_wake: Vec::new(),
+            stats_sleeps: 0,
+            stats_wakeups: 0,
             hits: Vec::new(),
             scratch: Vec::new(),
             candidates: Vec::new(),
@@ -438,7 +509,7 @@ impl ContactLayer {
         material: MaterialId,
         name: &str,
     ) -> Result<AppleId, LayerError> {
-        if self.by_collider.contains_key(&collider) {
+        if self.lookup(collider).is_some() {
             return Err(LayerError::Duplicate(name.to_string()));
         }
         let co = colliders
@@ -478,10 +549,12 @@ impl ContactLayer {
             inv_tangential_mass: 1.0 / mass + radius * radius / inertia,
         });
         self.hooks.set(collider, Role::Apple);
-        self.by_collider.insert(collider, (Role::Apple, id));
+        self.register(collider, Role::Apple, id);
         self.radius.push(radius);
-        let r_max = self.radius.iter().cloned().fold(0.0, f64::max);
-        self.grid = grid::NeighborList::new(self.config.grid_skin_ratio * r_max);
+        if self.apples.len() == 1 {
+            // The skin is set by the first apple; the grid's cells follow the largest radius.
+            self.grid = grid::NeighborList::new(self.config.grid_skin_ratio * radius);
+        }
         Ok(AppleId(id))
     }
 
@@ -493,7 +566,7 @@ impl ContactLayer {
         collider: ColliderHandle,
         options: SurfaceOptions,
     ) -> Result<SurfaceId, LayerError> {
-        if self.by_collider.contains_key(&collider) {
+        if self.lookup(collider).is_some() {
             return Err(LayerError::Duplicate(options.name));
         }
         let co = colliders
@@ -515,8 +588,23 @@ impl ContactLayer {
             rigid: options.rigid,
         });
         self.hooks.set(collider, role);
-        self.by_collider.insert(collider, (role, id));
+        self.register(collider, role, id);
         Ok(SurfaceId(id))
+    }
+
+    fn register(&mut self, h: ColliderHandle, role: Role, id: u32) {
+        let k = h.into_raw_parts().0 as usize;
+        if self.by_collider.len() <= k {
+            self.by_collider.resize(k + 1, None);
+        }
+        self.by_collider[k] = Some((h, role, id));
+    }
+
+    fn lookup(&self, h: ColliderHandle) -> Option<(Role, u32)> {
+        match self.by_collider.get(h.into_raw_parts().0 as usize) {
+            Some(Some((stored, role, id))) if *stored == h => Some((*role, *id)),
+            _ => None,
+        }
     }
 
     /// Checks that no apple can meet a concave surface tighter than itself (conforming contact).
@@ -596,7 +684,10 @@ impl ContactLayer {
 
     /// Contact torque on an apple at the last step (N m).
     pub fn apple_contact_torque(&self, id: AppleId) -> Vec3 {
-        self.torque.get(id.0 as usize).copied().unwrap_or(Vec3::ZERO)
+        self.torque
+            .get(id.0 as usize)
+            .copied()
+            .unwrap_or(Vec3::ZERO)
     }
 
     /// The apple-apple candidate pairs of the neighbour list (i < j, sorted), and how many times
@@ -678,7 +769,28 @@ impl ContactLayer {
         self.torque.resize(n, Vec3::ZERO);
         self.count.clear();
         self.count.resize(n, 0);
+        self.still.resize(n, false);
+        self.busy.clear();
+        self.busy.resize(n, false);
+        self.still_time.resize(n, 0.0);
+        self.asleep.resize(n, false);
+        self.sleep_force.resize(n, Vec3::ZERO);
+        let still_speed = self.config.sleep.speed_m_s;
         for (k, a) in self.apples.iter().enumerate() {
+            if self.asleep[k] {
+                match bodies.get(a.body) {
+                    // Still asleep in rapier: nothing moved, velocities are zero.
+                    Some(rb) if rb.is_sleeping() => {
+                        self.active[k] = false;
+                        continue;
+                    }
+                    // Woken from outside (the user moved it): treat it as awake again.
+                    _ => {
+                        self.asleep[k] = false;
+                        self.still_time[k] = 0.0;
+                    }
+                }
+            }
             let Some(rb) = bodies.get(a.body) else {
                 return Err(LayerError::NonFinite {
                     body: a.name.to_string(),
@@ -697,7 +809,8 @@ impl ContactLayer {
             self.pos[k] = c;
             self.vel[k] = v;
             self.angvel[k] = w;
-            self.active[k] = !rb.is_sleeping();
+            self.active[k] = !self.asleep[k];
+            self.still[k] = v.length() < still_speed && w.length() * a.radius < still_speed;
         }
         Ok(())
     }
@@ -705,6 +818,10 @@ impl ContactLayer {
     /// Computes every modelled contact at the current poses and sets the apples' forces and
     /// torques for the coming step (replacing whatever the layer set before). Call it right
     /// before each `step`, with the time of the current poses and the step about to be taken.
+    ///
+    /// Sleeping apples (see [`SleepConfig`]) are not touched; contacts between two sleepers or
+    /// between a sleeper and a fixed surface are not evaluated. Wake-ups are decided from the
+    /// geometry before any force is computed, so a woken apple gets all its contacts this step.
     pub fn apply_forces(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -716,9 +833,70 @@ impl ContactLayer {
         self.time_s = time_s;
         self.ensure_laws();
         self.gather(bodies)?;
+        let mut redone = false;
+        loop {
+            self.geometry_pass(bodies, colliders, narrow_phase, time_s, dt_s);
+            if self.to_wake.is_empty() || redone {
+                break;
+            }
+            let woken = std::mem::take(&mut self.to_wake);
+            for k in woken {
+                self.wake(bodies, k as usize);
+            }
+            redone = true;
+        }
+        self.to_wake.clear();
+
+        // Force pass, in the fixed order of `hits`.
+        let hits = std::mem::take(&mut self.hits);
+        let mut result = Ok(());
+        for h in &hits {
+            if let Err(e) = self.contact_force(h, bodies, colliders, time_s, dt_s) {
+                result = Err(e);
+                break;
+            }
+        }
+        self.stats.contacts = hits.len();
+        self.hits = hits;
+        result?;
+        self.add_frozen_forces();
+        self.sleep_decisions(bodies, dt_s);
+
+        // Hand the forces to rapier. `user_force` persists across steps, so reset every time.
+        for (k, a) in self.apples.iter().enumerate() {
+            if !self.active[k] {
+                continue;
+            }
+            if let Some(rb) = bodies.get_mut(a.body) {
+                rb.reset_forces(false);
+                rb.reset_torques(false);
+                rb.add_force(self.force[k], false);
+                rb.add_torque(self.torque[k], false);
+            }
+        }
+        for (h, f, p) in self.body_loads.drain(..) {
+            if let Some(rb) = bodies.get_mut(h) {
+                if rb.is_dynamic() {
+                    rb.add_force_at_point(f, p, true);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Finds every contact at the current poses (into `hits`), closes contacts that parted, and
+    /// lists sleepers that must wake (into `to_wake`).
+    fn geometry_pass(
+        &mut self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        time_s: f64,
+        dt_s: f64,
+    ) {
         self.stats = StepStats::default();
         self.hits.clear();
-
+        self.count.iter_mut().for_each(|c| *c = 0);
         // Apple-apple candidates from our grid; contacts dropped by a rebuild cannot have
         // overlapped (they are farther apart than the skin), close them where they are.
         let mut dropped_open = Vec::new();
@@ -736,15 +914,35 @@ impl ContactLayer {
             self.finished.push(open.finish(time_s, dt_s, u, sep, names));
         }
         self.stats.apple_candidates = self.grid.pairs().len();
+        let wake_ratio = self.config.sleep.wake_overlap_ratio;
         for k in 0..self.grid.pairs().len() {
             let (i, j) = {
                 let p = &self.grid.pairs()[k];
                 (p.i as usize, p.j as usize)
             };
-            if !self.active[i] && !self.active[j] {
+            let (ai, aj) = (self.active[i], self.active[j]);
+            if !ai && !aj {
                 continue;
             }
             let (n, u) = self.apple_apple_geometry(i, j);
+            let state = &mut self.grid.pairs_mut()[k].state;
+            if ai != aj {
+                // One sleeper: wake it if this contact starts, ends, or its overlap drifts.
+                let sleeper = if ai { j } else { i };
+                let starts = u > 0.0 && state.open.is_none();
+                let ends = u <= 0.0 && state.open.is_some();
+                if state.ref_u.is_nan() {
+                    state.ref_u = state.last_u;
+                }
+                let drifts =
+                    u > 0.0 && (u - state.ref_u).abs() > wake_ratio * state.ref_u.max(0.0) + 1e-9;
+                if starts || ends || drifts {
+                    self.to_wake.push(sleeper as u32);
+                }
+            } else {
+                state.ref_u = f64::NAN;
+            }
+            state.last_u = u;
             if u > 0.0 {
                 self.hits.push(Hit {
                     i: i as u32,
@@ -755,54 +953,92 @@ impl ContactLayer {
                 });
                 self.count[i] += 1;
                 self.count[j] += 1;
-            } else if self.grid.pairs()[k].state.open.is_some() {
+            } else if state.open.is_some() {
                 let sep = (self.vel[i] - self.vel[j]).dot(n);
+                let open = state.open.take().unwrap();
+                state.xi = Vec3::ZERO;
+                state.last_force = Vec3::ZERO;
                 let names = self.names_apple(i as u32, j as u32);
-                let open = self.grid.pairs_mut()[k].state.open.take().unwrap();
                 self.finished.push(open.finish(time_s, dt_s, u, sep, names));
-                self.grid.pairs_mut()[k].state.xi = Vec3::ZERO;
             } else {
-                self.grid.pairs_mut()[k].state.xi = Vec3::ZERO;
+                state.xi = Vec3::ZERO;
+                state.last_force = Vec3::ZERO;
             }
         }
         self.stats.apple_apple_contacts = self.hits.len();
-
         self.collect_surface_hits(bodies, colliders, narrow_phase, time_s, dt_s);
+    }
 
-        // Force pass, in the fixed order of `hits`.
-        let hits = std::mem::take(&mut self.hits);
-        let mut result = Ok(());
-        for h in &hits {
-            if let Err(e) = self.contact_force(h, bodies, colliders, time_s, dt_s) {
-                result = Err(e);
-                break;
+    fn wake(&mut self, bodies: &mut RigidBodySet, k: usize) {
+        if self.active[k] {
+            return;
+        }
+        self.active[k] = true;
+        self.asleep[k] = false;
+        self.still_time[k] = 0.0;
+        self.stats_wakeups += 1;
+        if let Some(rb) = bodies.get_mut(self.apples[k].body) {
+            rb.wake_up(true);
+        }
+    }
+
+    /// A sleeper reports the contact force it carried when it fell asleep (its contacts are frozen;
+    /// a change large enough to matter wakes it).
+    fn add_frozen_forces(&mut self) {
+        for k in 0..self.apples.len() {
+            if self.asleep[k] {
+                self.force[k] = self.sleep_force[k];
             }
         }
-        self.stats.contacts = hits.len();
-        self.hits = hits;
-        result?;
+    }
 
-        // Hand the forces to rapier. `user_force` persists across steps, so reset every time.
-        for (k, a) in self.apples.iter().enumerate() {
-            if !self.active[k] && self.count[k] == 0 {
+    /// Puts to sleep the apples that have been still long enough (see [`SleepConfig`]).
+    fn sleep_decisions(&mut self, bodies: &mut RigidBodySet, dt_s: f64) {
+        let cfg = self.config.sleep;
+        if !cfg.enabled {
+            return;
+        }
+        for k in 0..self.apples.len() {
+            if !self.active[k] {
                 continue;
             }
-            if let Some(rb) = bodies.get_mut(a.body) {
-                rb.reset_forces(false);
-                rb.reset_torques(false);
-                let touching = self.count[k] > 0;
-                rb.add_force(self.force[k], touching);
-                rb.add_torque(self.torque[k], touching);
+            if self.still[k] && !self.busy[k] {
+                self.still_time[k] += dt_s;
+            } else {
+                self.still_time[k] = 0.0;
             }
-        }
-        for (h, f, p) in self.body_loads.drain(..) {
-            if let Some(rb) = bodies.get_mut(h) {
-                if rb.is_dynamic() {
-                    rb.add_force_at_point(f, p, true);
+            if self.still_time[k] >= cfg.time_s {
+                self.active[k] = false;
+                self.asleep[k] = true;
+                self.sleep_force[k] = self.force[k];
+                self.vel[k] = Vec3::ZERO;
+                self.angvel[k] = Vec3::ZERO;
+                self.still[k] = true;
+                self.stats_sleeps += 1;
+                self.force[k] = Vec3::ZERO;
+                self.torque[k] = Vec3::ZERO;
+                if let Some(rb) = bodies.get_mut(self.apples[k].body) {
+                    rb.reset_forces(false);
+                    rb.reset_torques(false);
+                    rb.sleep();
                 }
             }
         }
-        Ok(())
+    }
+
+    /// Number of apples asleep now.
+    pub fn sleeping_count(&self) -> usize {
+        self.asleep.iter().filter(|&&a| a).count()
+    }
+
+    /// Whether an apple is asleep.
+    pub fn is_asleep(&self, id: AppleId) -> bool {
+        self.asleep.get(id.0 as usize).copied().unwrap_or(false)
+    }
+
+    /// Total sleeps and wake-ups so far.
+    pub fn sleep_counts(&self) -> (u64, u64) {
+        (self.stats_sleeps, self.stats_wakeups)
     }
 
     /// Resets the user forces the layer set on other dynamic bodies (call before
@@ -838,11 +1074,12 @@ impl ContactLayer {
     ) {
         self.candidates.clear();
         for pair in narrow_phase.contact_pairs() {
-            let r1 = self.by_collider.get(&pair.collider1);
-            let r2 = self.by_collider.get(&pair.collider2);
-            match (r1, r2) {
-                (Some(&(Role::Apple, a)), Some(&(Role::HertzSurface, s)))
-                | (Some(&(Role::HertzSurface, s)), Some(&(Role::Apple, a))) => {
+            match (self.lookup(pair.collider1), self.lookup(pair.collider2)) {
+                (Some((Role::Apple, a)), Some((Role::HertzSurface, s)))
+                | (Some((Role::HertzSurface, s)), Some((Role::Apple, a)))
+                    // A sleeper's surface contacts are frozen: no need to look at them.
+                    if self.active[a as usize] =>
+                {
                     self.candidates.push((a, s))
                 }
                 _ => {}
@@ -850,21 +1087,16 @@ impl ContactLayer {
         }
         self.candidates.sort_unstable();
         self.candidates.dedup();
-        for slots in self.surface_slots.values_mut() {
+        for (&(a, _), slots) in self.surface_slots.iter_mut() {
+            // Slots of sleepers stay as they are (frozen); the others must be seen again.
+            let keep = !self.active[a as usize];
             for s in slots.iter_mut() {
-                s.seen = false;
+                s.seen = keep;
             }
         }
         let candidates = std::mem::take(&mut self.candidates);
         for &(a, s) in &candidates {
             let ai = a as usize;
-            if !self.active[ai] {
-                // A sleeping apple keeps its contacts as they are.
-                if let Some(slots) = self.surface_slots.get_mut(&(a, s)) {
-                    slots.iter_mut().for_each(|sl| sl.seen = true);
-                }
-                continue;
-            }
             let surf = &self.surfaces[s as usize];
             let Some(co) = colliders.get(surf.collider) else {
                 continue;
@@ -922,7 +1154,8 @@ impl ContactLayer {
                     });
                     self.count[ai] += 1;
                 } else if let Some(open) = sl.state.open.take() {
-                    let v_surf = surface_point_velocity(bodies, colliders, surf.collider, self.pos[ai]);
+                    let v_surf =
+                        surface_point_velocity(bodies, colliders, surf.collider, self.pos[ai]);
                     let sep = (self.vel[ai] - v_surf).dot(hit.normal);
                     let names = Names {
                         a: self.apples[ai].name.clone(),
@@ -1026,7 +1259,15 @@ impl ContactLayer {
                 let surf = &self.surfaces[s];
                 let co = colliders.get(surf.collider);
                 let parent = co.and_then(|c| c.parent());
-                let (vb, inv_m, dyn_body) = match parent.and_then(|p| bodies.get(p).map(|b| (p, b))) {
+                let moving_parent = parent
+                    .and_then(|p| bodies.get(p))
+                    .is_some_and(|rb| !rb.is_fixed());
+                if moving_parent || surf.belt_local != Vec3::ZERO {
+                    // An apple on a belt or a moving part must stay awake.
+                    self.busy[i] = true;
+                }
+                let (vb, inv_m, dyn_body) = match parent.and_then(|p| bodies.get(p).map(|b| (p, b)))
+                {
                     Some((p, rb)) if !rb.is_fixed() => {
                         let inv = if rb.is_dynamic() && rb.mass() > 0.0 {
                             1.0 / rb.mass()
@@ -1061,6 +1302,7 @@ impl ContactLayer {
             r_star_m: r_star,
             rel_velocity: rel,
             tangential_mass_kg: 1.0 / inv_t,
+            normal_mass_kg: 1.0 / (1.0 / ai.mass + inv_n2),
         };
         let relax = self.config.tangential_relaxation / share_count;
         let parts = self.config.parts;
@@ -1088,6 +1330,7 @@ impl ContactLayer {
             }
         };
         let resp = contact::evaluate(&law, parts, &kin, &mut state.xi, relax, dt_s);
+        state.last_force = resp.force_on_1;
         if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
             return Err(LayerError::NonFinite {
                 body: names.a.to_string(),
@@ -1154,6 +1397,15 @@ impl ContactLayer {
             });
         }
         let f = resp.force_on_1;
+        if let Some(j) = j_apple {
+            // A neighbour that is not still keeps an apple awake.
+            if !self.still[j] {
+                self.busy[i] = true;
+            }
+            if !self.still[i] {
+                self.busy[j] = true;
+            }
+        }
         self.force[i] += f;
         self.torque[i] += (point - self.pos[i]).cross(f);
         if let Some(j) = j_apple {

@@ -229,7 +229,10 @@ pub fn mesh_hits(
     let first = out.len();
     for (u, n) in local {
         let nw = pose.rotation * n;
-        if out[first..].iter().any(|h| h.normal.dot(nw) > MESH_MERGE_COS) {
+        if out[first..]
+            .iter()
+            .any(|h| h.normal.dot(nw) > MESH_MERGE_COS)
+        {
             continue;
         }
         out.push(SurfaceHit {

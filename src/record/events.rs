@@ -219,7 +219,14 @@ impl OpenContact {
 
     /// Closes the contact seen apart at `time_s` with overlap `u` <= 0 and separation rate
     /// `sep` = -du/dt > 0; the parting instant is interpolated within the last step.
-    pub fn finish(mut self, time_s: f64, dt_s: f64, u: f64, sep: f64, names: Names) -> ContactEvent {
+    pub fn finish(
+        mut self,
+        time_s: f64,
+        dt_s: f64,
+        u: f64,
+        sep: f64,
+        names: Names,
+    ) -> ContactEvent {
         self.absorb(u);
         let back = if sep > 0.0 { (-u / sep).min(dt_s) } else { 0.0 };
         let t_end = (time_s - back).max(self.t_start);

@@ -3,6 +3,8 @@
 //! Every field name carries its unit. Unknown fields are errors (a misspelt field must not be
 //! silently ignored), and every mistake is reported with the JSON path of the field at fault.
 
+pub mod generators;
+pub mod surfaces;
 pub(crate) mod validate;
 
 use serde::{Deserialize, Serialize};
@@ -10,6 +12,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
+pub use generators::{DiameterSpec, GeneratorSpec, SourceSpec};
+pub use surfaces::{ContactModel, RotationSpec, SurfaceSpec};
 pub use validate::validate;
 
 /// A user mistake in a scenario, with the path of the field at fault.
@@ -82,9 +86,27 @@ pub struct Scenario {
     /// Apples placed one by one.
     #[serde(default)]
     pub apples: Vec<AppleSpec>,
-    /// Surfaces (platforms, walls, belts, ...).
+    /// Generators placing many apples at the start (grid / layers, random fill).
+    #[serde(default)]
+    pub generators: Vec<GeneratorSpec>,
+    /// Sources feeding apples in over time.
+    #[serde(default)]
+    pub sources: Vec<SourceSpec>,
+    /// Surfaces (platforms, walls, belts, chutes, bins, meshes).
     #[serde(default)]
     pub surfaces: Vec<SurfaceSpec>,
+}
+
+impl Scenario {
+    /// The apples present at t = 0: the listed ones, then each generator's in order.
+    pub fn initial_apples(&self) -> Result<Vec<AppleSpec>, ScenarioError> {
+        let mut all = self.apples.clone();
+        for (k, g) in self.generators.iter().enumerate() {
+            let more = generators::expand(g, &all, &format!("generators[{k}]"))?;
+            all.extend(more);
+        }
+        Ok(all)
+    }
 }
 
 /// Output settings.
@@ -173,6 +195,45 @@ pub struct ModelSpec {
     /// Fewest steps an impact may be resolved in before the run is refused.
     #[serde(default = "default_min_steps")]
     pub min_steps_per_impact: f64,
+    /// Sleeping of apples at rest.
+    #[serde(default)]
+    pub sleep: SleepSpec,
+}
+
+/// Apples at rest cost (almost) nothing: an apple whose speed (centre and surface, |v| and
+/// |w| R) stays below `speed_m_s` for `time_s`, with no moving neighbour or moving surface, is
+/// put to sleep (not integrated, its contacts with sleeping apples and fixed surfaces not
+/// evaluated) and woken when something changes around it. The rule is in `docs/design.md`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SleepSpec {
+    /// Whether apples may sleep.
+    #[serde(default = "default_true")]
+    pub enabled: bool,
+    /// Speed below which an apple counts as still (m/s).
+    #[serde(default = "default_sleep_speed")]
+    pub speed_m_s: f64,
+    /// How long it must stay still before sleeping (s).
+    #[serde(default = "default_sleep_time")]
+    pub time_s: f64,
+}
+
+fn default_sleep_speed() -> f64 {
+    0.005
+}
+
+fn default_sleep_time() -> f64 {
+    0.2
+}
+
+impl Default for SleepSpec {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            speed_m_s: default_sleep_speed(),
+            time_s: default_sleep_time(),
+        }
+    }
 }
 
 fn default_max_overlap_ratio() -> f64 {
@@ -188,6 +249,7 @@ impl Default for ModelSpec {
         Self {
             max_overlap_ratio: default_max_overlap_ratio(),
             min_steps_per_impact: default_min_steps(),
+            sleep: SleepSpec::default(),
         }
     }
 }
@@ -213,52 +275,6 @@ pub struct AppleSpec {
     /// Angular velocity (rad/s).
     #[serde(default)]
     pub angular_velocity_rad_s: [f64; 3],
-}
-
-/// How a surface's contacts with apples are computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ContactModel {
-    /// Our Hertz law with eq. 12 and friction (forces recorded).
-    #[default]
-    Hertz,
-    /// rapier's own contact (restitution, friction), where forces there do not matter.
-    Rigid,
-}
-
-/// A surface. `type` selects the kind.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum SurfaceSpec {
-    /// An infinite flat platform: the half-space below the plane through `point_m` with
-    /// outward unit normal `normal`.
-    Plane(PlaneSpec),
-}
-
-impl SurfaceSpec {
-    /// The surface's name.
-    pub fn name(&self) -> &str {
-        match self {
-            SurfaceSpec::Plane(p) => &p.name,
-        }
-    }
-}
-
-/// An infinite plane.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PlaneSpec {
-    /// Unique name.
-    pub name: String,
-    /// Material name.
-    pub material: String,
-    /// A point of the plane (m).
-    pub point_m: [f64; 3],
-    /// Outward unit normal (towards the apples).
-    pub normal: [f64; 3],
-    /// Contact model.
-    #[serde(default)]
-    pub contact_model: ContactModel,
 }
 
 /// Parses a scenario from JSON text; `file` names the source in messages.

@@ -1,6 +1,8 @@
 //! Validation of a parsed scenario: every check names the field and the value it saw.
 
-use super::{Scenario, ScenarioError, SurfaceSpec};
+use super::generators::GeneratorSpec;
+use super::surfaces::{rotation_of, ChuteProfile, SurfaceSpec};
+use super::{AppleSpec, Scenario, ScenarioError};
 use crate::contact::{Material, MaterialError};
 use crate::layer::grid::NeighborList;
 use crate::math::{vec3, Vec3};
@@ -47,22 +49,21 @@ pub(crate) fn unit3(field: &str, v: [f64; 3]) -> R {
 /// The material built from a spec, with the error naming the field.
 pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, ScenarioError> {
     let base = format!("materials.{name}");
-    let built = match (m.shear_modulus_pa, m.youngs_modulus_pa) {
-        (Some(g), None) => Material::from_shear(g, m.poisson_ratio, m.density_kg_m3),
-        (None, Some(e)) => Material::from_youngs(e, m.poisson_ratio, m.density_kg_m3),
-        (Some(_), Some(_)) => {
-            return Err(ScenarioError::invalid(
+    let built =
+        match (m.shear_modulus_pa, m.youngs_modulus_pa) {
+            (Some(g), None) => Material::from_shear(g, m.poisson_ratio, m.density_kg_m3),
+            (None, Some(e)) => Material::from_youngs(e, m.poisson_ratio, m.density_kg_m3),
+            (Some(_), Some(_)) => return Err(ScenarioError::invalid(
                 base,
                 "gives both shear_modulus_pa and youngs_modulus_pa: give one (E = 2 G (1 + nu))",
-            ))
-        }
-        (None, None) => {
-            return Err(ScenarioError::invalid(
-                base,
-                "needs shear_modulus_pa or youngs_modulus_pa",
-            ))
-        }
-    };
+            )),
+            (None, None) => {
+                return Err(ScenarioError::invalid(
+                    base,
+                    "needs shear_modulus_pa or youngs_modulus_pa",
+                ))
+            }
+        };
     built.map_err(|e| match e {
         MaterialError::BadModulus { field, value } => ScenarioError::invalid(
             format!("{base}.{field}"),
@@ -135,7 +136,10 @@ pub fn validate(sc: &Scenario) -> R {
     let mut mats = BTreeMap::new();
     for (name, m) in &sc.materials {
         if name.trim().is_empty() {
-            return Err(ScenarioError::invalid("materials", "a material has an empty name"));
+            return Err(ScenarioError::invalid(
+                "materials",
+                "a material has an empty name",
+            ));
         }
         mats.insert(name.as_str(), material(name, m)?);
     }
@@ -171,75 +175,311 @@ pub fn validate(sc: &Scenario) -> R {
 
     let mut names = HashSet::new();
     for (k, a) in sc.apples.iter().enumerate() {
-        let f = format!("apples[{k}]");
-        if a.name.trim().is_empty() {
-            return Err(ScenarioError::invalid(format!("{f}.name"), "empty name"));
-        }
-        if !names.insert(a.name.clone()) {
-            return Err(ScenarioError::invalid(
-                format!("{f}.name"),
-                format!("'{}' is used twice: names must be unique", a.name),
-            ));
-        }
-        let Some(m) = mats.get(a.material.as_str()) else {
-            return Err(ScenarioError::invalid(
-                format!("{f}.material"),
-                format!("unknown material '{}' (defined: {})", a.material, list(&mats)),
-            ));
-        };
-        positive(&format!("{f}.diameter_m"), a.diameter_m)?;
-        match a.mass_kg {
-            Some(mass) => positive(&format!("{f}.mass_kg"), mass)?,
-            None if m.density_kg_m3.is_none() => {
-                return Err(ScenarioError::invalid(
-                    format!("{f}.mass_kg"),
-                    format!(
-                        "missing, and material '{}' has no density_kg_m3 to derive it from",
-                        a.material
-                    ),
-                ))
-            }
-            None => {}
-        }
-        finite3(&format!("{f}.position_m"), a.position_m)?;
-        finite3(&format!("{f}.velocity_m_s"), a.velocity_m_s)?;
-        finite3(&format!("{f}.angular_velocity_rad_s"), a.angular_velocity_rad_s)?;
+        apple(&format!("apples[{k}]"), a, &mats, &mut names)?;
     }
-    for (k, s) in sc.surfaces.iter().enumerate() {
-        let f = format!("surfaces[{k}]");
-        if s.name().trim().is_empty() {
-            return Err(ScenarioError::invalid(format!("{f}.name"), "empty name"));
-        }
-        if !names.insert(s.name().to_string()) {
-            return Err(ScenarioError::invalid(
-                format!("{f}.name"),
-                format!("'{}' is used twice: names must be unique", s.name()),
-            ));
-        }
-        match s {
-            SurfaceSpec::Plane(p) => {
-                if !mats.contains_key(p.material.as_str()) {
+    for (k, g) in sc.generators.iter().enumerate() {
+        let f = format!("generators[{k}]");
+        let (name, material, diameter, mass) = match g {
+            GeneratorSpec::Grid(s) => (&s.name, &s.material, &s.diameter_m, s.mass_kg),
+            GeneratorSpec::RandomFill(s) => (&s.name, &s.material, &s.diameter_m, s.mass_kg),
+        };
+        prefix_and_material(&f, name, material, mass, &mats)?;
+        diameter.validate(&format!("{f}.diameter_m"))?;
+        match g {
+            GeneratorSpec::Grid(s) => {
+                finite3(&format!("{f}.origin_m"), s.origin_m)?;
+                finite3(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
+                for (c, &x) in s.spacing_m.iter().enumerate() {
+                    positive(&format!("{f}.spacing_m[{c}]"), x)?;
+                }
+                if !(s.jitter_m.is_finite() && s.jitter_m >= 0.0) {
                     return Err(ScenarioError::invalid(
-                        format!("{f}.material"),
-                        format!("unknown material '{}' (defined: {})", p.material, list(&mats)),
+                        format!("{f}.jitter_m"),
+                        format!("{} must be >= 0", s.jitter_m),
                     ));
                 }
-                finite3(&format!("{f}.point_m"), p.point_m)?;
-                unit3(&format!("{f}.normal"), p.normal)?;
+            }
+            GeneratorSpec::RandomFill(s) => {
+                finite3(&format!("{f}.region_min_m"), s.region_min_m)?;
+                finite3(&format!("{f}.region_max_m"), s.region_max_m)?;
+                finite3(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
             }
         }
     }
-    check_apple_overlaps(sc)
+    for (k, src) in sc.sources.iter().enumerate() {
+        let f = format!("sources[{k}]");
+        prefix_and_material(&f, &src.name, &src.material, src.mass_kg, &mats)?;
+        src.diameter_m.validate(&format!("{f}.diameter_m"))?;
+        finite3(&format!("{f}.position_m"), src.position_m)?;
+        finite3(&format!("{f}.velocity_m_s"), src.velocity_m_s)?;
+        positive(&format!("{f}.rate_per_s"), src.rate_per_s)?;
+        if !(src.start_s.is_finite() && src.start_s >= 0.0) {
+            return Err(ScenarioError::invalid(
+                format!("{f}.start_s"),
+                format!("{} must be >= 0", src.start_s),
+            ));
+        }
+        if !(src.jitter_m.is_finite() && src.jitter_m >= 0.0) {
+            return Err(ScenarioError::invalid(
+                format!("{f}.jitter_m"),
+                format!("{} must be >= 0", src.jitter_m),
+            ));
+        }
+    }
+    let sl = &sc.model.sleep;
+    positive("model.sleep.speed_m_s", sl.speed_m_s)?;
+    positive("model.sleep.time_s", sl.time_s)?;
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        surface(&format!("surfaces[{k}]"), s, &mats, &mut names)?;
+    }
+    let all = sc.initial_apples()?;
+    if all.is_empty() && sc.sources.is_empty() {
+        return Err(ScenarioError::invalid(
+            "apples",
+            "no apple: give apples, generators or sources",
+        ));
+    }
+    let mut gen_names = HashSet::new();
+    for a in &all[sc.apples.len()..] {
+        if names.contains(&a.name) || !gen_names.insert(a.name.clone()) {
+            return Err(ScenarioError::invalid(
+                "generators",
+                format!(
+                    "generated apple name '{}' is already used: change the generator's name",
+                    a.name
+                ),
+            ));
+        }
+    }
+    check_apple_overlaps(&all, sc.apples.len())
+}
+
+fn material_of<'a>(
+    field: &str,
+    name: &str,
+    mats: &'a BTreeMap<&str, Material>,
+) -> Result<&'a Material, ScenarioError> {
+    mats.get(name).ok_or_else(|| {
+        ScenarioError::invalid(
+            field,
+            format!("unknown material '{name}' (defined: {})", list(mats)),
+        )
+    })
+}
+
+fn prefix_and_material(
+    f: &str,
+    name: &str,
+    material: &str,
+    mass: Option<f64>,
+    mats: &BTreeMap<&str, Material>,
+) -> R {
+    if name.trim().is_empty() {
+        return Err(ScenarioError::invalid(format!("{f}.name"), "empty name"));
+    }
+    let m = material_of(&format!("{f}.material"), material, mats)?;
+    match mass {
+        Some(x) => positive(&format!("{f}.mass_kg"), x),
+        None if m.density_kg_m3.is_none() => Err(ScenarioError::invalid(
+            format!("{f}.mass_kg"),
+            format!("missing, and material '{material}' has no density_kg_m3 to derive it from"),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn apple(
+    f: &str,
+    a: &AppleSpec,
+    mats: &BTreeMap<&str, Material>,
+    names: &mut HashSet<String>,
+) -> R {
+    if a.name.trim().is_empty() {
+        return Err(ScenarioError::invalid(format!("{f}.name"), "empty name"));
+    }
+    if !names.insert(a.name.clone()) {
+        return Err(ScenarioError::invalid(
+            format!("{f}.name"),
+            format!("'{}' is used twice: names must be unique", a.name),
+        ));
+    }
+    let m = material_of(&format!("{f}.material"), &a.material, mats)?;
+    positive(&format!("{f}.diameter_m"), a.diameter_m)?;
+    match a.mass_kg {
+        Some(mass) => positive(&format!("{f}.mass_kg"), mass)?,
+        None if m.density_kg_m3.is_none() => {
+            return Err(ScenarioError::invalid(
+                format!("{f}.mass_kg"),
+                format!(
+                    "missing, and material '{}' has no density_kg_m3 to derive it from",
+                    a.material
+                ),
+            ))
+        }
+        None => {}
+    }
+    finite3(&format!("{f}.position_m"), a.position_m)?;
+    finite3(&format!("{f}.velocity_m_s"), a.velocity_m_s)?;
+    finite3(
+        &format!("{f}.angular_velocity_rad_s"),
+        a.angular_velocity_rad_s,
+    )
+}
+
+fn size3(field: &str, v: [f64; 3]) -> R {
+    for (c, &x) in v.iter().enumerate() {
+        positive(&format!("{field}[{c}]"), x)?;
+    }
+    Ok(())
+}
+
+fn surface(
+    f: &str,
+    s: &SurfaceSpec,
+    mats: &BTreeMap<&str, Material>,
+    names: &mut HashSet<String>,
+) -> R {
+    if s.name().trim().is_empty() {
+        return Err(ScenarioError::invalid(format!("{f}.name"), "empty name"));
+    }
+    if s.name().contains('/') {
+        return Err(ScenarioError::invalid(
+            format!("{f}.name"),
+            format!("'{}': '/' is reserved for the walls of a bin", s.name()),
+        ));
+    }
+    if !names.insert(s.name().to_string()) {
+        return Err(ScenarioError::invalid(
+            format!("{f}.name"),
+            format!("'{}' is used twice: names must be unique", s.name()),
+        ));
+    }
+    match s {
+        SurfaceSpec::Plane(p) => {
+            material_of(&format!("{f}.material"), &p.material, mats)?;
+            finite3(&format!("{f}.point_m"), p.point_m)?;
+            unit3(&format!("{f}.normal"), p.normal)?;
+        }
+        SurfaceSpec::Box(b) => {
+            material_of(&format!("{f}.material"), &b.material, mats)?;
+            size3(&format!("{f}.size_m"), b.size_m)?;
+            finite3(&format!("{f}.position_m"), b.position_m)?;
+            rotation_of(&b.rotation, f)?;
+        }
+        SurfaceSpec::Conveyor(b) => {
+            material_of(&format!("{f}.material"), &b.material, mats)?;
+            size3(&format!("{f}.size_m"), b.size_m)?;
+            finite3(&format!("{f}.position_m"), b.position_m)?;
+            rotation_of(&b.rotation, f)?;
+            if !b.belt_velocity_m_s.is_finite() {
+                return Err(ScenarioError::invalid(
+                    format!("{f}.belt_velocity_m_s"),
+                    "must be finite",
+                ));
+            }
+        }
+        SurfaceSpec::Chute(c) => {
+            material_of(&format!("{f}.material"), &c.material, mats)?;
+            positive(&format!("{f}.length_m"), c.length_m)?;
+            finite3(&format!("{f}.position_m"), c.position_m)?;
+            rotation_of(&c.rotation, f)?;
+            if let Some(t) = c.thickness_m {
+                positive(&format!("{f}.thickness_m"), t)?;
+            }
+            if !(c.incline_deg.is_finite() && c.incline_deg.abs() < 90.0) {
+                return Err(ScenarioError::invalid(
+                    format!("{f}.incline_deg"),
+                    format!("{} must lie in (-90, 90)", c.incline_deg),
+                ));
+            }
+            match c.profile {
+                ChuteProfile::Flat => {
+                    let w = c.width_m.ok_or_else(|| {
+                        ScenarioError::invalid(format!("{f}.width_m"), "a flat chute needs width_m")
+                    })?;
+                    positive(&format!("{f}.width_m"), w)?;
+                    if c.radius_m.is_some() || c.half_angle_deg.is_some() {
+                        return Err(ScenarioError::invalid(
+                            format!("{f}.radius_m"),
+                            "radius_m and half_angle_deg belong to a trough, not a flat chute",
+                        ));
+                    }
+                }
+                ChuteProfile::Trough => {
+                    let r = c.radius_m.ok_or_else(|| {
+                        ScenarioError::invalid(format!("{f}.radius_m"), "a trough needs radius_m")
+                    })?;
+                    positive(&format!("{f}.radius_m"), r)?;
+                    if c.width_m.is_some() {
+                        return Err(ScenarioError::invalid(
+                            format!("{f}.width_m"),
+                            "a trough's width is set by radius_m",
+                        ));
+                    }
+                    if let Some(h) = c.half_angle_deg {
+                        if !(h > 0.0 && h <= 90.0) {
+                            return Err(ScenarioError::invalid(
+                                format!("{f}.half_angle_deg"),
+                                format!("{h} must lie in (0, 90]"),
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        SurfaceSpec::Bin(b) => {
+            material_of(&format!("{f}.material"), &b.material, mats)?;
+            if let Some(w) = &b.wall_materials {
+                for (wall, m) in [
+                    ("floor", &w.floor),
+                    ("x_min", &w.x_min),
+                    ("x_max", &w.x_max),
+                    ("y_min", &w.y_min),
+                    ("y_max", &w.y_max),
+                ] {
+                    if let Some(m) = m {
+                        material_of(&format!("{f}.wall_materials.{wall}"), m, mats)?;
+                    }
+                }
+            }
+            size3(&format!("{f}.inner_size_m"), b.inner_size_m)?;
+            if let Some(t) = b.wall_thickness_m {
+                positive(&format!("{f}.wall_thickness_m"), t)?;
+            }
+            finite3(&format!("{f}.position_m"), b.position_m)?;
+            rotation_of(&b.rotation, f)?;
+        }
+        SurfaceSpec::Mesh(m) => {
+            material_of(&format!("{f}.material"), &m.material, mats)?;
+            if m.file.trim().is_empty() {
+                return Err(ScenarioError::invalid(
+                    format!("{f}.file"),
+                    "empty file name",
+                ));
+            }
+            let sc = m.scale.vector();
+            if !(sc.is_finite() && sc.min_element() > 0.0) {
+                return Err(ScenarioError::invalid(
+                    format!("{f}.scale"),
+                    format!("{sc:?}: scale factors must be > 0"),
+                ));
+            }
+            finite3(&format!("{f}.position_m"), m.position_m)?;
+            rotation_of(&m.rotation, f)?;
+        }
+    }
+    Ok(())
 }
 
 fn list(mats: &BTreeMap<&str, Material>) -> String {
     mats.keys().cloned().collect::<Vec<_>>().join(", ")
 }
 
-/// Two apples may touch but must not start inside each other.
-fn check_apple_overlaps(sc: &Scenario) -> R {
-    let pos: Vec<Vec3> = sc.apples.iter().map(|a| vec3(a.position_m)).collect();
-    let r: Vec<f64> = sc.apples.iter().map(|a| a.diameter_m / 2.0).collect();
+/// Two apples may touch but must not start inside each other. `listed` apples come from
+/// `apples[]`; the rest were generated (named in the message, field `generators`).
+fn check_apple_overlaps(all: &[AppleSpec], listed: usize) -> R {
+    let pos: Vec<Vec3> = all.iter().map(|a| vec3(a.position_m)).collect();
+    let r: Vec<f64> = all.iter().map(|a| a.diameter_m / 2.0).collect();
     let mut list: NeighborList<()> = NeighborList::new(0.0);
     list.update(&pos, &r, &vec![true; pos.len()], |_| {});
     for p in list.pairs() {
@@ -248,13 +488,18 @@ fn check_apple_overlaps(sc: &Scenario) -> R {
         let u = r[i] + r[j] - d;
         // A touching pair placed with round numbers may overlap by a rounding error.
         if u > 1e-9 * (r[i] + r[j]) {
+            let field = if j < listed {
+                format!("apples[{j}].position_m")
+            } else {
+                "generators".to_string()
+            };
             return Err(ScenarioError::invalid(
-                format!("apples[{j}].position_m"),
+                field,
                 format!(
                     "apple '{}' starts {:.4} mm inside apple '{}' (centres {:.4} mm apart, radii {} + {} m): move them apart",
-                    sc.apples[j].name,
+                    all[j].name,
                     u * 1e3,
-                    sc.apples[i].name,
+                    all[i].name,
                     d * 1e3,
                     r[i],
                     r[j]

@@ -20,7 +20,8 @@ pub fn shipped(rel: &str) -> Scenario {
 pub fn run(sc: &Scenario) -> (RunResult, MemorySeries) {
     scenario::validate(sc).unwrap_or_else(|e| panic!("invalid test scenario: {e}"));
     let mut series = MemorySeries::default();
-    let r = sim::run(sc, &repo("scenarios"), &mut series).unwrap_or_else(|e| panic!("run failed: {e}"));
+    let r =
+        sim::run(sc, &repo("scenarios"), &mut series).unwrap_or_else(|e| panic!("run failed: {e}"));
     (r, series)
 }
 
@@ -33,6 +34,14 @@ pub fn rel(got: f64, want: f64) -> f64 {
 #[track_caller]
 pub fn assert_rel(what: &str, got: f64, want: f64, tol: f64) {
     let e = rel(got, want);
-    println!("{what}: got {got:.8e}, closed form {want:.8e}, error {:.5} %", 100.0 * e);
-    assert!(e <= tol, "{what}: got {got}, want {want} (error {:.4} % > {:.4} %)", 100.0 * e, 100.0 * tol);
+    println!(
+        "{what}: got {got:.8e}, closed form {want:.8e}, error {:.5} %",
+        100.0 * e
+    );
+    assert!(
+        e <= tol,
+        "{what}: got {got}, want {want} (error {:.4} % > {:.4} %)",
+        100.0 * e,
+        100.0 * tol
+    );
 }

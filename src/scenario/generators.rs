@@ -1,0 +1,344 @@
+//! Many apples: generators that place apples at the start (a grid / layers, a seeded random
+//! fill) and sources that feed apples in over time. Every generated apple gets a stable name,
+//! `NAME-1`, `NAME-2`, ... in generation order, and the same seed always gives the same apples
+//! (ChaCha8 from `rand_chacha`, whose output is fixed across platforms and versions).
+
+use super::{AppleSpec, ScenarioError};
+use crate::math::{vec3, Vec3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use serde::{Deserialize, Serialize};
+
+/// Diameter of generated apples: a fixed number, or a distribution.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum DiameterSpec {
+    /// Every apple the same (m).
+    Fixed(f64),
+    /// A spread of sizes.
+    Distribution(SizeDistribution),
+}
+
+/// A size distribution.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SizeDistribution {
+    /// Mean diameter (m).
+    pub mean_m: f64,
+    /// Half-width of a uniform distribution, or standard deviation of a normal one (m).
+    pub spread_m: f64,
+    /// `uniform` (default: mean +- spread) or `normal` (clipped at +- 3 spread).
+    #[serde(default)]
+    pub distribution: SizeLaw,
+}
+
+/// Shape of a size distribution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SizeLaw {
+    /// Uniform on [mean - spread, mean + spread].
+    #[default]
+    Uniform,
+    /// Normal with standard deviation `spread`, clipped at 3 standard deviations.
+    Normal,
+}
+
+impl DiameterSpec {
+    /// Checks the numbers, naming `field`.
+    pub fn validate(&self, field: &str) -> Result<(), ScenarioError> {
+        match *self {
+            DiameterSpec::Fixed(d) => {
+                if d.is_finite() && d > 0.0 {
+                    Ok(())
+                } else {
+                    Err(ScenarioError::invalid(field, format!("{d} must be > 0")))
+                }
+            }
+            DiameterSpec::Distribution(s) => {
+                let lo = match s.distribution {
+                    SizeLaw::Uniform => s.mean_m - s.spread_m,
+                    SizeLaw::Normal => s.mean_m - 3.0 * s.spread_m,
+                };
+                if !(s.mean_m.is_finite() && s.spread_m.is_finite() && s.spread_m >= 0.0) {
+                    Err(ScenarioError::invalid(
+                        field,
+                        "mean_m and spread_m must be finite, spread_m >= 0",
+                    ))
+                } else if lo <= 0.0 {
+                    Err(ScenarioError::invalid(
+                        field,
+                        format!("the distribution reaches diameters <= 0 (smallest {lo} m): reduce spread_m"),
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+        }
+    }
+
+    /// Largest diameter the spec can give (m).
+    pub fn max_m(&self) -> f64 {
+        match *self {
+            DiameterSpec::Fixed(d) => d,
+            DiameterSpec::Distribution(s) => match s.distribution {
+                SizeLaw::Uniform => s.mean_m + s.spread_m,
+                SizeLaw::Normal => s.mean_m + 3.0 * s.spread_m,
+            },
+        }
+    }
+
+    /// Draws one diameter.
+    pub fn sample(&self, rng: &mut ChaCha8Rng) -> f64 {
+        match *self {
+            DiameterSpec::Fixed(d) => d,
+            DiameterSpec::Distribution(s) => match s.distribution {
+                SizeLaw::Uniform => s.mean_m + s.spread_m * (2.0 * rng.random::<f64>() - 1.0),
+                SizeLaw::Normal => {
+                    if s.spread_m == 0.0 {
+                        return s.mean_m;
+                    }
+                    let n = Normal::new(s.mean_m, s.spread_m).expect("validated spread");
+                    loop {
+                        let d: f64 = n.sample(rng);
+                        if (d - s.mean_m).abs() <= 3.0 * s.spread_m {
+                            return d;
+                        }
+                    }
+                }
+            },
+        }
+    }
+}
+
+/// An apple generator. `type` selects the kind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum GeneratorSpec {
+    /// Apples on a regular grid: `count` = [nx, ny, nz] (nz layers), centres `spacing_m` apart,
+    /// the first at `origin_m`; layer by layer from the bottom, x fastest.
+    Grid(GridSpec),
+    /// `count` apples at random, non-overlapping positions inside a box region.
+    RandomFill(RandomFillSpec),
+}
+
+impl GeneratorSpec {
+    /// Name prefix of the generated apples.
+    pub fn name(&self) -> &str {
+        match self {
+            GeneratorSpec::Grid(g) => &g.name,
+            GeneratorSpec::RandomFill(g) => &g.name,
+        }
+    }
+}
+
+/// A grid of apples.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridSpec {
+    /// Name prefix.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// Diameters.
+    pub diameter_m: DiameterSpec,
+    /// Mass of every apple (kg); default from density.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
+    /// Number of apples along x, y and z.
+    pub count: [u32; 3],
+    /// Centre-to-centre spacing along x, y, z (m).
+    pub spacing_m: [f64; 3],
+    /// Centre of the first apple (m).
+    pub origin_m: [f64; 3],
+    /// Random sideways (x, y) offset of each apple, uniform in +- this (m).
+    #[serde(default)]
+    pub jitter_m: f64,
+    /// Seed of sizes and jitter.
+    #[serde(default)]
+    pub seed: u64,
+    /// Initial velocity of every apple (m/s).
+    #[serde(default)]
+    pub velocity_m_s: [f64; 3],
+}
+
+/// A random fill.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RandomFillSpec {
+    /// Name prefix.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// Diameters.
+    pub diameter_m: DiameterSpec,
+    /// Mass of every apple (kg); default from density.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
+    /// Number of apples.
+    pub count: u32,
+    /// Corner of the region holding the apples (whole apples, not just centres) (m).
+    pub region_min_m: [f64; 3],
+    /// Opposite corner (m).
+    pub region_max_m: [f64; 3],
+    /// Seed.
+    pub seed: u64,
+    /// Initial velocity of every apple (m/s).
+    #[serde(default)]
+    pub velocity_m_s: [f64; 3],
+}
+
+/// A source that feeds apples in over time, for lines.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SourceSpec {
+    /// Name prefix of the emitted apples.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// Diameters.
+    pub diameter_m: DiameterSpec,
+    /// Mass of every apple (kg); default from density.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
+    /// Where apples appear (m).
+    pub position_m: [f64; 3],
+    /// Random offset of the appearing point, uniform in +- this on each axis (m).
+    #[serde(default)]
+    pub jitter_m: f64,
+    /// Velocity of the emitted apples (m/s).
+    #[serde(default)]
+    pub velocity_m_s: [f64; 3],
+    /// Apples per second.
+    pub rate_per_s: f64,
+    /// First emission (s).
+    #[serde(default)]
+    pub start_s: f64,
+    /// Number of apples to emit.
+    pub count: u32,
+    /// Seed of sizes and jitter.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+impl SourceSpec {
+    /// The scheduled emissions: (time, apple), in order. An emission whose spot is still taken is
+    /// postponed by the driver until it is free.
+    pub fn schedule(&self) -> Vec<(f64, AppleSpec)> {
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        (0..self.count)
+            .map(|k| {
+                let d = self.diameter_m.sample(&mut rng);
+                let mut p = vec3(self.position_m);
+                if self.jitter_m > 0.0 {
+                    for c in 0..3 {
+                        p[c] += self.jitter_m * (2.0 * rng.random::<f64>() - 1.0);
+                    }
+                }
+                (
+                    self.start_s + k as f64 / self.rate_per_s,
+                    AppleSpec {
+                        name: format!("{}-{}", self.name, k + 1),
+                        material: self.material.clone(),
+                        diameter_m: d,
+                        mass_kg: self.mass_kg,
+                        position_m: [p.x, p.y, p.z],
+                        velocity_m_s: self.velocity_m_s,
+                        angular_velocity_rad_s: [0.0; 3],
+                    },
+                )
+            })
+            .collect()
+    }
+}
+
+/// The apples of one generator, given the apples already placed (a random fill avoids them).
+pub fn expand(
+    g: &GeneratorSpec,
+    placed: &[AppleSpec],
+    field: &str,
+) -> Result<Vec<AppleSpec>, ScenarioError> {
+    match g {
+        GeneratorSpec::Grid(s) => {
+            let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
+            let mut out = Vec::new();
+            let o = vec3(s.origin_m);
+            let sp = vec3(s.spacing_m);
+            for k in 0..s.count[2] {
+                for j in 0..s.count[1] {
+                    for i in 0..s.count[0] {
+                        let d = s.diameter_m.sample(&mut rng);
+                        let mut p =
+                            o + Vec3::new(i as f64 * sp.x, j as f64 * sp.y, k as f64 * sp.z);
+                        if s.jitter_m > 0.0 {
+                            p.x += s.jitter_m * (2.0 * rng.random::<f64>() - 1.0);
+                            p.y += s.jitter_m * (2.0 * rng.random::<f64>() - 1.0);
+                        }
+                        out.push(AppleSpec {
+                            name: format!("{}-{}", s.name, out.len() + 1),
+                            material: s.material.clone(),
+                            diameter_m: d,
+                            mass_kg: s.mass_kg,
+                            position_m: [p.x, p.y, p.z],
+                            velocity_m_s: s.velocity_m_s,
+                            angular_velocity_rad_s: [0.0; 3],
+                        });
+                    }
+                }
+            }
+            Ok(out)
+        }
+        GeneratorSpec::RandomFill(s) => {
+            let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
+            let lo = vec3(s.region_min_m);
+            let hi = vec3(s.region_max_m);
+            let mut out: Vec<AppleSpec> = Vec::new();
+            let mut attempts = 0u64;
+            let max_attempts = 1000 * s.count as u64 + 10_000;
+            while out.len() < s.count as usize {
+                let d = s.diameter_m.sample(&mut rng);
+                let r = d / 2.0;
+                let span = hi - lo - Vec3::splat(d);
+                if span.min_element() < 0.0 {
+                    return Err(ScenarioError::invalid(
+                        format!("{field}.region_max_m"),
+                        format!("the region is smaller than an apple of {d} m"),
+                    ));
+                }
+                let p = lo
+                    + Vec3::splat(r)
+                    + Vec3::new(
+                        span.x * rng.random::<f64>(),
+                        span.y * rng.random::<f64>(),
+                        span.z * rng.random::<f64>(),
+                    );
+                attempts += 1;
+                let free = placed
+                    .iter()
+                    .chain(out.iter())
+                    .all(|a| (vec3(a.position_m) - p).length() >= r + a.diameter_m / 2.0);
+                if free {
+                    out.push(AppleSpec {
+                        name: format!("{}-{}", s.name, out.len() + 1),
+                        material: s.material.clone(),
+                        diameter_m: d,
+                        mass_kg: s.mass_kg,
+                        position_m: [p.x, p.y, p.z],
+                        velocity_m_s: s.velocity_m_s,
+                        angular_velocity_rad_s: [0.0; 3],
+                    });
+                } else if attempts > max_attempts {
+                    return Err(ScenarioError::invalid(
+                        format!("{field}.count"),
+                        format!(
+                            "placed only {} of {} apples without overlap after {attempts} attempts: enlarge the region or lower the count",
+                            out.len(),
+                            s.count
+                        ),
+                    ));
+                }
+            }
+            Ok(out)
+        }
+    }
+}

@@ -1,0 +1,366 @@
+//! Surfaces of a handling line: planes, boxes, belts, chutes, bins and meshes.
+//!
+//! Every placed surface has a `position_m` and an optional `rotation`, given either as an axis and
+//! an angle in degrees, `{"axis": [0, 1, 0], "angle_deg": 10}`, or as Euler angles in degrees,
+//! `{"euler_xyz_deg": [rx, ry, rz]}`: rotations about the fixed world x, then y, then z axes
+//! (R = Rz Ry Rx).
+
+use super::ScenarioError;
+use crate::math::{vec3, Vec3};
+use rapier3d_f64::math::Rotation;
+use serde::{Deserialize, Serialize};
+
+/// How a surface's contacts with apples are computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactModel {
+    /// Our Hertz law with eq. 12 and friction (forces recorded).
+    #[default]
+    Hertz,
+    /// rapier's own contact (restitution sqrt(ke), friction), where forces there do not matter.
+    Rigid,
+}
+
+/// A rotation: axis + angle, or Euler angles (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotationSpec {
+    /// Rotation axis (any length > 0; normalised).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<[f64; 3]>,
+    /// Angle about `axis` (degrees, right-hand rule).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angle_deg: Option<f64>,
+    /// Rotations about world x, then y, then z (degrees).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub euler_xyz_deg: Option<[f64; 3]>,
+}
+
+impl RotationSpec {
+    /// The rotation, or an error naming `field`.
+    pub fn to_rotation(&self, field: &str) -> Result<Rotation, ScenarioError> {
+        match (self.axis, self.angle_deg, self.euler_xyz_deg) {
+            (Some(axis), Some(angle), None) => {
+                let a = vec3(axis);
+                if !(a.is_finite() && a.length() > 0.0 && angle.is_finite()) {
+                    return Err(ScenarioError::invalid(
+                        format!("{field}.axis"),
+                        format!("{axis:?} with angle {angle}: need a finite non-zero axis and a finite angle"),
+                    ));
+                }
+                Ok(Rotation::from_axis_angle(a.normalize(), angle.to_radians()))
+            }
+            (None, None, Some(e)) => {
+                if !e.iter().all(|x| x.is_finite()) {
+                    return Err(ScenarioError::invalid(
+                        format!("{field}.euler_xyz_deg"),
+                        format!("{e:?} must hold finite numbers"),
+                    ));
+                }
+                let [rx, ry, rz] = e.map(f64::to_radians);
+                Ok(Rotation::from_rotation_z(rz)
+                    * Rotation::from_rotation_y(ry)
+                    * Rotation::from_rotation_x(rx))
+            }
+            (None, None, None) => Ok(Rotation::IDENTITY),
+            _ => Err(ScenarioError::invalid(
+                field,
+                "give either {\"axis\": [x, y, z], \"angle_deg\": a} or {\"euler_xyz_deg\": [rx, ry, rz]}",
+            )),
+        }
+    }
+}
+
+/// Converts an optional rotation (identity when absent).
+pub fn rotation_of(r: &Option<RotationSpec>, field: &str) -> Result<Rotation, ScenarioError> {
+    match r {
+        Some(r) => r.to_rotation(&format!("{field}.rotation")),
+        None => Ok(Rotation::IDENTITY),
+    }
+}
+
+/// A surface. `type` selects the kind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum SurfaceSpec {
+    /// An infinite flat platform: the half-space below the plane through `point_m` with outward
+    /// unit normal `normal`.
+    Plane(PlaneSpec),
+    /// A box: a platform, wall or machine part.
+    Box(BoxSpec),
+    /// A belt: a box whose top surface moves along its local +x axis.
+    Conveyor(ConveyorSpec),
+    /// A chute: an inclined flat plate or a half-pipe trough.
+    Chute(ChuteSpec),
+    /// An open container: a floor and four walls, each with its material.
+    Bin(BinSpec),
+    /// A triangle mesh from an OBJ or STL file.
+    Mesh(MeshSpec),
+}
+
+impl SurfaceSpec {
+    /// The surface's name.
+    pub fn name(&self) -> &str {
+        match self {
+            SurfaceSpec::Plane(s) => &s.name,
+            SurfaceSpec::Box(s) => &s.name,
+            SurfaceSpec::Conveyor(s) => &s.name,
+            SurfaceSpec::Chute(s) => &s.name,
+            SurfaceSpec::Bin(s) => &s.name,
+            SurfaceSpec::Mesh(s) => &s.name,
+        }
+    }
+
+    /// The contact model.
+    pub fn contact_model(&self) -> ContactModel {
+        match self {
+            SurfaceSpec::Plane(s) => s.contact_model,
+            SurfaceSpec::Box(s) => s.contact_model,
+            SurfaceSpec::Conveyor(s) => s.contact_model,
+            SurfaceSpec::Chute(s) => s.contact_model,
+            SurfaceSpec::Bin(s) => s.contact_model,
+            SurfaceSpec::Mesh(s) => s.contact_model,
+        }
+    }
+}
+
+/// An infinite plane.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// A point of the plane (m).
+    pub point_m: [f64; 3],
+    /// Outward unit normal (towards the apples).
+    pub normal: [f64; 3],
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+}
+
+/// A box.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// Full edge lengths along the local x, y, z axes (m).
+    pub size_m: [f64; 3],
+    /// Centre (m).
+    pub position_m: [f64; 3],
+    /// Orientation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<RotationSpec>,
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+}
+
+/// A conveyor belt.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConveyorSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material of the belt surface.
+    pub material: String,
+    /// Full edge lengths (m): length along local x, width along y, thickness along z.
+    pub size_m: [f64; 3],
+    /// Centre (m).
+    pub position_m: [f64; 3],
+    /// Orientation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<RotationSpec>,
+    /// Belt speed along the belt's local +x axis (m/s; negative runs the other way). It enters
+    /// the friction slip velocity; the belt itself stays in place.
+    pub belt_velocity_m_s: f64,
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+}
+
+/// Cross-section of a chute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ChuteProfile {
+    /// A flat plate.
+    Flat,
+    /// A half-pipe (concave cylinder), curvature -1/R_s across.
+    Trough,
+}
+
+/// A chute: in its local frame the sliding surface runs along +x (downhill once inclined), the
+/// width along y, up is +z; `position_m` is the centre of the surface's top (flat) or of its
+/// bottom line (trough).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChuteSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// `flat` or `trough`.
+    pub profile: ChuteProfile,
+    /// Length along the slope (m).
+    pub length_m: f64,
+    /// Width of a flat chute (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width_m: Option<f64>,
+    /// Inner radius of a trough (m); must exceed the apples' radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_m: Option<f64>,
+    /// Angular half-width of a trough from its bottom line (degrees, default 90: a half pipe).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub half_angle_deg: Option<f64>,
+    /// Plate thickness (m, default 0.01).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness_m: Option<f64>,
+    /// Slope: the surface descends along its local +x by this angle (degrees, default 0).
+    #[serde(default)]
+    pub incline_deg: f64,
+    /// Reference point (m).
+    pub position_m: [f64; 3],
+    /// Orientation applied after the incline (e.g. a heading about z).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<RotationSpec>,
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+}
+
+/// Per-wall materials of a bin; absent walls use the bin's `material`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BinMaterials {
+    /// Floor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floor: Option<String>,
+    /// Wall at local -x.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_min: Option<String>,
+    /// Wall at local +x.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_max: Option<String>,
+    /// Wall at local -y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y_min: Option<String>,
+    /// Wall at local +y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y_max: Option<String>,
+}
+
+/// An open bin. Its five walls are separate surfaces named `NAME/floor`, `NAME/x_min`,
+/// `NAME/x_max`, `NAME/y_min`, `NAME/y_max` in the results.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BinSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material of every wall without its own.
+    pub material: String,
+    /// Per-wall materials.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_materials: Option<BinMaterials>,
+    /// Inside length (x), width (y) and wall height (z) (m).
+    pub inner_size_m: [f64; 3],
+    /// Wall and floor thickness (m, default 0.01).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_thickness_m: Option<f64>,
+    /// Centre of the floor's inside (top) face (m).
+    pub position_m: [f64; 3],
+    /// Orientation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<RotationSpec>,
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+}
+
+/// A triangle mesh.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// OBJ or STL file, relative to the scenario's folder.
+    pub file: String,
+    /// Scale factor applied to the file's coordinates (one number, or per axis).
+    #[serde(default)]
+    pub scale: Scale,
+    /// Position of the mesh origin (m).
+    #[serde(default)]
+    pub position_m: [f64; 3],
+    /// Orientation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<RotationSpec>,
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+}
+
+/// A uniform or per-axis scale.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Scale {
+    /// The same factor on every axis.
+    Uniform(f64),
+    /// One factor per axis.
+    PerAxis([f64; 3]),
+}
+
+impl Default for Scale {
+    fn default() -> Self {
+        Scale::Uniform(1.0)
+    }
+}
+
+impl Scale {
+    /// As a vector.
+    pub fn vector(&self) -> Vec3 {
+        match *self {
+            Scale::Uniform(s) => Vec3::splat(s),
+            Scale::PerAxis(a) => vec3(a),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn euler_and_axis_angle_agree() {
+        let a = RotationSpec {
+            axis: Some([0.0, 1.0, 0.0]),
+            angle_deg: Some(30.0),
+            euler_xyz_deg: None,
+        }
+        .to_rotation("r")
+        .unwrap();
+        let b = RotationSpec {
+            axis: None,
+            angle_deg: None,
+            euler_xyz_deg: Some([0.0, 30.0, 0.0]),
+        }
+        .to_rotation("r")
+        .unwrap();
+        let v = Vec3::new(1.0, 0.0, 0.0);
+        assert!((a * v - b * v).length() < 1e-12);
+        // Right-hand rule about y: +x tips down towards -z.
+        assert!((a * v).z < 0.0);
+        assert!(RotationSpec {
+            axis: Some([0.0, 0.0, 0.0]),
+            angle_deg: Some(30.0),
+            euler_xyz_deg: None
+        }
+        .to_rotation("r")
+        .is_err());
+    }
+}

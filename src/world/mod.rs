@@ -1,0 +1,332 @@
+//! World building: a validated scenario becomes rapier bodies and colliders, registered with a
+//! [`ContactLayer`].
+//!
+//! Integration settings follow rapier-notes.md: `num_solver_iterations = 1` makes rapier's step
+//! exact symplectic Euler (the default 4 weights the force term by (N+1)/(2N) and gains energy);
+//! CCD is off (contacts are resolved by the force law over many steps, never by CCD clamping);
+//! apples never sleep in rapier's sense (forces are reset and re-added every step).
+
+pub mod mesh;
+pub mod surfaces;
+
+use crate::contact::Material;
+use crate::layer::{
+    AppleId, Coefficients, ContactLayer, Guard, LayerConfig, LayerError, MaterialId, SleepConfig,
+    SurfaceId, SurfaceOptions,
+};
+use crate::math::vec3;
+use crate::scenario::{self, AppleSpec, ContactModel, Scenario, ScenarioError};
+use rapier3d_f64::prelude::*;
+use std::collections::{BTreeMap, VecDeque};
+use std::path::Path;
+use surfaces::SurfacePart;
+use thiserror::Error;
+
+/// Largest initial overlap of an apple with a surface, as a fraction of its radius: an apple may
+/// be placed at its resting sag (about 0.3 % of R for the paper's apple), not deeper.
+pub const MAX_INITIAL_SURFACE_OVERLAP_RATIO: f64 = 0.01;
+
+/// Samples of force history kept per contact when the scenario asks for histories.
+pub const FORCE_HISTORY_CAP: usize = 4096;
+
+/// Errors while building the world.
+#[derive(Debug, Error)]
+pub enum BuildError {
+    /// A scenario mistake found while building (it names the field).
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
+    /// A layer registration error.
+    #[error(transparent)]
+    Layer(#[from] LayerError),
+}
+
+/// The rapier world plus our layer, ready to step.
+pub struct World {
+    /// rapier's sets, pipeline and parameters.
+    pub physics: PhysicsWorld,
+    /// The contact layer.
+    pub layer: ContactLayer,
+    /// Rigid body of each apple, in layer order (listed, generated, then fed in).
+    pub apple_bodies: Vec<RigidBodyHandle>,
+    /// Collider of each surface part, in layer order.
+    pub surface_colliders: Vec<ColliderHandle>,
+    materials: BTreeMap<String, (MaterialId, Material)>,
+    /// Emissions still to come: (time, source index, apple), in order.
+    pending: VecDeque<(f64, usize, AppleSpec)>,
+    postponed: u64,
+}
+
+/// Mass of a solid sphere of the given diameter and density.
+pub fn sphere_mass(diameter_m: f64, density: f64) -> f64 {
+    let r = diameter_m / 2.0;
+    density * 4.0 / 3.0 * std::f64::consts::PI * r * r * r
+}
+
+/// Builds the world of a validated scenario. `base_dir` is where relative asset paths (meshes)
+/// are resolved.
+pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
+    let mut physics = PhysicsWorld::new();
+    physics.gravity = vec3(sc.gravity_m_s2);
+    let ip = &mut physics.integration_parameters;
+    ip.dt = sc.time_step_s;
+    ip.num_solver_iterations = 1;
+    ip.max_ccd_substeps = 0;
+
+    let sl = &sc.model.sleep;
+    let config = LayerConfig {
+        force_history_cap: if sc.output.force_history {
+            FORCE_HISTORY_CAP
+        } else {
+            0
+        },
+        guard: Guard {
+            max_overlap_ratio: sc.model.max_overlap_ratio,
+            min_steps_per_impact: sc.model.min_steps_per_impact,
+        },
+        sleep: SleepConfig {
+            enabled: sl.enabled,
+            speed_m_s: sl.speed_m_s,
+            time_s: sl.time_s,
+            ..SleepConfig::default()
+        },
+        ..LayerConfig::default()
+    };
+    let mut layer = ContactLayer::new(config);
+    let mut materials = BTreeMap::new();
+    for (name, spec) in &sc.materials {
+        let m = scenario::validate::material(name, spec)?;
+        materials.insert(name.clone(), (layer.add_material(name, m), m));
+    }
+    layer.set_default_coefficients(sc.contact.friction, sc.contact.ke, sc.contact.lambda_s_m);
+    for p in &sc.pairs {
+        let a = materials[&p.materials[0]].0;
+        let b = materials[&p.materials[1]].0;
+        layer.set_pair_coefficients(
+            a,
+            b,
+            Coefficients {
+                friction: p.friction.unwrap_or(sc.contact.friction),
+                ke: p.ke.unwrap_or(sc.contact.ke),
+                lambda_s_m: p.lambda_s_m.unwrap_or(sc.contact.lambda_s_m),
+            },
+        );
+    }
+    let mut world = World {
+        physics,
+        layer,
+        apple_bodies: Vec::new(),
+        surface_colliders: Vec::new(),
+        materials,
+        pending: VecDeque::new(),
+        postponed: 0,
+    };
+
+    // An apple material for rigid surfaces' coefficients: the first apple's, or any source's.
+    let apple_material = sc
+        .apples
+        .first()
+        .map(|a| a.material.clone())
+        .or_else(|| sc.sources.first().map(|s| s.material.clone()));
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        let field = format!("surfaces[{k}]");
+        for part in surfaces::parts(s, &field, base_dir)? {
+            world.add_surface(part, apple_material.as_deref())?;
+        }
+    }
+    let apples = sc.initial_apples()?;
+    for a in &apples {
+        world.add_apple(a)?;
+    }
+    world.layer.check_conformity()?;
+    check_initial_surface_overlaps(&apples, sc.apples.len(), &world)?;
+
+    let mut pending: Vec<(f64, usize, AppleSpec)> = Vec::new();
+    for (k, src) in sc.sources.iter().enumerate() {
+        pending.extend(src.schedule().into_iter().map(|(t, a)| (t, k, a)));
+    }
+    pending.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    world.pending = pending.into();
+
+    // A step of length zero runs rapier's collision detection only, so the pairs touching at
+    // t = 0 are known before the first force pass.
+    world.refresh_pairs();
+    Ok(world)
+}
+
+impl World {
+    /// Runs rapier's collision detection without moving anything (a step of length zero).
+    pub fn refresh_pairs(&mut self) {
+        let dt = self.physics.integration_parameters.dt;
+        self.physics.integration_parameters.dt = 0.0;
+        self.physics.step_with_events(self.layer.hooks(), &());
+        self.physics.integration_parameters.dt = dt;
+    }
+
+    fn add_surface(
+        &mut self,
+        part: SurfacePart,
+        apple_material: Option<&str>,
+    ) -> Result<(), BuildError> {
+        let (mid, _) = self.materials[&part.material];
+        let rigid = part.model == ContactModel::Rigid;
+        let mut collider = part.collider;
+        if rigid {
+            // rapier's own response: friction and restitution of the apple-surface pair.
+            let c = match apple_material {
+                Some(am) => self.layer.coefficients(self.materials[am].0, mid),
+                None => self.layer.coefficients(mid, mid),
+            };
+            collider = collider
+                .friction(c.friction)
+                .restitution(c.ke.sqrt())
+                .friction_combine_rule(CoefficientCombineRule::Max)
+                .restitution_combine_rule(CoefficientCombineRule::Max);
+        }
+        let ch = self.physics.colliders.insert(collider);
+        self.layer.add_surface(
+            &mut self.physics.colliders,
+            ch,
+            SurfaceOptions {
+                name: part.name,
+                material: mid,
+                shape: part.shape,
+                belt_velocity_local: part.belt_local,
+                rigid,
+            },
+        )?;
+        self.surface_colliders.push(ch);
+        Ok(())
+    }
+
+    /// Inserts an apple (a dynamic ball) and registers it with the layer.
+    pub fn add_apple(&mut self, a: &AppleSpec) -> Result<AppleId, BuildError> {
+        let (mid, m) = self.materials[&a.material];
+        let mass = a
+            .mass_kg
+            .unwrap_or_else(|| sphere_mass(a.diameter_m, m.density_kg_m3.unwrap_or(0.0)));
+        let (bh, ch) = self.physics.insert(
+            RigidBodyBuilder::dynamic()
+                .translation(vec3(a.position_m))
+                .linvel(vec3(a.velocity_m_s))
+                .angvel(vec3(a.angular_velocity_rad_s))
+                // The layer decides when an apple sleeps (rapier's own rule is too coarse).
+                .can_sleep(false),
+            ColliderBuilder::ball(a.diameter_m / 2.0)
+                .mass(mass)
+                .friction(0.0)
+                .restitution(0.0),
+        );
+        let id = self
+            .layer
+            .add_apple(&mut self.physics.colliders, ch, mid, &a.name)?;
+        self.apple_bodies.push(bh);
+        Ok(id)
+    }
+
+    /// Feeds in the apples of sources whose time has come (at time `t`). An apple whose spot is
+    /// still taken waits for it to clear (it and the ones after it from the same source are
+    /// postponed, in order). Returns how many appeared.
+    pub fn emit_due(&mut self, t: f64) -> Result<usize, BuildError> {
+        let mut emitted = 0;
+        let mut blocked_sources: Vec<usize> = Vec::new();
+        let mut kept = VecDeque::new();
+        while let Some(front) = self.pending.front() {
+            if front.0 > t + 1e-12 {
+                break;
+            }
+            let (when, src, a) = self.pending.pop_front().unwrap();
+            if blocked_sources.contains(&src) || !self.spot_is_free(&a) {
+                if !blocked_sources.contains(&src) {
+                    blocked_sources.push(src);
+                    self.postponed += 1;
+                }
+                kept.push_back((when, src, a));
+                continue;
+            }
+            self.add_apple(&a)?;
+            emitted += 1;
+        }
+        while let Some(x) = kept.pop_back() {
+            self.pending.push_front(x);
+        }
+        if emitted > 0 {
+            // New colliders: let rapier find their surface pairs before the next force pass.
+            self.refresh_pairs();
+        }
+        Ok(emitted)
+    }
+
+    /// Emissions postponed because the spot was taken.
+    pub fn postponed_emissions(&self) -> u64 {
+        self.postponed
+    }
+
+    /// Emissions still to come.
+    pub fn pending_emissions(&self) -> usize {
+        self.pending.len()
+    }
+
+    fn spot_is_free(&self, a: &AppleSpec) -> bool {
+        let p = vec3(a.position_m);
+        let r = a.diameter_m / 2.0;
+        for (k, &bh) in self.apple_bodies.iter().enumerate() {
+            let q = self.physics.bodies[bh].translation();
+            let rr = self.layer.apple_radius(AppleId(k as u32));
+            if (q - p).length() < r + rr {
+                return false;
+            }
+        }
+        let mut hits = Vec::new();
+        for (s, &ch) in self.surface_colliders.iter().enumerate() {
+            if let Some(co) = self.physics.colliders.get(ch) {
+                hits.clear();
+                let shape = self.layer.surface_shape(SurfaceId(s as u32));
+                crate::layer::surface::surface_hits(shape, co, p, r, 0.0, &mut hits);
+                if hits.iter().any(|h| h.overlap_m > 0.0) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+}
+
+fn check_initial_surface_overlaps(
+    apples: &[AppleSpec],
+    listed: usize,
+    world: &World,
+) -> Result<(), ScenarioError> {
+    let mut hits = Vec::new();
+    for (k, a) in apples.iter().enumerate() {
+        let r = a.diameter_m / 2.0;
+        for (s, &ch) in world.surface_colliders.iter().enumerate() {
+            let Some(co) = world.physics.colliders.get(ch) else {
+                continue;
+            };
+            hits.clear();
+            let shape = world.layer.surface_shape(SurfaceId(s as u32));
+            crate::layer::surface::surface_hits(shape, co, vec3(a.position_m), r, 0.0, &mut hits);
+            if let Some(h) = hits
+                .iter()
+                .find(|h| h.overlap_m > MAX_INITIAL_SURFACE_OVERLAP_RATIO * r)
+            {
+                let field = if k < listed {
+                    format!("apples[{k}].position_m")
+                } else {
+                    "generators".to_string()
+                };
+                return Err(ScenarioError::invalid(
+                    field,
+                    format!(
+                        "apple '{}' starts {:.4} mm inside surface '{}' (more than {} % of its radius): place it on or above the surface",
+                        a.name,
+                        h.overlap_m * 1e3,
+                        world.layer.surface_name(SurfaceId(s as u32)),
+                        MAX_INITIAL_SURFACE_OVERLAP_RATIO * 100.0
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,137 @@
+//! Generators and sources (issue 3): stable names, seeds, size distributions, feeding.
+
+mod common;
+use applesim::scenario::{self, Scenario};
+use common::*;
+use serde_json::json;
+use std::process::Command;
+
+fn fill(seed: u64) -> Scenario {
+    let v = json!({
+        "duration_s": 0.05, "time_step_s": 5e-5, "gravity_m_s2": [0, 0, -9.81],
+        "output": {"sample_interval_s": 0.005, "force_history": false},
+        "materials": {
+            "apple": {"shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
+            "plastic": {"shear_modulus_pa": 1.0e9, "poisson_ratio": 0.3}},
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+        "generators": [{"type": "random_fill", "name": "r", "material": "apple",
+            "diameter_m": {"mean_m": 0.075, "spread_m": 0.006, "distribution": "normal"},
+            "count": 40, "region_min_m": [-0.2, -0.2, 0.0], "region_max_m": [0.2, 0.2, 0.4], "seed": seed}],
+        "surfaces": [{"name": "bin", "type": "bin", "material": "plastic",
+            "inner_size_m": [0.4, 0.4, 0.4], "position_m": [0, 0, 0]}]
+    });
+    scenario::from_json(&v.to_string(), "fill").unwrap()
+}
+
+#[test]
+fn random_fill_is_seeded_and_named() {
+    let a = fill(1).initial_apples().unwrap();
+    let b = fill(1).initial_apples().unwrap();
+    let c = fill(2).initial_apples().unwrap();
+    assert_eq!(a.len(), 40);
+    assert_eq!(a, b, "same seed, same fill");
+    assert_ne!(a, c, "another seed, another fill");
+    let names: Vec<_> = a.iter().map(|x| x.name.as_str()).collect();
+    assert_eq!(names[0], "r-1");
+    assert_eq!(names[39], "r-40");
+    scenario::validate(&fill(1)).expect("no overlap by construction");
+    // Normal sizes are clipped at 3 standard deviations.
+    assert!(a
+        .iter()
+        .all(|x| (x.diameter_m - 0.075).abs() <= 3.0 * 0.006 + 1e-15));
+}
+
+#[test]
+fn size_distribution_has_the_asked_mean_and_spread() {
+    let v = json!({"type": "grid", "name": "g", "material": "apple",
+        "diameter_m": {"mean_m": 0.08, "spread_m": 0.008}, "count": [20, 20, 5],
+        "spacing_m": [0.1, 0.1, 0.1], "origin_m": [0, 0, 0.05], "seed": 3});
+    let g: applesim::scenario::GeneratorSpec = serde_json::from_value(v).unwrap();
+    let apples = applesim::scenario::generators::expand(&g, &[], "g").unwrap();
+    let d: Vec<f64> = apples.iter().map(|a| a.diameter_m).collect();
+    let mean = d.iter().sum::<f64>() / d.len() as f64;
+    let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / d.len() as f64).sqrt();
+    // Uniform on mean +- 8 mm: standard deviation 8 / sqrt(3) = 4.62 mm. 2000 samples: the mean is
+    // within 0.3 mm (about 3 standard errors), the deviation within 5 %.
+    assert!((mean - 0.08).abs() < 3e-4, "mean {mean}");
+    assert_rel("uniform spread", sd, 0.008 / 3f64.sqrt(), 0.05);
+    assert!(d.iter().all(|&x| (0.072..=0.088).contains(&x)));
+}
+
+fn run_cli(sc: &Scenario, dir: &std::path::Path) -> Vec<u8> {
+    std::fs::create_dir_all(dir).unwrap();
+    let f = dir.join("s.json");
+    std::fs::write(&f, serde_json::to_string(sc).unwrap()).unwrap();
+    let out = dir.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .args([
+            "run",
+            f.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut bytes = std::fs::read(out.join("bodies.csv")).unwrap();
+    bytes.extend(std::fs::read(out.join("contacts.csv")).unwrap());
+    bytes
+}
+
+#[test]
+fn same_seed_gives_byte_identical_results() {
+    let base = std::env::temp_dir().join(format!("applesim-seed-{}", std::process::id()));
+    let a = run_cli(&fill(5), &base.join("a"));
+    let b = run_cli(&fill(5), &base.join("b"));
+    let c = run_cli(&fill(6), &base.join("c"));
+    assert!(a == b, "same seed: results differ");
+    assert!(a != c, "different seed: same results");
+    let _ = std::fs::remove_dir_all(&base);
+}
+
+#[test]
+fn source_feeds_apples_at_its_rate_with_stable_names() {
+    let v = json!({
+        "duration_s": 1.0, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
+        "output": {"sample_interval_s": 0.01, "force_history": false},
+        "materials": {
+            "apple": {"shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
+            "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
+        "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
+        "sources": [{"name": "s", "material": "apple", "diameter_m": 0.08,
+            "position_m": [0, 0, 0.3], "velocity_m_s": [0.5, 0, 0], "rate_per_s": 5, "count": 4, "start_s": 0.1}],
+        "surfaces": [{"name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1]}]
+    });
+    let sc = scenario::from_json(&v.to_string(), "src").unwrap();
+    let (r, series) = run(&sc);
+    let names: Vec<_> = r.apples.iter().map(|a| a.name.as_str()).collect();
+    assert_eq!(names, ["s-1", "s-2", "s-3", "s-4"]);
+    // Apple k appears at 0.1 + k / 5 s: count the apples present in each sample.
+    for (t, states) in &series.samples {
+        let expect = (0..4).filter(|k| 0.1 + *k as f64 / 5.0 <= t + 1e-9).count();
+        assert_eq!(states.len(), expect, "at t = {t}");
+    }
+}
+
+#[test]
+fn rigid_surfaces_use_rapiers_contact_and_record_nothing() {
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.contact.ke = 0.25;
+    sc.duration_s = 0.2;
+    let mut v = serde_json::to_value(&sc).unwrap();
+    v["surfaces"][0]["contact_model"] = json!("rigid");
+    let sc: Scenario = serde_json::from_value(v).unwrap();
+    let (r, series) = run(&sc);
+    assert!(
+        r.events.is_empty(),
+        "no Hertz contact recorded on a rigid surface"
+    );
+    // It still bounces (rapier's restitution): the apple goes up again after landing.
+    let s = series.of(0);
+    assert!(s.iter().any(|(_, a)| a.velocity.z > 0.1), "no bounce");
+    assert!(
+        s.iter().all(|(_, a)| a.position.z > 0.03),
+        "fell through the floor"
+    );
+}
