@@ -20,7 +20,7 @@ fn bottom_peak(file: &str) -> (f64, f64) {
 #[test]
 fn bottom_layer_force_grows_with_layers() {
     println!("| v0 (m/s) | layers | bottom apple peak force (N) | contact time (ms) |");
-    for v in ["025", "050"] {
+    for (v, speed) in [("025", 0.25), ("050", 0.5)] {
         let mut last = 0.0;
         for layers in 1..=3 {
             let (p, t) = bottom_peak(&format!("scenarios/paper/fig5_layers{layers}_v{v}.json"));
