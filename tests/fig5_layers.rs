@@ -24,10 +24,10 @@ fn bottom_layer_force_grows_with_layers() {
         let mut last = 0.0;
         for layers in 1..=3 {
             let (p, t) = bottom_peak(&format!("scenarios/paper/fig5_layers{layers}_v{v}.json"));
-            println!("| 0.{v} | {layers} | {p:.2} | {:.2} |", t * 1e3);
+            println!("| {speed} | {layers} | {p:.2} | {:.2} |", t * 1e3);
             assert!(
                 p > last,
-                "v0 0.{v}: {layers} layers give {p} N, not more than {last} N"
+                "v0 {speed}: {layers} layers give {p} N, not more than {last} N"
             );
             last = p;
         }
