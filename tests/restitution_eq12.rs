@@ -10,7 +10,7 @@ fn restitution(ke: f64, lambda: f64, v0: f64, dt: f64) -> f64 {
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
     sc.contact.ke = ke;
     sc.contact.lambda_s_m = lambda;
-    sc.time_step_s = dt;
+    sc.time_step_s = dt.into();
     // Unloading lasts up to 1/sqrt(ke) times the loading (physics.md section 3): run long enough.
     let t_h = 0.0083 * (0.2 / v0).powf(0.2);
     sc.duration_s = (1.5 * t_h * (1.0 + 1.0 / ke.sqrt())).max(0.03);

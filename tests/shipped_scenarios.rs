@@ -21,7 +21,10 @@ fn every_shipped_scenario_runs() {
         let out = std::env::temp_dir().join(format!(
             "applesim-shipped-{}-{}",
             std::process::id(),
-            p.strip_prefix(&dir).unwrap().to_string_lossy().replace('/', "_")
+            p.strip_prefix(&dir)
+                .unwrap()
+                .to_string_lossy()
+                .replace('/', "_")
         ));
         let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
             .args(["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()])

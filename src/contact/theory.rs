@@ -32,6 +32,15 @@ pub fn elastic_impact(mass_kg: f64, v0_m_s: f64, k: f64, r_star_m: f64) -> Elast
     }
 }
 
+/// Elastic contact time of the impact that reaches overlap `u_max_m` on a Hertz contact of
+/// stiffness `k` with (effective) mass `m`: t_H = 2 * 1.4716 u_max / v0 with v0 from the energy
+/// balance, i.e. 3.2906 sqrt(m / (k sqrt(u_max))). For a resting contact at overlap u this is the
+/// time scale of its normal oscillation (its linearised stiffness is 1.5 k sqrt(u)).
+pub fn contact_time_at_overlap(mass_kg: f64, k: f64, u_max_m: f64) -> f64 {
+    let c = 2.0 * HERTZ_TIME_INTEGRAL / 0.8f64.sqrt();
+    c * (mass_kg / (k * u_max_m.sqrt())).sqrt()
+}
+
 /// Reduced mass of two bodies, m1 m2 / (m1 + m2); an infinite mass gives the other one.
 pub fn reduced_mass(m1: f64, m2: f64) -> f64 {
     if m2.is_infinite() {
@@ -100,6 +109,9 @@ mod tests {
         let b = elastic_impact(0.107, 1.4, 7.1545e5, 0.04);
         assert!((b.peak_force_n - 98.392).abs() / 98.392 < 1e-4);
         assert!((b.contact_time_s - 5.6012e-3).abs() / 5.6012e-3 < 1e-4);
+        // The same contact time from the overlap it reaches.
+        let t2 = contact_time_at_overlap(0.107, 7.1545e5, b.max_overlap_m);
+        assert!((t2 - b.contact_time_s).abs() / b.contact_time_s < 1e-7);
         // k_P = impulse / (P_max t_H).
         let kp = 2.0 * 0.107 * 0.2 / (a.peak_force_n * a.contact_time_s);
         assert!((kp - ELASTIC_PULSE_COEFFICIENT).abs() < 1e-6);

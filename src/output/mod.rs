@@ -27,8 +27,17 @@ pub struct Summary<'a> {
     pub steps: u64,
     /// Simulated time (s).
     pub simulated_time_s: f64,
-    /// Time step (s).
+    /// Time step (s): the fixed step, or the mean step of an adaptive run.
     pub time_step_s: f64,
+    /// `fixed`, `auto` or `adaptive`.
+    pub step_policy: &'a str,
+    /// Shortest and longest step taken (s).
+    pub step_range_s: [f64; 2],
+    /// The stiffest contact the scene can produce (behind `auto`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stiffest_contact: Option<&'a crate::sim::timestep::StiffestContact>,
+    /// The fidelity level and what it cannot tell.
+    pub fidelity: &'a str,
     /// Wall-clock time of the stepping loop (s).
     pub wall_time_s: f64,
     /// Contact events.
@@ -107,6 +116,10 @@ pub fn write_summary(path: &Path, sc: &Scenario, r: &RunResult) -> std::io::Resu
         steps: r.steps,
         simulated_time_s: r.simulated_time_s,
         time_step_s: r.time_step_s,
+        step_policy: r.step_policy,
+        step_range_s: r.step_range_s,
+        stiffest_contact: r.stiffest_contact.as_ref(),
+        fidelity: r.fidelity_limits,
         wall_time_s: r.wall_time_s,
         contacts: &r.events,
         apples: &r.apples,

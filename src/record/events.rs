@@ -121,6 +121,8 @@ pub struct OpenContact {
     prev_u: f64,
     last_u: f64,
     last_p: f64,
+    /// The kick weights of the last pose: (h_back + h_next) / 4 / h_next and / h_back.
+    last_w: (f64, f64),
     rate: f64,
     steps: u64,
     point_at_peak: Vec3,
@@ -132,8 +134,10 @@ pub struct OpenContact {
 pub struct ContactSample {
     /// Time of the pose (s).
     pub time_s: f64,
-    /// Step length that follows (s): the force acts over it.
+    /// Step length that follows (s).
     pub dt_s: f64,
+    /// Step length that led to this pose (s); equal to `dt_s` with a fixed step.
+    pub dt_back_s: f64,
     /// Overlap (m).
     pub overlap_m: f64,
     /// Normal force (N).
@@ -168,6 +172,7 @@ impl OpenContact {
             prev_u: f64::NAN,
             last_u: 0.0,
             last_p: 0.0,
+            last_w: (0.5, 0.5),
             rate: du_dt,
             steps: 0,
             point_at_peak: Vec3::ZERO,
@@ -177,12 +182,16 @@ impl OpenContact {
 
     /// Work absorbed by the force of the last observed pose, given the next overlap.
     ///
-    /// With symplectic Euler the kinetic energy changes over step k by exactly
-    /// F_k (x_k+1 - x_k-1) / 2, so the energy the contact absorbs is the sum of
-    /// P_k (u_k+1 - u_k-1) / 2: zero to round-off for an elastic impact, the hysteresis loss otherwise.
+    /// With the leapfrog kick the stepping applies (see `layer::StepControl`: the impulse of pose
+    /// k is F_k (h_k-1 + h_k) / 2) the kinetic energy changes over pose k by exactly
+    /// F_k (h_k-1 + h_k) / 4 ((x_k+1 - x_k) / h_k + (x_k - x_k-1) / h_k-1); with a fixed step that
+    /// is F_k (x_k+1 - x_k-1) / 2. The energy the contact absorbs is the sum of these terms: zero to
+    /// round-off for an elastic impact, the hysteresis loss otherwise.
     fn absorb(&mut self, next_u: f64) {
         if self.steps > 0 {
-            self.absorbed += 0.5 * self.last_p * (next_u - self.prev_u);
+            let (w_next, w_back) = self.last_w;
+            self.absorbed += self.last_p
+                * (w_next * (next_u - self.last_u) + w_back * (self.last_u - self.prev_u));
         }
     }
 
@@ -190,14 +199,16 @@ impl OpenContact {
     pub fn observe(&mut self, s: &ContactSample) {
         if self.steps == 0 {
             // The pose before first touch, on the straight line the step followed.
-            self.prev_u = s.overlap_m - self.rate * s.dt_s;
+            self.prev_u = s.overlap_m - self.rate * s.dt_back_s;
         } else {
             self.absorb(s.overlap_m);
             self.prev_u = self.last_u;
         }
+        let span = 0.5 * (s.dt_back_s + s.dt_s);
+        self.last_w = (0.5 * span / s.dt_s, 0.5 * span / s.dt_back_s);
         self.last_u = s.overlap_m;
         self.last_p = s.force_n;
-        self.impulse += s.force_n * s.dt_s;
+        self.impulse += s.force_n * span;
         self.steps += 1;
         if s.force_n > self.peak {
             self.peak = s.force_n;
@@ -215,6 +226,25 @@ impl OpenContact {
     /// Largest overlap so far (m).
     pub fn max_overlap_m(&self) -> f64 {
         self.max_u
+    }
+
+    /// Work done on the contact by its normal force so far (J): the absorbed sum through the
+    /// previous pose plus P_k (u_k - u_k-1) / 2, which together with the kinetic energy at the
+    /// pose's time (v + a h_k-1 / 2) is conserved by the stepping to second order, for fixed and
+    /// changing steps alike.
+    pub fn work_so_far_j(&self) -> f64 {
+        if self.steps == 0 {
+            0.0
+        } else {
+            // The half of pose k's term that the velocity at the pose's time (v + a h_k-1 / 2)
+            // already holds: F (x_k - x_k-1) / 2, whatever the next step.
+            self.absorbed + 0.5 * self.last_p * (self.last_u - self.prev_u)
+        }
+    }
+
+    /// Normal approach speed at first touch (m/s).
+    pub fn approach_speed_m_s(&self) -> f64 {
+        self.approach
     }
 
     /// Closes the contact seen apart at `time_s` with overlap `u` <= 0 and separation rate
@@ -303,6 +333,7 @@ mod tests {
         c.observe(&ContactSample {
             time_s: 1.0,
             dt_s: 1e-3,
+            dt_back_s: 1e-3,
             overlap_m: 0.25e-3,
             force_n: 2.0,
             contact_radius_m: 1e-3,

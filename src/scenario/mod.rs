@@ -4,6 +4,7 @@
 //! silently ignored), and every mistake is reported with the JSON path of the field at fault.
 
 pub mod generators;
+pub mod stepping;
 pub mod surfaces;
 pub(crate) mod validate;
 
@@ -13,6 +14,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 pub use generators::{DiameterSpec, GeneratorSpec, SourceSpec};
+pub use stepping::{Accuracy, Fidelity, TimeStep};
 pub use surfaces::{ContactModel, RotationSpec, SurfaceSpec};
 pub use validate::validate;
 
@@ -66,8 +68,19 @@ pub struct Scenario {
     pub description: Option<String>,
     /// Simulated time (s).
     pub duration_s: f64,
-    /// Time step (s).
-    pub time_step_s: f64,
+    /// Time step: seconds, `"auto"` or `"adaptive"` (see [`TimeStep`]).
+    pub time_step_s: TimeStep,
+    /// Steps per contact the `auto` and `adaptive` steps aim at, and the fewest an impact may get
+    /// before the run is refused (see [`Accuracy`]; default `balanced`, 20 steps).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<Accuracy>,
+    /// Largest step the `auto` and `adaptive` policies may take (s); default the smaller of 1 ms
+    /// and the output interval.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_time_step_s: Option<f64>,
+    /// Which parts of the contact model run (see [`Fidelity`]; default `hertz-damped`).
+    #[serde(default)]
+    pub fidelity: Fidelity,
     /// Gravity vector (m/s^2), e.g. [0, 0, -9.81]; z is up by convention.
     pub gravity_m_s2: [f64; 3],
     /// What is written and how often.
@@ -98,6 +111,27 @@ pub struct Scenario {
 }
 
 impl Scenario {
+    /// Steps per contact the scenario asks for (its `accuracy`, default `balanced`).
+    pub fn steps_per_contact(&self) -> f64 {
+        self.accuracy.unwrap_or_default().steps_per_contact()
+    }
+
+    /// Fewest steps an impact may take before the run is refused: the `accuracy` target when
+    /// given (or when the step is `auto` / `adaptive`), else `model.min_steps_per_impact`.
+    pub fn required_steps_per_impact(&self) -> f64 {
+        match (self.accuracy, self.time_step_s) {
+            (Some(a), _) => a.steps_per_contact(),
+            (None, TimeStep::Fixed(_)) => self.model.min_steps_per_impact,
+            (None, _) => Accuracy::default().steps_per_contact(),
+        }
+    }
+
+    /// The largest step the `auto` and `adaptive` policies may take (s).
+    pub fn max_step_s(&self) -> f64 {
+        self.max_time_step_s
+            .unwrap_or_else(|| self.output.sample_interval_s.min(1e-3))
+    }
+
     /// The apples present at t = 0: the listed ones, then each generator's in order.
     pub fn initial_apples(&self) -> Result<Vec<AppleSpec>, ScenarioError> {
         let mut all = self.apples.clone();
@@ -192,12 +226,30 @@ pub struct ModelSpec {
     /// Largest overlap allowed, as a fraction of the smaller radius, before the run is refused.
     #[serde(default = "default_max_overlap_ratio")]
     pub max_overlap_ratio: f64,
-    /// Fewest steps an impact may be resolved in before the run is refused.
+    /// Fewest steps an impact may be resolved in before the run is refused, for a fixed
+    /// `time_step_s` without `accuracy` (with `accuracy` its steps per contact are required).
     #[serde(default = "default_min_steps")]
     pub min_steps_per_impact: f64,
     /// Sleeping of apples at rest.
     #[serde(default)]
     pub sleep: SleepSpec,
+    /// Largest rise of the total energy (kinetic, potential, elastic) above what the scene
+    /// started with (plus what sources fed in), as a fraction, before the run is refused. Not
+    /// checked in scenes with a belt (a belt feeds energy in).
+    #[serde(default = "default_energy_tolerance")]
+    pub energy_tolerance: f64,
+    /// Largest number of steps a run may take before it is refused (a step far too small for the
+    /// scene would otherwise run for days).
+    #[serde(default = "default_max_steps")]
+    pub max_steps: u64,
+}
+
+fn default_energy_tolerance() -> f64 {
+    0.01
+}
+
+fn default_max_steps() -> u64 {
+    200_000_000
 }
 
 /// Apples at rest cost (almost) nothing: an apple whose speed (centre and surface, |v| and
@@ -250,6 +302,8 @@ impl Default for ModelSpec {
             max_overlap_ratio: default_max_overlap_ratio(),
             min_steps_per_impact: default_min_steps(),
             sleep: SleepSpec::default(),
+            energy_tolerance: default_energy_tolerance(),
+            max_steps: default_max_steps(),
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use super::generators::GeneratorSpec;
 use super::surfaces::{rotation_of, ChuteProfile, SurfaceSpec};
-use super::{AppleSpec, Scenario, ScenarioError};
+use super::{AppleSpec, Scenario, ScenarioError, TimeStep};
 use crate::contact::{Material, MaterialError};
 use crate::layer::grid::NeighborList;
 use crate::math::{vec3, Vec3};
@@ -111,15 +111,35 @@ fn coefficients(field: &str, friction: Option<f64>, ke: Option<f64>, lambda: Opt
 /// Validates everything that can be checked without building the world.
 pub fn validate(sc: &Scenario) -> R {
     positive("duration_s", sc.duration_s)?;
-    positive("time_step_s", sc.time_step_s)?;
-    if sc.time_step_s > sc.duration_s {
+    if let TimeStep::Fixed(dt) = sc.time_step_s {
+        positive("time_step_s", dt)?;
+        if dt > sc.duration_s {
+            return Err(ScenarioError::invalid(
+                "time_step_s",
+                format!("{dt} is longer than duration_s = {}", sc.duration_s),
+            ));
+        }
+    }
+    if let Some(a) = sc.accuracy {
+        let n = a.steps_per_contact();
+        if !(n.is_finite() && n >= 5.0) {
+            return Err(ScenarioError::invalid(
+                "accuracy",
+                format!("{n} steps per contact: give at least 5 (10 is about 1 % on peak forces)"),
+            ));
+        }
+    }
+    if let Some(m) = sc.max_time_step_s {
+        positive("max_time_step_s", m)?;
+    }
+    if !(sc.model.energy_tolerance.is_finite() && sc.model.energy_tolerance > 0.0) {
         return Err(ScenarioError::invalid(
-            "time_step_s",
-            format!(
-                "{} is longer than duration_s = {}",
-                sc.time_step_s, sc.duration_s
-            ),
+            "model.energy_tolerance",
+            format!("{} must be > 0", sc.model.energy_tolerance),
         ));
+    }
+    if sc.model.max_steps == 0 {
+        return Err(ScenarioError::invalid("model.max_steps", "must be > 0"));
     }
     finite3("gravity_m_s2", sc.gravity_m_s2)?;
     positive("output.sample_interval_s", sc.output.sample_interval_s)?;

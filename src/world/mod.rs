@@ -9,13 +9,14 @@
 pub mod mesh;
 pub mod surfaces;
 
+use crate::contact::LawParts;
 use crate::contact::Material;
 use crate::layer::{
     AppleId, Coefficients, ContactLayer, Guard, LayerConfig, LayerError, MaterialId, SleepConfig,
     SurfaceId, SurfaceOptions,
 };
 use crate::math::vec3;
-use crate::scenario::{self, AppleSpec, ContactModel, Scenario, ScenarioError};
+use crate::scenario::{self, AppleSpec, ContactModel, Fidelity, Scenario, ScenarioError, TimeStep};
 use rapier3d_f64::prelude::*;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
@@ -68,9 +69,19 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     let mut physics = PhysicsWorld::new();
     physics.gravity = vec3(sc.gravity_m_s2);
     let ip = &mut physics.integration_parameters;
-    ip.dt = sc.time_step_s;
-    ip.num_solver_iterations = 1;
-    ip.max_ccd_substeps = 0;
+    // The step is set by the driver's plan (sim::timestep) once the world exists.
+    ip.dt = match sc.time_step_s {
+        TimeStep::Fixed(dt) => dt,
+        _ => 1e-5,
+    };
+    let rigid = sc.fidelity == Fidelity::Rigid;
+    if rigid {
+        // rapier's own contacts: its default solver iterations and CCD, for large steps.
+        ip.num_solver_iterations = 4;
+    } else {
+        ip.num_solver_iterations = 1;
+        ip.max_ccd_substeps = 0;
+    }
 
     let sl = &sc.model.sleep;
     let config = LayerConfig {
@@ -81,8 +92,14 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         },
         guard: Guard {
             max_overlap_ratio: sc.model.max_overlap_ratio,
-            min_steps_per_impact: sc.model.min_steps_per_impact,
+            min_steps_per_impact: sc.required_steps_per_impact(),
         },
+        parts: LawParts {
+            energy_loss: sc.fidelity != Fidelity::Hertz,
+            friction: true,
+            patch_shift: sc.fidelity == Fidelity::Full,
+        },
+        passive: rigid,
         sleep: SleepConfig {
             enabled: sl.enabled,
             speed_m_s: sl.speed_m_s,
@@ -168,7 +185,7 @@ impl World {
         apple_material: Option<&str>,
     ) -> Result<(), BuildError> {
         let (mid, _) = self.materials[&part.material];
-        let rigid = part.model == ContactModel::Rigid;
+        let rigid = part.model == ContactModel::Rigid || self.layer.config().passive;
         let mut collider = part.collider;
         if rigid {
             // rapier's own response: friction and restitution of the apple-surface pair.
@@ -211,10 +228,19 @@ impl World {
                 .angvel(vec3(a.angular_velocity_rad_s))
                 // The layer decides when an apple sleeps (rapier's own rule is too coarse).
                 .can_sleep(false),
-            ColliderBuilder::ball(a.diameter_m / 2.0)
-                .mass(mass)
-                .friction(0.0)
-                .restitution(0.0),
+            if self.layer.config().passive {
+                // rapier's own contacts between apples (the `rigid` fidelity).
+                let c = self.layer.coefficients(mid, mid);
+                ColliderBuilder::ball(a.diameter_m / 2.0)
+                    .mass(mass)
+                    .friction(c.friction)
+                    .restitution(c.ke.sqrt())
+            } else {
+                ColliderBuilder::ball(a.diameter_m / 2.0)
+                    .mass(mass)
+                    .friction(0.0)
+                    .restitution(0.0)
+            },
         );
         let id = self
             .layer

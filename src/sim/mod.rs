@@ -1,0 +1,638 @@
+//! The run driver: steps a built world through a scenario, feeding samples to a sink and
+//! collecting contact events; refuses a run that went wrong instead of returning it.
+//!
+//! The stability guard: the layer refuses non-finite state, overlaps beyond
+//! `model.max_overlap_ratio` of the radius and impacts resolved in fewer steps than the accuracy
+//! needs (naming the pair and the step that would work); the driver refuses rapier's quarantine,
+//! a total energy that rises in a scene with no energy input (`model.energy_tolerance`), and runs
+//! that would take more than `model.max_steps` steps.
+
+pub mod timestep;
+
+use crate::layer::{AppleId, LayerError, StepControl};
+use crate::math::arr3;
+use crate::record::events::{ContactEvent, Party};
+use crate::record::series::{AppleState, SampleSink};
+use crate::scenario::Scenario;
+use crate::world::{self, BuildError, World};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::time::Instant;
+use thiserror::Error;
+
+/// Errors of a run.
+#[derive(Debug, Error)]
+pub enum SimError {
+    /// The world could not be built.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// The layer refused to go on (non-finite state, stability guard).
+    #[error(transparent)]
+    Layer(#[from] LayerError),
+    /// rapier quarantined a body whose state went non-finite.
+    #[error(
+        "non-finite state of '{body}' at t = {time_s} s (rapier quarantined it): the run blew up"
+    )]
+    Quarantine {
+        /// Body name.
+        body: String,
+        /// Simulated time.
+        time_s: f64,
+    },
+    /// The sample sink failed (disk full, ...).
+    #[error("writing samples: {0}")]
+    Io(#[from] std::io::Error),
+    /// The total energy rose in a scene with no energy input: the run is going wrong.
+    #[error("unstable at t = {time_s} s: the total energy rose by {rise_percent:.2} % above what the scene started with (limit {limit_percent} %), in a scene with no energy input; the fastest apple is '{apple}'. Use a smaller time_step_s (or \"time_step_s\": \"auto\")")]
+    EnergyRise {
+        /// Simulated time.
+        time_s: f64,
+        /// Rise above the budget (%).
+        rise_percent: f64,
+        /// Allowed rise (%).
+        limit_percent: f64,
+        /// The fastest apple then.
+        apple: String,
+    },
+    /// The run would take too many steps.
+    #[error("the run needs more than model.max_steps = {max_steps} steps (at t = {time_s} s of {duration_s} s with steps of {dt_s:e} s): use a larger time_step_s, \"auto\" or \"adaptive\", or raise model.max_steps")]
+    TooManySteps {
+        /// The limit.
+        max_steps: u64,
+        /// Time reached.
+        time_s: f64,
+        /// Scenario duration.
+        duration_s: f64,
+        /// The step in use.
+        dt_s: f64,
+    },
+}
+
+/// Final state of one apple.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AppleFinal {
+    /// Name.
+    pub name: String,
+    /// Centre at the end (m).
+    pub final_position_m: [f64; 3],
+    /// Centre velocity at the end (m/s).
+    pub final_velocity_m_s: [f64; 3],
+    /// Angular velocity at the end (rad/s).
+    pub final_angular_velocity_rad_s: [f64; 3],
+    /// Largest normal force of any contact of this apple (N).
+    pub peak_force_n: f64,
+    /// Largest mean contact pressure of any contact of this apple (Pa).
+    pub peak_pressure_pa: f64,
+    /// Number of contact events of this apple.
+    pub contacts: usize,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct RunResult {
+    /// Steps taken.
+    pub steps: u64,
+    /// Time step (s): the fixed step, or the mean step of an adaptive run.
+    pub time_step_s: f64,
+    /// How the run stepped: `fixed`, `auto` or `adaptive`.
+    pub step_policy: &'static str,
+    /// Shortest and longest step taken (s).
+    pub step_range_s: [f64; 2],
+    /// The stiffest contact behind `auto`, if estimated.
+    pub stiffest_contact: Option<timestep::StiffestContact>,
+    /// The fidelity level and what it cannot tell.
+    pub fidelity_limits: &'static str,
+    /// Simulated time (s).
+    pub simulated_time_s: f64,
+    /// Wall-clock time of the stepping loop (s): a measurement, the only non-deterministic output.
+    pub wall_time_s: f64,
+    /// Contact events in order of start (then apple, then other party); open ones have no end.
+    pub events: Vec<ContactEvent>,
+    /// Final state per apple.
+    pub apples: Vec<AppleFinal>,
+    /// Things the user should know that did not stop the run.
+    pub warnings: Vec<String>,
+    /// Key results as flat, unit-suffixed numbers (one row of a batch table): every feature that
+    /// produces a headline figure adds its keys here. Only finite values.
+    pub metrics: BTreeMap<String, f64>,
+}
+
+/// The headline figures of a run (see [`RunResult::metrics`]).
+pub fn base_metrics(events: &[ContactEvent], apples: &[AppleFinal]) -> BTreeMap<String, f64> {
+    let mut m = BTreeMap::new();
+    m.insert("contact_events".into(), events.len() as f64);
+    let max = |it: &mut dyn Iterator<Item = f64>| it.fold(f64::NAN, f64::max);
+    m.insert(
+        "max_peak_force_n".into(),
+        max(&mut events.iter().map(|e| e.peak_force_n)),
+    );
+    m.insert(
+        "max_pressure_pa".into(),
+        max(&mut events.iter().map(|e| e.max_pressure_pa)),
+    );
+    m.insert(
+        "max_overlap_m".into(),
+        max(&mut events.iter().map(|e| e.max_overlap_m)),
+    );
+    let durations: Vec<f64> = events.iter().filter_map(|e| e.duration_s).collect();
+    m.insert(
+        "max_contact_duration_s".into(),
+        max(&mut durations.iter().copied()),
+    );
+    if !durations.is_empty() {
+        m.insert(
+            "mean_contact_duration_s".into(),
+            durations.iter().sum::<f64>() / durations.len() as f64,
+        );
+    }
+    let speeds: Vec<f64> = apples
+        .iter()
+        .map(|a| crate::math::vec3(a.final_velocity_m_s).length())
+        .collect();
+    m.insert(
+        "max_final_speed_m_s".into(),
+        max(&mut speeds.iter().copied()),
+    );
+    if !speeds.is_empty() {
+        m.insert(
+            "mean_final_speed_m_s".into(),
+            speeds.iter().sum::<f64>() / speeds.len() as f64,
+        );
+    }
+    m.retain(|_, v| v.is_finite());
+    m
+}
+
+/// A running simulation.
+pub struct Simulation {
+    world: World,
+    plan: timestep::StepPlan,
+    step_policy: &'static str,
+    fidelity_limits: &'static str,
+    duration_s: f64,
+    sample_interval_s: f64,
+    time_s: f64,
+    dt_prev: f64,
+    dt_range: [f64; 2],
+    step: u64,
+    max_steps: u64,
+    next_sample: u64,
+    events: Vec<ContactEvent>,
+    states: Vec<AppleState>,
+    gravity: crate::math::Vec3,
+    energy: Option<EnergyGuard>,
+}
+
+/// Watches the total energy of a scene without energy input (no belt, no moving body).
+struct EnergyGuard {
+    budget_j: f64,
+    scale_j: f64,
+    tolerance: f64,
+    counted_apples: usize,
+    /// The largest speed the scene can produce (m/s): each apple's share of the scale is
+    /// 1/2 m v_bound^2, the energy it could carry.
+    v_bound: f64,
+}
+
+impl Simulation {
+    /// Builds the world of a validated scenario and plans its steps.
+    pub fn new(sc: &Scenario, base_dir: &Path) -> Result<Self, SimError> {
+        let mut world = world::build(sc, base_dir)?;
+        let plan = timestep::plan(sc, &world);
+        let v_bound = timestep::speed_bound(sc, &world).max(0.01);
+        world.physics.integration_parameters.dt = plan.initial_s;
+        if let timestep::Policy::Adaptive {
+            steps_per_contact,
+            max_s,
+        } = plan.policy
+        {
+            let prediction = world.physics.integration_parameters.prediction_distance();
+            world.layer.set_step_control(Some(StepControl {
+                steps_per_contact,
+                lookahead_s: max_s,
+                max_displacement_m: 0.5 * prediction,
+                gravity: crate::math::vec3(sc.gravity_m_s2),
+            }));
+        }
+        let belt_or_moving = sc.surfaces.iter().any(|s| {
+            matches!(s, crate::scenario::SurfaceSpec::Conveyor(c) if c.belt_velocity_m_s != 0.0)
+        });
+        let energy =
+            (!belt_or_moving && sc.fidelity != crate::scenario::Fidelity::Rigid).then(|| {
+                EnergyGuard {
+                    budget_j: f64::NAN,
+                    scale_j: 0.0,
+                    tolerance: sc.model.energy_tolerance,
+                    counted_apples: 0,
+                    v_bound: 0.0,
+                }
+            });
+        let step_policy = match sc.time_step_s {
+            crate::scenario::TimeStep::Fixed(_) => "fixed",
+            crate::scenario::TimeStep::Auto => "auto",
+            crate::scenario::TimeStep::Adaptive
+                if matches!(plan.policy, timestep::Policy::Fixed(_)) =>
+            {
+                "auto"
+            }
+            crate::scenario::TimeStep::Adaptive => "adaptive",
+        };
+        Ok(Self {
+            world,
+            dt_prev: plan.initial_s,
+            plan,
+            step_policy,
+            fidelity_limits: sc.fidelity.limits(),
+            duration_s: sc.duration_s,
+            sample_interval_s: sc.output.sample_interval_s,
+            time_s: 0.0,
+            dt_range: [f64::INFINITY, 0.0],
+            step: 0,
+            max_steps: sc.model.max_steps,
+            next_sample: 0,
+            events: Vec::new(),
+            states: Vec::new(),
+            gravity: crate::math::vec3(sc.gravity_m_s2),
+            energy: energy.map(|e| EnergyGuard { v_bound, ..e }),
+        })
+    }
+
+    /// The world (rapier sets and the layer).
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// Mutable world, for callers that drive or inspect it themselves.
+    pub fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    /// The step plan.
+    pub fn plan(&self) -> &timestep::StepPlan {
+        &self.plan
+    }
+
+    /// Time of the current poses (s).
+    pub fn time_s(&self) -> f64 {
+        self.time_s
+    }
+
+    /// Steps a fixed-step run takes (for an adaptive run: the steps at its first step length).
+    pub fn steps_total(&self) -> u64 {
+        (self.duration_s / self.plan.initial_s).round().max(1.0) as u64
+    }
+
+    /// Steps taken so far.
+    pub fn steps_done(&self) -> u64 {
+        self.step
+    }
+
+    /// Whether the run has reached its duration.
+    pub fn done(&self) -> bool {
+        match self.plan.policy {
+            timestep::Policy::Fixed(_) => self.step >= self.steps_total(),
+            timestep::Policy::Adaptive { .. } => self.time_s >= self.duration_s * (1.0 - 1e-12),
+        }
+    }
+
+    /// Current states of the apples (contact forces of the last force pass).
+    pub fn apple_states(&mut self) -> &[AppleState] {
+        self.refresh_states();
+        &self.states
+    }
+
+    fn refresh_states(&mut self) {
+        let layer = &self.world.layer;
+        self.states.clear();
+        for (k, &bh) in self.world.apple_bodies.iter().enumerate() {
+            let id = AppleId(k as u32);
+            let rb = &self.world.physics.bodies[bh];
+            self.states.push(AppleState {
+                index: k as u32,
+                name: layer.apple_name(id).into(),
+                position: rb.translation(),
+                velocity: rb.linvel(),
+                angular_velocity: rb.angvel(),
+                contact_force: layer.apple_contact_force(id),
+            });
+        }
+    }
+
+    /// Computes the forces at the current poses for the coming step and returns its length:
+    /// the fixed step, or for an adaptive run the step the layer chose under `cap`.
+    fn force_pass(&mut self, cap: f64) -> Result<f64, LayerError> {
+        let t = self.time_s;
+        let adaptive = matches!(self.plan.policy, timestep::Policy::Adaptive { .. });
+        let w = &mut self.world;
+        let dt = if adaptive {
+            w.layer.apply_forces_adaptive(
+                &mut w.physics.bodies,
+                &w.physics.colliders,
+                &w.physics.narrow_phase,
+                t,
+                cap,
+            )?
+        } else {
+            w.layer.apply_forces(
+                &mut w.physics.bodies,
+                &w.physics.colliders,
+                &w.physics.narrow_phase,
+                t,
+                cap,
+            )?;
+            cap
+        };
+        self.events.extend(w.layer.take_finished_events());
+        Ok(dt)
+    }
+
+    /// The longest the coming step may be: the fixed step, or for an adaptive run at most the
+    /// largest step, twice the last one, and what lands exactly on the next sample and the end.
+    fn step_cap(&self) -> f64 {
+        match self.plan.policy {
+            timestep::Policy::Fixed(dt) => dt,
+            timestep::Policy::Adaptive { max_s, .. } => {
+                let mut dt = if self.step == 0 {
+                    self.plan.initial_s.min(max_s)
+                } else {
+                    max_s.min(2.0 * self.dt_prev)
+                };
+                // Land exactly on the next sample (and the end) in equal steps, never with a sliver.
+                let next_sample_t =
+                    (self.next_sample as f64 * self.sample_interval_s).min(self.duration_s);
+                let left = next_sample_t - self.time_s;
+                if left > 0.0 {
+                    dt = left / (left / dt).ceil();
+                }
+                dt
+            }
+        }
+    }
+
+    fn sample_due(&self) -> bool {
+        match self.plan.policy {
+            timestep::Policy::Fixed(dt) => {
+                let stride = (self.sample_interval_s / dt).round().max(1.0) as u64;
+                self.step % stride == 0
+            }
+            timestep::Policy::Adaptive { .. } => {
+                let next_sample_t = self.next_sample as f64 * self.sample_interval_s;
+                self.time_s >= next_sample_t - 1e-9 * self.sample_interval_s
+            }
+        }
+    }
+
+    /// Feeds in due apples, computes forces at the current poses, samples if due, and advances
+    /// one step.
+    pub fn step(&mut self, sink: &mut dyn SampleSink) -> Result<(), SimError> {
+        if self.step >= self.max_steps {
+            return Err(SimError::TooManySteps {
+                max_steps: self.max_steps,
+                time_s: self.time_s,
+                duration_s: self.duration_s,
+                dt_s: self.dt_prev,
+            });
+        }
+        let t = self.time_s;
+        self.world.emit_due(t)?;
+        let dt = self.force_pass(self.step_cap())?;
+        if self.sample_due() {
+            self.refresh_states();
+            sink.sample(self.time_s, &self.states)?;
+            self.next_sample += 1;
+            self.check_energy()?;
+        } else if self.step % 1000 == 0 {
+            self.refresh_states();
+            self.check_energy()?;
+        }
+        let w = &mut self.world;
+        w.physics.integration_parameters.dt = dt;
+        w.physics.step_with_events(w.layer.hooks(), &());
+        if let Some(&bh) = w.physics.quarantine().bodies().first() {
+            let name = w
+                .apple_bodies
+                .iter()
+                .position(|&b| b == bh)
+                .map(|k| w.layer.apple_name(AppleId(k as u32)).to_string())
+                .unwrap_or_else(|| format!("{bh:?}"));
+            return Err(SimError::Quarantine {
+                body: name,
+                time_s: self.time_s,
+            });
+        }
+        self.step += 1;
+        self.dt_prev = dt;
+        self.dt_range = [self.dt_range[0].min(dt), self.dt_range[1].max(dt)];
+        self.time_s = match self.plan.policy {
+            timestep::Policy::Fixed(d) => self.step as f64 * d,
+            timestep::Policy::Adaptive { .. } => {
+                let t = self.time_s + dt;
+                // Snap onto sample times and the end (no drift of the sampling grid).
+                let ns = self.next_sample as f64 * self.sample_interval_s;
+                if (t - ns).abs() < 1e-9 * self.sample_interval_s {
+                    ns
+                } else if (t - self.duration_s).abs() < 1e-9 * self.duration_s {
+                    self.duration_s
+                } else {
+                    t
+                }
+            }
+        };
+        Ok(())
+    }
+
+    /// Total mechanical energy (J) with the velocities taken at the poses' time (symplectic
+    /// Euler stores the velocity of the half step before: v + a dt / 2 is the one at the pose),
+    /// and the energy of apples fed in since the last call added to the budget.
+    fn check_energy(&mut self) -> Result<(), SimError> {
+        let Some(guard) = self.energy.as_mut() else {
+            return Ok(());
+        };
+        let layer = &self.world.layer;
+        let g = self.gravity;
+        let half = 0.5 * self.dt_prev;
+        // Energy in the contacts: the work their normal forces did so far (not the Hertz elastic
+        // energy, which eq. 12 does not store when it loads below the Hertz curve).
+        let mut total = layer.open_contact_work_j();
+        let mut fed = 0.0;
+        let mut fed_scale = 0.0;
+        let mut fastest = (0.0, 0usize);
+        let first = guard.budget_j.is_nan();
+        for (k, s) in self.states.iter().enumerate() {
+            let id = AppleId(k as u32);
+            let m = layer.apple_mass(id);
+            let r = layer.apple_radius(id);
+            let inertia = 0.4 * m * r * r;
+            let asleep = layer.is_asleep(id);
+            let (v, w) = if asleep {
+                (s.velocity, s.angular_velocity)
+            } else {
+                (
+                    s.velocity + (s.contact_force / m + g) * half,
+                    s.angular_velocity + layer.apple_contact_torque(id) / inertia * half,
+                )
+            };
+            let e = 0.5 * m * v.length_squared() + 0.5 * inertia * w.length_squared()
+                - m * g.dot(s.position);
+            total += e;
+            if k >= guard.counted_apples {
+                // Apples fed in (or all of them at the first check): their energy enters the
+                // budget, the energy they could carry the scale.
+                fed += e;
+                fed_scale += 0.5 * m * guard.v_bound * guard.v_bound;
+            }
+            if v.length() > fastest.0 {
+                fastest = (v.length(), k);
+            }
+        }
+        guard.counted_apples = self.states.len();
+        guard.scale_j += fed_scale;
+        if first {
+            guard.budget_j = total;
+            guard.scale_j = guard.scale_j.max(1e-12);
+            return Ok(());
+        }
+        guard.budget_j += fed;
+        let rise = (total - guard.budget_j) / guard.scale_j;
+        if rise > guard.tolerance {
+            return Err(SimError::EnergyRise {
+                time_s: self.time_s,
+                rise_percent: 100.0 * rise,
+                limit_percent: 100.0 * guard.tolerance,
+                apple: self.states[fastest.1].name.to_string(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Runs to the end of the scenario. `progress` is called now and then with the fraction done.
+    pub fn run(
+        mut self,
+        sink: &mut dyn SampleSink,
+        progress: &mut dyn FnMut(f64),
+    ) -> Result<RunResult, SimError> {
+        let start = Instant::now();
+        let mut last_report = 0.0;
+        while !self.done() {
+            self.step(sink)?;
+            let f = self.time_s / self.duration_s;
+            if f - last_report >= 0.005 {
+                last_report = f;
+                progress(f);
+            }
+        }
+        // The final poses: close contacts that parted in the last step, sample the end state.
+        let dt = self.dt_prev;
+        self.force_pass(dt)?;
+        self.refresh_states();
+        sink.sample(self.time_s, &self.states)?;
+        self.check_energy()?;
+        let wall = start.elapsed().as_secs_f64();
+        Ok(self.finish(wall))
+    }
+
+    fn finish(mut self, wall_time_s: f64) -> RunResult {
+        let mut events = std::mem::take(&mut self.events);
+        events.extend(self.world.layer.open_events());
+        events.sort_by(|x, y| {
+            x.t_start_s
+                .total_cmp(&y.t_start_s)
+                .then(x.a_index.cmp(&y.a_index))
+                .then(party_order(x.b_party).cmp(&party_order(y.b_party)))
+        });
+        let n = self.world.apple_bodies.len();
+        let mut peak = vec![0.0f64; n];
+        let mut peak_p = vec![0.0f64; n];
+        let mut count = vec![0usize; n];
+        for e in &events {
+            let mut touch = |k: usize| {
+                peak[k] = peak[k].max(e.peak_force_n);
+                peak_p[k] = peak_p[k].max(e.max_pressure_pa);
+                count[k] += 1;
+            };
+            touch(e.a_index as usize);
+            if let Party::Apple(j) = e.b_party {
+                touch(j as usize);
+            }
+        }
+        let apples: Vec<AppleFinal> = self
+            .states
+            .iter()
+            .enumerate()
+            .map(|(k, s)| AppleFinal {
+                name: s.name.to_string(),
+                final_position_m: arr3(s.position),
+                final_velocity_m_s: arr3(s.velocity),
+                final_angular_velocity_rad_s: arr3(s.angular_velocity),
+                peak_force_n: peak[k],
+                peak_pressure_pa: peak_p[k],
+                contacts: count[k],
+            })
+            .collect();
+        let mut warnings = Vec::new();
+        let postponed = self.world.postponed_emissions();
+        if postponed > 0 {
+            warnings.push(format!(
+                "{postponed} fed-in apples waited for their spot to clear (the source emits faster than apples leave it)"
+            ));
+        }
+        let pending = self.world.pending_emissions();
+        if pending > 0 {
+            warnings.push(format!(
+                "{pending} apples of the sources were never fed in: the run ended first"
+            ));
+        }
+        let worst = events.iter().map(|e| (e.max_overlap_m, e)).fold(
+            None::<(f64, &ContactEvent)>,
+            |acc, x| match acc {
+                Some(a) if a.0 >= x.0 => Some(a),
+                _ => Some(x),
+            },
+        );
+        if let Some((u, e)) = worst {
+            let r = self.world.layer.apple_radius(AppleId(e.a_index));
+            if u > 0.1 * r {
+                warnings.push(format!(
+                    "contact '{}' - '{}' reached an overlap of {:.1} % of the radius: Hertz theory assumes u << R, treat its forces as indicative",
+                    e.a, e.b, 100.0 * u / r
+                ));
+            }
+        }
+        let metrics = base_metrics(&events, &apples);
+        RunResult {
+            metrics,
+            steps: self.step,
+            time_step_s: if self.step > 0 {
+                self.time_s / self.step as f64
+            } else {
+                self.plan.initial_s
+            },
+            step_policy: self.step_policy,
+            step_range_s: self.dt_range,
+            stiffest_contact: self.plan.stiffest.clone(),
+            fidelity_limits: self.fidelity_limits,
+            simulated_time_s: self.time_s,
+            wall_time_s,
+            events,
+            apples,
+            warnings,
+        }
+    }
+}
+
+fn party_order(p: Party) -> (u8, u32) {
+    match p {
+        Party::Apple(j) => (0, j),
+        Party::Surface(s) => (1, s),
+    }
+}
+
+/// Runs a validated scenario to the end.
+pub fn run(
+    sc: &Scenario,
+    base_dir: &Path,
+    sink: &mut dyn SampleSink,
+) -> Result<RunResult, SimError> {
+    Simulation::new(sc, base_dir)?.run(sink, &mut |_| {})
+}
