@@ -155,7 +155,7 @@ fn max_series_keeps_the_largest_peaks_and_says_so() {
     let out = root.join("charts");
     let opts = PlotOptions {
         max_series: 2,
-        apples: vec![],
+        ..PlotOptions::default()
     };
     let s = plot::plot_runs(std::slice::from_ref(&run), &out, &opts).unwrap();
     println!("{:?}", s.notes);
@@ -169,8 +169,8 @@ fn max_series_keeps_the_largest_peaks_and_says_so() {
     assert!(s.notes.iter().any(|n| n.contains("2 of 4 apples drawn")));
     // --apple picks apples by name.
     let opts = PlotOptions {
-        max_series: 10,
         apples: vec!["a2".into()],
+        ..PlotOptions::default()
     };
     plot::plot_runs(std::slice::from_ref(&run), &out, &opts).unwrap();
     let v = read_svg(&out.join(plot::SPEED_CHART));
@@ -220,4 +220,38 @@ fn run_plots_flag_and_plot_command() {
         err.starts_with("error: /nonexistent/run/bodies.csv"),
         "{err}"
     );
+}
+
+#[test]
+fn force_chart_window_keeps_landing_pulses_visible() {
+    // The handling line: apples land on the belt and ride it for seconds, one contact each. The
+    // chart shows the landing pulses (a few ms), not seconds of resting force.
+    let mut sc = shipped("scenarios/handling_line.json");
+    sc.duration_s = 1.5;
+    sc.output.force_history = true;
+    let root = tmp("plots_window");
+    let run = root.join("line");
+    applesim::output::run_to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
+    let s = plot::plot_runs(std::slice::from_ref(&run), &run, &PlotOptions::default()).unwrap();
+    println!("{:?}", s.notes);
+    let note = s
+        .notes
+        .iter()
+        .find(|n| n.starts_with("force chart: the first"))
+        .unwrap();
+    let window: f64 = note["force chart: the first ".len()..]
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(window < 50.0, "window {window} ms");
+    // Whole impacts are not cut: the elastic drop of Fig. 1 is drawn to its end.
+    let curve: Vec<(f64, f64)> = (0..=100)
+        .map(|i| {
+            let t = 5.6 * i as f64 / 100.0;
+            (t, (std::f64::consts::PI * t / 5.6).sin().powf(1.5))
+        })
+        .collect();
+    assert_eq!(plot::force_window_ms(&[&curve]), 5.6);
 }

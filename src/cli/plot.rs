@@ -18,12 +18,17 @@ pub struct Args {
     /// Only this apple (repeatable).
     #[arg(long)]
     apple: Vec<String>,
+    /// Time window of the force chart (ms from first touch); default: five times the longest
+    /// impact pulse.
+    #[arg(long)]
+    window_ms: Option<f64>,
 }
 
 pub fn main(a: Args) -> Result<(), String> {
     let opts = PlotOptions {
         max_series: a.max_series,
         apples: a.apple,
+        window_ms: a.window_ms,
     };
     let s = plot::plot_runs(&a.runs, &a.out, &opts).map_err(|e| e.to_string())?;
     for n in &s.notes {

@@ -404,6 +404,8 @@ pub struct PlotOptions {
     pub max_series: usize,
     /// Only these apples (all when empty).
     pub apples: Vec<String>,
+    /// Time window of the force chart (ms from first touch); `None`: [`force_window_ms`].
+    pub window_ms: Option<f64>,
 }
 
 impl Default for PlotOptions {
@@ -411,8 +413,38 @@ impl Default for PlotOptions {
         Self {
             max_series: 10,
             apples: Vec::new(),
+            window_ms: None,
         }
     }
+}
+
+/// Below this share of its peak a contact's force counts as past its impact pulse.
+pub const PULSE_END_SHARE: f64 = 0.25;
+
+/// The automatic time window of the force chart (ms): five times the longest impact pulse (time
+/// from touch until the force first falls below [`PULSE_END_SHARE`] of its peak after the peak),
+/// but no longer than the longest contact. An apple that lands on a belt and rides it has one
+/// contact lasting seconds; the window keeps its landing pulse visible, as in the paper's
+/// figures, while whole impacts (which end within about 1.3 times their pulse, or 4.3 times
+/// for ke = 0.09) are drawn whole.
+pub fn force_window_ms(curves: &[&[(f64, f64)]]) -> f64 {
+    let mut pulse = 0.0f64;
+    let mut longest = 0.0f64;
+    for c in curves {
+        let Some(last) = c.last() else { continue };
+        longest = longest.max(last.0);
+        let (ipk, peak) =
+            c.iter().enumerate().fold(
+                (0, f64::MIN),
+                |a, (i, p)| if p.1 > a.1 { (i, p.1) } else { a },
+            );
+        let end = c[ipk..]
+            .iter()
+            .find(|p| p.1 < PULSE_END_SHARE * peak)
+            .map_or(last.0, |p| p.0);
+        pulse = pulse.max(end);
+    }
+    (5.0 * pulse).min(longest)
 }
 
 /// What [`plot_runs`] wrote.
@@ -540,6 +572,22 @@ pub fn plot_runs(
         }
     }
     if !force_series.is_empty() {
+        let longest = force_series
+            .iter()
+            .filter_map(|s| s.points.last().map(|p| p.0))
+            .fold(0.0, f64::max);
+        let window = opts.window_ms.unwrap_or_else(|| {
+            let c: Vec<&[(f64, f64)]> = force_series.iter().map(|s| s.points.as_slice()).collect();
+            force_window_ms(&c)
+        });
+        if window < longest {
+            summary.notes.push(format!(
+                "force chart: the first {window:.1} ms of each contact (the longest lasts {longest:.1} ms; --window-ms)"
+            ));
+            for s in &mut force_series {
+                s.points.retain(|p| p.0 <= window);
+            }
+        }
         let path = out_dir.join(FORCE_CHART);
         LineChart {
             title: "Normal contact force".into(),
