@@ -10,9 +10,11 @@
 //! [`scenario`] (serde types, validation) -> [`world`] (rapier bodies and colliders) ->
 //! [`contact`] (the law, pure functions) -> [`layer`] (pair finding, hooks, forces) ->
 //! [`sim`] (stepping, stability guard) -> [`record`] (contact events, time series) ->
-//! [`output`] (summary, CSV).
+//! [`output`] (summary, CSV, charts, ParaView) -> [`analysis`] (pulse fit, bruise assessment,
+//! ke calibration).
 #![warn(missing_docs)]
 
+pub mod analysis;
 pub mod contact;
 pub mod layer;
 pub mod math;

@@ -1,5 +1,7 @@
 //! Argument parsing and plain error reporting; every subcommand lives in its own file.
 
+mod calibrate;
+mod plot;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -16,6 +18,10 @@ struct Cli {
 enum Command {
     /// Run a scenario and write summary.json, contacts.csv and bodies.csv into a folder.
     Run(run::Args),
+    /// Find ke for a measured restitution by simulating the impact, or tabulate e over speeds.
+    Calibrate(calibrate::Args),
+    /// Draw force-time and velocity-time charts (SVG) of one or several run folders.
+    Plot(plot::Args),
 }
 
 /// Parses the arguments, runs the command, returns the exit code.
@@ -23,6 +29,8 @@ pub fn main() -> i32 {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(a) => run::main(a),
+        Command::Calibrate(a) => calibrate::main(a),
+        Command::Plot(a) => plot::main(a),
     };
     match result {
         Ok(()) => 0,

@@ -1,5 +1,6 @@
 //! `applesim run SCENARIO --out DIR`.
 
+use applesim::output::plot::{self, PlotOptions};
 use applesim::{output, scenario};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -14,6 +15,10 @@ pub struct Args {
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
+    /// Also draw the charts (force_time.svg, linear_velocity.svg, angular_velocity.svg) into the
+    /// output folder.
+    #[arg(long)]
+    plots: bool,
 }
 
 pub fn main(a: Args) -> Result<(), String> {
@@ -37,6 +42,18 @@ pub fn main(a: Args) -> Result<(), String> {
         eprint!("\r      \r");
     }
     let r = r?;
+    let plots = if a.plots {
+        Some(
+            plot::plot_runs(
+                std::slice::from_ref(&a.out),
+                &a.out,
+                &PlotOptions::default(),
+            )
+            .map_err(|e| e.to_string())?,
+        )
+    } else {
+        None
+    };
     if !a.quiet {
         println!(
             "{} steps of {} s ({} s simulated) in {:.2} s wall time",
@@ -53,13 +70,34 @@ pub fn main(a: Args) -> Result<(), String> {
                 e.peak_force_n, e.a, e.b, e.t_peak_s
             );
         }
+        if let Some(n) = r.metrics.get("bruised_apples") {
+            println!("{n} apple(s) over a bruise threshold (bruise.csv)");
+        }
         for w in &r.warnings {
             println!("warning: {w}");
         }
         println!(
-            "wrote {}/{{summary.json, contacts.csv, bodies.csv, scenario.json}}",
-            a.out.display()
+            "wrote {}/{{summary.json, contacts.csv, bodies.csv, bruise.csv, scenario.json{}{}}}",
+            a.out.display(),
+            if sc.output.force_history {
+                ", forces.csv, pulse_fits.csv"
+            } else {
+                ""
+            },
+            if sc.output.vtk.is_some() {
+                ", scene.pvd, vtk/"
+            } else {
+                ""
+            }
         );
+        if let Some(p) = &plots {
+            for n in &p.notes {
+                println!("note: {n}");
+            }
+            for w in &p.written {
+                println!("wrote {}", w.display());
+            }
+        }
     }
     Ok(())
 }

@@ -1,11 +1,18 @@
-//! Outputs of a run: `summary.json`, `contacts.csv`, `bodies.csv` (and the scenario as run).
+//! Outputs of a run: `summary.json`, `contacts.csv`, `bodies.csv` (and the scenario as run);
+//! with force histories `forces.csv` and `pulse_fits.csv`; always `bruise.csv`; on request the
+//! ParaView files ([`vtk`]) and the charts ([`plot`]).
 //!
 //! Every file is written whole or not at all ([`atomic`]). Numbers are printed in Rust's
 //! shortest round-trip form, so the same run gives byte-identical files; the one exception is
 //! `wall_time_s` in `summary.json`, a measurement of the machine.
 
 pub mod atomic;
+pub mod plot;
+pub mod vtk;
 
+use crate::analysis::bruise::{AppleAssessment, ContactAssessment};
+use crate::analysis::pulse::PulseFit;
+use crate::analysis::Analysis;
 use crate::record::events::ContactEvent;
 use crate::record::series::{AppleState, SampleSink};
 use crate::scenario::Scenario;
@@ -48,6 +55,24 @@ pub struct Summary<'a> {
     pub warnings: &'a [String],
     /// Key results as flat, unit-suffixed numbers (what `applesim merge` tabulates).
     pub metrics: &'a std::collections::BTreeMap<String, f64>,
+    /// Bruise assessment: per apple, and the contacts over a threshold (all contacts in
+    /// `bruise.csv`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bruise: Option<BruiseSummary<'a>>,
+    /// Eq. 13 fits of the impacts (also `pulse_fits.csv`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pulse_fits: Option<&'a [PulseFit]>,
+}
+
+/// The bruise section of `summary.json`.
+#[derive(Debug, Serialize)]
+pub struct BruiseSummary<'a> {
+    /// Apples at risk (over a threshold in at least one contact).
+    pub apples_at_risk: Vec<&'a str>,
+    /// Every apple's assessment.
+    pub apples: &'a [AppleAssessment],
+    /// The contacts over a threshold, per apple.
+    pub contacts_at_risk: Vec<&'a ContactAssessment>,
 }
 
 /// Header of `contacts.csv`.
@@ -110,6 +135,16 @@ pub fn write_contacts(path: &Path, events: &[ContactEvent]) -> std::io::Result<(
 
 /// Writes `summary.json`.
 pub fn write_summary(path: &Path, sc: &Scenario, r: &RunResult) -> std::io::Result<()> {
+    write_summary_with(path, sc, r, None)
+}
+
+/// Writes `summary.json` with the analysis sections (bruise, pulse fits) when given.
+pub fn write_summary_with(
+    path: &Path,
+    sc: &Scenario,
+    r: &RunResult,
+    analysis: Option<&Analysis>,
+) -> std::io::Result<()> {
     let s = Summary {
         applesim_version: env!("CARGO_PKG_VERSION"),
         description: sc.description.as_deref(),
@@ -125,6 +160,18 @@ pub fn write_summary(path: &Path, sc: &Scenario, r: &RunResult) -> std::io::Resu
         apples: &r.apples,
         warnings: &r.warnings,
         metrics: &r.metrics,
+        bruise: analysis.map(|a| BruiseSummary {
+            apples_at_risk: a
+                .bruise
+                .apples
+                .iter()
+                .filter(|x| x.at_risk)
+                .map(|x| &*x.apple)
+                .collect(),
+            apples: &a.bruise.apples,
+            contacts_at_risk: a.bruise.contacts_at_risk().collect(),
+        }),
+        pulse_fits: analysis.map(|a| a.pulse_fits.as_slice()),
     };
     let mut bytes = serde_json::to_vec_pretty(&s).map_err(std::io::Error::other)?;
     bytes.push(b'\n');
@@ -202,6 +249,133 @@ pub fn write_results(dir: &Path, sc: &Scenario, r: &RunResult) -> std::io::Resul
     Ok(())
 }
 
+/// Writes `forces.csv`: every recorded force sample of every contact with a history, one row
+/// each ([`plot::FORCES_HEADER`]; `contact` is the row index in `contacts.csv`).
+pub fn write_forces(path: &Path, events: &[ContactEvent]) -> std::io::Result<()> {
+    let f = AtomicFile::create(path)?;
+    let mut w = csv::Writer::from_writer(f);
+    w.write_record(plot::FORCES_HEADER)?;
+    for (k, e) in events.iter().enumerate() {
+        let Some(h) = &e.history else { continue };
+        let k = k.to_string();
+        for (t, p) in h {
+            w.write_record([&k, &*e.a, &*e.b, &t.to_string(), &p.to_string()])?;
+        }
+    }
+    let f = w.into_inner().map_err(|e| e.into_error())?;
+    f.commit()
+}
+
+/// Header of `pulse_fits.csv` (fields of [`PulseFit`]).
+pub const PULSE_FITS_HEADER: [&str; 18] = [
+    "contact",
+    "a",
+    "b",
+    "samples",
+    "fit_peak_force_n",
+    "fit_contact_time_s",
+    "fit_eps",
+    "fit_tau",
+    "rms_residual_n",
+    "converged",
+    "k_p",
+    "k_p_shape",
+    "peak_force_n",
+    "contact_time_s",
+    "restitution",
+    "effective_mass_kg",
+    "eq15_peak_force_n",
+    "eq15_error",
+];
+
+/// Writes `pulse_fits.csv`; `eq15_error` is eq15_peak_force_n / peak_force_n - 1.
+pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
+    let f = AtomicFile::create(path)?;
+    let mut w = csv::Writer::from_writer(f);
+    w.write_record(PULSE_FITS_HEADER)?;
+    for p in fits {
+        w.write_record([
+            p.contact.to_string(),
+            p.a.to_string(),
+            p.b.to_string(),
+            p.samples.to_string(),
+            p.fit_peak_force_n.to_string(),
+            p.fit_contact_time_s.to_string(),
+            p.fit_eps.to_string(),
+            p.fit_tau.to_string(),
+            p.rms_residual_n.to_string(),
+            p.converged.to_string(),
+            p.k_p.to_string(),
+            p.k_p_shape.to_string(),
+            p.peak_force_n.to_string(),
+            p.contact_time_s.to_string(),
+            p.restitution.to_string(),
+            p.effective_mass_kg.to_string(),
+            p.eq15_peak_force_n.to_string(),
+            (p.eq15_peak_force_n / p.peak_force_n - 1.0).to_string(),
+        ])?;
+    }
+    let f = w.into_inner().map_err(|e| e.into_error())?;
+    f.commit()
+}
+
+/// Header of `bruise.csv`: one row per apple per contact.
+pub const BRUISE_HEADER: [&str; 18] = [
+    "contact",
+    "apple",
+    "other",
+    "t_start_s",
+    "t_peak_s",
+    "contact_point_m",
+    "peak_force_n",
+    "force_threshold_n",
+    "mean_pressure_pa",
+    "pressure_threshold_pa",
+    "absorbed_energy_j",
+    "energy_threshold_j",
+    "velocity_change_m_s",
+    "approach_speed_m_s",
+    "at_risk",
+    "exceeded",
+    "apple_at_risk",
+    "apple_peak_force_n",
+];
+
+/// Writes `bruise.csv`.
+pub fn write_bruise(path: &Path, a: &Analysis) -> std::io::Result<()> {
+    let f = AtomicFile::create(path)?;
+    let mut w = csv::Writer::from_writer(f);
+    w.write_record(BRUISE_HEADER)?;
+    for c in &a.bruise.contacts {
+        let apple = a.bruise.apples.iter().find(|x| x.apple == c.apple);
+        let p = c.contact_point_m;
+        w.write_record([
+            c.contact.to_string(),
+            c.apple.to_string(),
+            c.other.to_string(),
+            c.t_start_s.to_string(),
+            c.t_peak_s.to_string(),
+            format!("{} {} {}", p[0], p[1], p[2]),
+            c.peak_force_n.to_string(),
+            c.thresholds.peak_force_n.to_string(),
+            c.mean_pressure_pa.to_string(),
+            opt(c.thresholds.mean_pressure_pa),
+            c.absorbed_energy_j.to_string(),
+            opt(c.thresholds.absorbed_energy_j),
+            c.velocity_change_m_s.to_string(),
+            c.approach_speed_m_s.to_string(),
+            c.at_risk().to_string(),
+            c.exceeded.clone(),
+            apple.is_some_and(|x| x.at_risk).to_string(),
+            apple
+                .map(|x| x.peak_force_n.to_string())
+                .unwrap_or_default(),
+        ])?;
+    }
+    let f = w.into_inner().map_err(|e| e.into_error())?;
+    f.commit()
+}
+
 /// Flushes a writer, mapping the error (helper for sinks).
 pub fn flush(w: &mut dyn Write) -> std::io::Result<()> {
     w.flush()
@@ -230,10 +404,13 @@ fn io_at(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
     }
 }
 
-/// Runs a validated scenario and writes `summary.json`, `contacts.csv`, `bodies.csv` and
-/// `scenario.json` into `out_dir` (created if missing). Nothing that looks like a result is
-/// written when the run fails: `bodies.csv` is streamed to a temporary name and the other files
-/// are written only after the last step.
+/// Runs a validated scenario and writes into `out_dir` (created if missing): `summary.json`,
+/// `contacts.csv`, `bodies.csv`, `scenario.json`, `bruise.csv`; with force histories
+/// (`output.force_history`) `forces.csv` and `pulse_fits.csv`; with `output.vtk` the ParaView
+/// files ([`vtk`]). The analysis ([`crate::analysis::analyse`]) adds its headline figures to the
+/// returned `metrics`. Nothing that looks like a result is written when the run fails:
+/// `bodies.csv` is streamed to a temporary name and the other files are written only after the
+/// last step; `summary.json` comes last and marks a complete run.
 pub fn run_to_dir(
     sc: &Scenario,
     base_dir: &Path,
@@ -242,10 +419,50 @@ pub fn run_to_dir(
 ) -> Result<RunResult, RunError> {
     std::fs::create_dir_all(out_dir).map_err(io_at(out_dir))?;
     let sim = crate::sim::Simulation::new(sc, base_dir)?;
+    let surfaces = sc
+        .output
+        .vtk
+        .as_ref()
+        .map(|_| vtk::SceneSurfaces::capture(sim.world()));
     let bodies_path = out_dir.join("bodies.csv");
     let mut bodies = BodiesCsv::create(&bodies_path).map_err(io_at(&bodies_path))?;
-    let result = sim.run(&mut bodies, progress)?;
+    let mut result = sim.run(&mut bodies, progress)?;
     bodies.commit().map_err(io_at(&bodies_path))?;
-    write_results(out_dir, sc, &result).map_err(io_at(out_dir))?;
+    let analysis = crate::analysis::analyse(sc, &result);
+    analysis.add_metrics(&mut result.metrics);
+    if let (Some(v), Some(surfaces)) = (&sc.output.vtk, &surfaces) {
+        let order: Vec<&str> = result.apples.iter().map(|a| a.name.as_str()).collect();
+        let written = vtk::write_vtk(
+            out_dir,
+            sc,
+            surfaces,
+            &analysis.bruise,
+            &order,
+            v.interval_s,
+        )
+        .map_err(|e| match e {
+            vtk::VtkError::Io { path, source } => RunError::Io { path, source },
+            other => RunError::Io {
+                path: out_dir.join("bodies.csv"),
+                source: std::io::Error::other(other.to_string()),
+            },
+        })?;
+        result.warnings.extend(written.warnings);
+        result
+            .metrics
+            .insert("vtk_frames".into(), written.frames.len() as f64);
+    }
+    if sc.output.force_history {
+        let p = out_dir.join("forces.csv");
+        write_forces(&p, &result.events).map_err(io_at(&p))?;
+        let p = out_dir.join("pulse_fits.csv");
+        write_pulse_fits(&p, &analysis.pulse_fits).map_err(io_at(&p))?;
+    }
+    let p = out_dir.join("bruise.csv");
+    write_bruise(&p, &analysis).map_err(io_at(&p))?;
+    write_contacts(&out_dir.join("contacts.csv"), &result.events).map_err(io_at(out_dir))?;
+    write_scenario(&out_dir.join("scenario.json"), sc).map_err(io_at(out_dir))?;
+    let p = out_dir.join("summary.json");
+    write_summary_with(&p, sc, &result, Some(&analysis)).map_err(io_at(&p))?;
     Ok(result)
 }

@@ -153,6 +153,18 @@ pub struct OutputSpec {
     /// Keep each contact's force history (for plots and the pulse fit); capped per contact.
     #[serde(default = "default_true")]
     pub force_history: bool,
+    /// ParaView time series of the apples and surfaces (`scene.pvd`, `vtk/`); off when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vtk: Option<VtkSpec>,
+}
+
+/// VTK output for ParaView (docs/analysis.md, "ParaView").
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VtkSpec {
+    /// Interval between frames (s). Frames are taken from the `bodies.csv` samples, so the
+    /// interval is rounded up to a whole number of `output.sample_interval_s`.
+    pub interval_s: f64,
 }
 
 fn default_sample_interval() -> f64 {
@@ -168,6 +180,7 @@ impl Default for OutputSpec {
         Self {
             sample_interval_s: default_sample_interval(),
             force_history: true,
+            vtk: None,
         }
     }
 }
@@ -188,6 +201,27 @@ pub struct MaterialSpec {
     /// Density (kg/m^3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density_kg_m3: Option<f64>,
+    /// Bruise thresholds of apples of this material (read for apple materials only); the
+    /// paper's 80 N firm-variety force threshold when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bruise: Option<BruiseSpec>,
+}
+
+/// Bruise thresholds of one apple material (docs/analysis.md, "Bruise assessment"). An impact
+/// is at risk when any given threshold is exceeded.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BruiseSpec {
+    /// Peak normal force (N). Default 80 N, the paper's figure for firm varieties; it quotes
+    /// 35-40 N for soft ones (physics.md section 8).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_force_n: Option<f64>,
+    /// Peak mean contact pressure P / (pi a^2) (Pa); no default (the paper gives none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_pressure_pa: Option<f64>,
+    /// Energy absorbed in one impact (J, the eq. 12 hysteresis loss); no default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub absorbed_energy_j: Option<f64>,
 }
 
 /// Contact coefficients.

@@ -143,6 +143,9 @@ pub fn validate(sc: &Scenario) -> R {
     }
     finite3("gravity_m_s2", sc.gravity_m_s2)?;
     positive("output.sample_interval_s", sc.output.sample_interval_s)?;
+    if let Some(v) = &sc.output.vtk {
+        positive("output.vtk.interval_s", v.interval_s)?;
+    }
     positive("model.max_overlap_ratio", sc.model.max_overlap_ratio)?;
     if !(sc.model.min_steps_per_impact.is_finite() && sc.model.min_steps_per_impact >= 0.0) {
         return Err(ScenarioError::invalid(
@@ -162,6 +165,18 @@ pub fn validate(sc: &Scenario) -> R {
             ));
         }
         mats.insert(name.as_str(), material(name, m)?);
+        if let Some(b) = &m.bruise {
+            let f = format!("materials.{name}.bruise");
+            for (field, v) in [
+                ("peak_force_n", b.peak_force_n),
+                ("mean_pressure_pa", b.mean_pressure_pa),
+                ("absorbed_energy_j", b.absorbed_energy_j),
+            ] {
+                if let Some(v) = v {
+                    positive(&format!("{f}.{field}"), v)?;
+                }
+            }
+        }
     }
     let c = &sc.contact;
     coefficients("contact", Some(c.friction), Some(c.ke), Some(c.lambda_s_m))?;

@@ -1,0 +1,120 @@
+//! What a run means for the fruit: the paper's force-pulse fit (eqs. 13-15, [`pulse`]), the bruise
+//! assessment ([`bruise`]), and the calibration of the eq. 12 coefficient ke against a measured
+//! restitution ([`calibrate`]). User guide: docs/analysis.md.
+//!
+//! [`analyse`] runs the first two on a finished run; `output::run_to_dir` writes their files
+//! (`pulse_fits.csv`, `bruise.csv`) and adds their headline figures to `RunResult::metrics`.
+
+pub mod bruise;
+pub mod calibrate;
+pub mod pulse;
+
+use crate::scenario::{AppleSpec, Scenario};
+use crate::sim::RunResult;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// What the analysis needs to know of one apple.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AppleInfo {
+    /// Material name.
+    pub material: String,
+    /// Radius (m).
+    pub radius_m: f64,
+    /// Mass (kg): `mass_kg`, or density x volume of a solid sphere.
+    pub mass_kg: f64,
+}
+
+/// Every apple a run of a (validated) scenario can hold, by name: the listed ones, the
+/// generated ones and those the sources feed in. Apples are looked up by name because fed-in
+/// apples enter the layer in emission order, which a postponed emission can change.
+pub fn apple_roster(sc: &Scenario) -> BTreeMap<String, AppleInfo> {
+    let info = |a: &AppleSpec| AppleInfo {
+        material: a.material.clone(),
+        radius_m: a.diameter_m / 2.0,
+        mass_kg: a.mass_kg.unwrap_or_else(|| {
+            let rho = sc
+                .materials
+                .get(&a.material)
+                .and_then(|m| m.density_kg_m3)
+                .unwrap_or(f64::NAN);
+            crate::world::sphere_mass(a.diameter_m, rho)
+        }),
+    };
+    let initial = sc.initial_apples().unwrap_or_else(|_| sc.apples.clone());
+    let fed = sc
+        .sources
+        .iter()
+        .flat_map(|s| s.schedule().into_iter().map(|(_, a)| a));
+    initial
+        .iter()
+        .cloned()
+        .chain(fed)
+        .map(|a| (a.name.clone(), info(&a)))
+        .collect()
+}
+
+/// The analysis of one run.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Analysis {
+    /// Eq. 13 fits of the impacts with a force history.
+    pub pulse_fits: Vec<pulse::PulseFit>,
+    /// Bruise assessment.
+    pub bruise: bruise::BruiseReport,
+}
+
+/// Fits the pulses and assesses bruising of a finished run of `sc`.
+pub fn analyse(sc: &Scenario, r: &RunResult) -> Analysis {
+    let roster = apple_roster(sc);
+    let mass = |name: &str| roster.get(name).map_or(f64::NAN, |a| a.mass_kg);
+    let order: Vec<&str> = r.apples.iter().map(|a| a.name.as_str()).collect();
+    Analysis {
+        pulse_fits: pulse::fit_events(&r.events, &mass),
+        bruise: bruise::assess(sc, &r.events, &roster, &order),
+    }
+}
+
+impl Analysis {
+    /// Headline figures for `RunResult::metrics`: `bruised_apples` (apples with a contact over a
+    /// threshold), `bruising_contacts`, `max_absorbed_energy_j` (one contact),
+    /// `total_absorbed_energy_j`, `max_velocity_change_m_s`, and the median fitted `pulse_eps`,
+    /// `pulse_tau`, `pulse_k_p` when impacts were fitted. Only finite values.
+    pub fn add_metrics(&self, m: &mut BTreeMap<String, f64>) {
+        let b = &self.bruise;
+        m.insert("bruised_apples".into(), b.apples_at_risk() as f64);
+        m.insert(
+            "bruising_contacts".into(),
+            b.contacts_at_risk().count() as f64,
+        );
+        let mut seen = std::collections::BTreeSet::new();
+        let (mut max_w, mut total_w) = (f64::NAN, 0.0);
+        for c in &b.contacts {
+            if seen.insert(c.contact) {
+                max_w = f64::max(max_w, c.absorbed_energy_j);
+                total_w += c.absorbed_energy_j;
+            }
+        }
+        m.insert("max_absorbed_energy_j".into(), max_w);
+        m.insert("total_absorbed_energy_j".into(), total_w);
+        m.insert(
+            "max_velocity_change_m_s".into(),
+            b.contacts
+                .iter()
+                .map(|c| c.velocity_change_m_s)
+                .fold(f64::NAN, f64::max),
+        );
+        let median = |f: fn(&pulse::PulseFit) -> f64| {
+            let mut v: Vec<f64> = self.pulse_fits.iter().map(f).collect();
+            v.sort_by(f64::total_cmp);
+            match v.len() {
+                0 => f64::NAN,
+                n if n % 2 == 1 => v[n / 2],
+                n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+            }
+        };
+        m.insert("pulse_eps".into(), median(|p| p.fit_eps));
+        m.insert("pulse_tau".into(), median(|p| p.fit_tau));
+        m.insert("pulse_k_p".into(), median(|p| p.k_p));
+        m.retain(|_, v| v.is_finite());
+    }
+}

@@ -1,0 +1,257 @@
+//! SVG charts (issue 4 acceptance): the files are well-formed SVG (parsed with an XML parser) and
+//! hold the expected series: one curve and one legend entry per contact or apple, several runs
+//! on one chart, axes with units.
+
+mod common;
+use applesim::output::plot::{self, PlotOptions};
+use common::*;
+use std::path::{Path, PathBuf};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// The Fig. 1 apple dropped at `v0` into run folder `dir`.
+fn drop_run(v0: f64, dir: &Path) {
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
+    applesim::output::run_to_dir(&sc, &repo("scenarios"), dir, &mut |_| {}).unwrap();
+}
+
+struct Svg {
+    texts: Vec<String>,
+    /// (stroke colour, points) of every polyline.
+    lines: Vec<(String, Vec<(f64, f64)>)>,
+}
+
+fn read_svg(path: &Path) -> Svg {
+    let text = std::fs::read_to_string(path).unwrap();
+    let doc = roxmltree::Document::parse(&text)
+        .unwrap_or_else(|e| panic!("{} is not well-formed XML: {e}", path.display()));
+    assert!(doc.root_element().has_tag_name("svg"), "root is not <svg>");
+    let texts = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text().map(|t| t.trim().to_string()))
+        .collect();
+    let lines = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .map(|n| {
+            let pts = n
+                .attribute("points")
+                .unwrap()
+                .split_whitespace()
+                .map(|p| {
+                    let (x, y) = p.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect();
+            (n.attribute("stroke").unwrap_or("").to_string(), pts)
+        })
+        .collect();
+    Svg { texts, lines }
+}
+
+/// The data curve of a colour: its longest polyline (the legend sample is 2 points).
+fn curve<'a>(svg: &'a Svg, colour: &str) -> &'a [(f64, f64)] {
+    svg.lines
+        .iter()
+        .filter(|l| l.0.eq_ignore_ascii_case(colour))
+        .max_by_key(|l| l.1.len())
+        .map(|l| l.1.as_slice())
+        .unwrap_or(&[])
+}
+
+#[test]
+fn several_runs_on_one_force_chart_and_velocity_charts() {
+    let root = tmp("plots");
+    let runs = [root.join("v0.6"), root.join("v1.4")];
+    drop_run(0.6, &runs[0]);
+    drop_run(1.4, &runs[1]);
+    let out = root.join("charts");
+    let s = plot::plot_runs(&runs, &out, &PlotOptions::default()).unwrap();
+    assert_eq!(s.written.len(), 3);
+
+    let f = read_svg(&out.join(plot::FORCE_CHART));
+    for t in [
+        "time since first touch (ms)",
+        "normal force P (N)",
+        "Normal contact force",
+    ] {
+        assert!(
+            f.texts.iter().any(|x| x == t),
+            "missing text '{t}' in {:?}",
+            f.texts
+        );
+    }
+    // Legend: one entry per run and contact, with the peak force.
+    let legend: Vec<&String> = f.texts.iter().filter(|t| t.contains(" - floor")).collect();
+    println!("force legend {legend:?}");
+    assert_eq!(legend.len(), 2);
+    assert!(
+        legend[0].starts_with("v0.6: a1 - floor (37."),
+        "{}",
+        legend[0]
+    );
+    assert!(
+        legend[1].starts_with("v1.4: a1 - floor (100."),
+        "{}",
+        legend[1]
+    );
+    // One curve per run in the first two palette colours, each a whole pulse (hundreds of
+    // points); the faster impact peaks higher (smaller y in SVG coordinates).
+    let slow = curve(&f, "#1F77B4");
+    let fast = curve(&f, "#FF7F0E");
+    println!("curve points: {} and {}", slow.len(), fast.len());
+    assert!(slow.len() > 200 && fast.len() > 200);
+    let top = |c: &[(f64, f64)]| c.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+    let base = |c: &[(f64, f64)]| c.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+    assert!(top(fast) < top(slow));
+    // Both start and end on the zero line: the touch and parting instants are drawn.
+    assert_eq!(slow.first().unwrap().1, base(slow));
+    assert_eq!(fast.last().unwrap().1, base(fast));
+    // The peaks scale as the closed form (v^1.2): 100.0 / 37.3 N, read off the pixels within 3 %.
+    let ratio = (base(fast) - top(fast)) / (base(slow) - top(slow));
+    println!("peak height ratio {ratio:.3}");
+    assert!(
+        (ratio / (100.04 / 37.30) - 1.0).abs() < 0.03,
+        "ratio {ratio}"
+    );
+
+    for (file, y) in [
+        (plot::SPEED_CHART, "speed |v| (m/s)"),
+        (plot::SPIN_CHART, "angular speed |w| (rad/s)"),
+    ] {
+        let v = read_svg(&out.join(file));
+        assert!(v.texts.iter().any(|t| t == "time (s)"));
+        assert!(v.texts.iter().any(|t| t == y), "{file}: {:?}", v.texts);
+        assert!(v.texts.iter().any(|t| t == "v0.6: a1"));
+        assert!(v.texts.iter().any(|t| t == "v1.4: a1"));
+        // bodies.csv has 301 samples per run (3000 steps, every 10th, plus the end state).
+        assert_eq!(curve(&v, "#1F77B4").len(), 301, "{file}");
+        assert_eq!(curve(&v, "#FF7F0E").len(), 301, "{file}");
+    }
+}
+
+#[test]
+fn max_series_keeps_the_largest_peaks_and_says_so() {
+    // Four apples dropped at 0.4, 1.0, 0.7 and 1.3 m/s in one run; two curves asked for.
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    let a0 = sc.apples[0].clone();
+    sc.apples.clear();
+    for (k, v) in [0.4, 1.0, 0.7, 1.3].into_iter().enumerate() {
+        let mut a = a0.clone();
+        a.name = format!("a{k}");
+        a.position_m = [0.2 * k as f64, 0.0, 0.0401];
+        a.velocity_m_s = [0.0, 0.0, -v];
+        sc.apples.push(a);
+    }
+    let root = tmp("plots_max");
+    let run = root.join("four");
+    applesim::output::run_to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
+    let out = root.join("charts");
+    let opts = PlotOptions {
+        max_series: 2,
+        ..PlotOptions::default()
+    };
+    let s = plot::plot_runs(std::slice::from_ref(&run), &out, &opts).unwrap();
+    println!("{:?}", s.notes);
+    let f = read_svg(&out.join(plot::FORCE_CHART));
+    let legend: Vec<&String> = f.texts.iter().filter(|t| t.contains(" - floor")).collect();
+    println!("{legend:?}");
+    // The two fastest drops (a3 at 1.3 m/s, a1 at 1.0 m/s), in contact order: a3 touches first.
+    assert_eq!(legend.len(), 2);
+    assert!(legend[0].starts_with("a3 - floor") && legend[1].starts_with("a1 - floor"));
+    assert!(s.notes.iter().any(|n| n.contains("2 of 4 contacts drawn")));
+    assert!(s.notes.iter().any(|n| n.contains("2 of 4 apples drawn")));
+    // --apple picks apples by name.
+    let opts = PlotOptions {
+        apples: vec!["a2".into()],
+        ..PlotOptions::default()
+    };
+    plot::plot_runs(std::slice::from_ref(&run), &out, &opts).unwrap();
+    let v = read_svg(&out.join(plot::SPEED_CHART));
+    assert!(v.texts.iter().any(|t| t == "a2") && !v.texts.iter().any(|t| t == "a1"));
+}
+
+#[test]
+fn run_plots_flag_and_plot_command() {
+    let bin = env!("CARGO_BIN_EXE_applesim");
+    let dir = tmp("plots_cli");
+    let st = std::process::Command::new(bin)
+        .arg("run")
+        .arg(repo("scenarios/slip_to_roll.json"))
+        .arg("--out")
+        .arg(&dir)
+        .args(["--plots", "--quiet"])
+        .status()
+        .unwrap();
+    assert!(st.success());
+    for f in [plot::FORCE_CHART, plot::SPEED_CHART, plot::SPIN_CHART] {
+        read_svg(&dir.join(f));
+    }
+    // Figs. 6-7: the spin grows from 0 to the rolling value 5/7 v0 / R = 8.93 rad/s and stays.
+    let spin = read_svg(&dir.join(plot::SPIN_CHART));
+    let c = curve(&spin, "#1F77B4");
+    assert!(
+        c.first().unwrap().1 > c.last().unwrap().1,
+        "spin rises (SVG y grows downwards)"
+    );
+    let out = std::process::Command::new(bin)
+        .arg("plot")
+        .arg(&dir)
+        .arg("--out")
+        .arg(dir.join("again"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("linear_velocity.svg"));
+    let missing = std::process::Command::new(bin)
+        .args(["plot", "/nonexistent/run", "--out"])
+        .arg(dir.join("x"))
+        .output()
+        .unwrap();
+    assert_eq!(missing.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert!(
+        err.starts_with("error: /nonexistent/run/bodies.csv"),
+        "{err}"
+    );
+}
+
+#[test]
+fn force_chart_window_keeps_landing_pulses_visible() {
+    // The handling line: apples land on the belt and ride it for seconds, one contact each. The
+    // chart shows the landing pulses (a few ms), not seconds of resting force.
+    let mut sc = shipped("scenarios/handling_line.json");
+    sc.duration_s = 1.5;
+    sc.output.force_history = true;
+    let root = tmp("plots_window");
+    let run = root.join("line");
+    applesim::output::run_to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
+    let s = plot::plot_runs(std::slice::from_ref(&run), &run, &PlotOptions::default()).unwrap();
+    println!("{:?}", s.notes);
+    let note = s
+        .notes
+        .iter()
+        .find(|n| n.starts_with("force chart: the first"))
+        .unwrap();
+    let window: f64 = note["force chart: the first ".len()..]
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(window < 50.0, "window {window} ms");
+    // Whole impacts are not cut: the elastic drop of Fig. 1 is drawn to its end.
+    let curve: Vec<(f64, f64)> = (0..=100)
+        .map(|i| {
+            let t = 5.6 * i as f64 / 100.0;
+            (t, (std::f64::consts::PI * t / 5.6).sin().powf(1.5))
+        })
+        .collect();
+    assert_eq!(plot::force_window_ms(&[&curve]), 5.6);
+}

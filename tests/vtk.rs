@@ -1,0 +1,456 @@
+//! ParaView output (issue 4 acceptance): every file of `scene.pvd` is read back by an
+//! independent VTK reader (the `vtkio` crate) with the right number of points and arrays per
+//! frame, the values of `bodies.csv`, and the surfaces' triangles.
+
+mod common;
+use applesim::analysis::bruise::BruiseReport;
+use applesim::contact::Material;
+use applesim::layer::SurfaceOptions;
+use applesim::output::vtk::{self, SceneSurfaces};
+use applesim::scenario::{self, Scenario, VtkSpec};
+use common::*;
+use rapier3d_f64::prelude::*;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use vtkio::model::{Attribute, DataSet, Piece, PolyDataPiece};
+
+/// Point arrays of every apple frame: name and components.
+const ARRAYS: [(&str, usize); 6] = [
+    ("radius", 1),
+    ("velocity", 3),
+    ("angular_velocity", 3),
+    ("contact_force", 3),
+    ("bruise", 1),
+    ("apple_id", 1),
+];
+
+fn tmp(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn piece(path: &Path) -> PolyDataPiece {
+    let vtk = vtkio::Vtk::import(path).unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
+    let DataSet::PolyData { mut pieces, .. } = vtk.data else {
+        panic!("{}: not PolyData", path.display());
+    };
+    assert_eq!(pieces.len(), 1);
+    match pieces.remove(0) {
+        Piece::Inline(p) => *p,
+        _ => panic!("{}: piece not inline", path.display()),
+    }
+}
+
+fn array(p: &PolyDataPiece, name: &str) -> (usize, Vec<f64>) {
+    p.data
+        .point
+        .iter()
+        .find_map(|a| match a {
+            Attribute::DataArray(d) if d.name == name => Some((
+                d.elem.num_comp() as usize,
+                d.data.clone().cast_into::<f64>().unwrap(),
+            )),
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("no point array {name}"))
+}
+
+/// (timestep, part, file) of every DataSet of a .pvd, read with an XML parser.
+fn pvd(path: &Path) -> Vec<(f64, u32, String)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    assert_eq!(doc.root_element().attribute("type"), Some("Collection"));
+    doc.descendants()
+        .filter(|n| n.has_tag_name("DataSet"))
+        .map(|n| {
+            (
+                n.attribute("timestep").unwrap().parse().unwrap(),
+                n.attribute("part").unwrap().parse().unwrap(),
+                n.attribute("file").unwrap().to_string(),
+            )
+        })
+        .collect()
+}
+
+fn drops() -> Scenario {
+    // Three apples dropped on steel under gravity at 0.5, 1.0 and 1.4 m/s: the last one peaks
+    // near 100 N at t = 2.9 ms, over the 80 N bruise threshold.
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    let a0 = sc.apples[0].clone();
+    sc.apples.clear();
+    for (k, v) in [0.5, 1.0, 1.4].into_iter().enumerate() {
+        let mut a = a0.clone();
+        a.name = format!("a{k}");
+        a.position_m = [0.2 * k as f64, 0.0, 0.0401];
+        a.velocity_m_s = [0.0, 0.0, -v];
+        sc.apples.push(a);
+    }
+    sc.output.sample_interval_s = 1e-3;
+    sc.output.vtk = Some(VtkSpec { interval_s: 0.005 });
+    scenario::validate(&sc).unwrap();
+    sc
+}
+
+#[test]
+fn run_frames_read_back_with_vtkio() {
+    let sc = drops();
+    let dir = tmp("vtk_run");
+    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let index = pvd(&dir.join("scene.pvd"));
+    let frames: Vec<&(f64, u32, String)> = index.iter().filter(|d| d.1 == 0).collect();
+    // 0.03 s at 5 ms: frames at 0, 5, ..., 30 ms.
+    let times: Vec<f64> = frames.iter().map(|f| f.0).collect();
+    println!("frame times {times:?}");
+    assert_eq!(frames.len(), 7);
+    for (k, t) in times.iter().enumerate() {
+        assert!((t - 0.005 * k as f64).abs() < 1e-9, "{times:?}");
+    }
+    assert_eq!(r.metrics["vtk_frames"], 7.0);
+    // bodies.csv, read independently, for the values.
+    let mut rows: BTreeMap<String, Vec<Vec<f64>>> = BTreeMap::new();
+    let mut rd = csv::Reader::from_path(dir.join("bodies.csv")).unwrap();
+    for rec in rd.records() {
+        let rec = rec.unwrap();
+        rows.entry(rec[0].to_string())
+            .or_default()
+            .push((2..14).map(|i| rec[i].parse().unwrap()).collect());
+    }
+    let t_bruise = r
+        .events
+        .iter()
+        .find(|e| e.peak_force_n > 80.0)
+        .map(|e| e.t_peak_s)
+        .unwrap();
+    for (t, _, file) in &frames {
+        let p = piece(&dir.join(file));
+        assert_eq!(p.num_points(), 3, "{file}");
+        assert_eq!(p.verts.as_ref().unwrap().num_cells(), 3);
+        assert_eq!(p.data.point.len(), ARRAYS.len(), "{file}");
+        for (name, comps) in ARRAYS {
+            let (c, v) = array(&p, name);
+            assert_eq!((c, v.len()), (comps, 3 * comps), "{file} {name}");
+        }
+        let want = &rows[&t.to_string()];
+        let pts = p.points.clone().cast_into::<f64>().unwrap();
+        let vel = array(&p, "velocity").1;
+        let force = array(&p, "contact_force").1;
+        for (k, row) in want.iter().enumerate() {
+            assert_eq!(&pts[3 * k..3 * k + 3], &row[0..3]);
+            assert_eq!(&vel[3 * k..3 * k + 3], &row[3..6]);
+            assert_eq!(&force[3 * k..3 * k + 3], &row[9..12]);
+        }
+        assert_eq!(array(&p, "radius").1, vec![0.04; 3]);
+        assert_eq!(array(&p, "apple_id").1, vec![0.0, 1.0, 2.0]);
+        let flag = if *t >= t_bruise { 1.0 } else { 0.0 };
+        assert_eq!(array(&p, "bruise").1, vec![0.0, 0.0, flag], "t = {t}");
+    }
+    // The surfaces: the floor as one square patch (2 triangles) under the scene.
+    let surf: Vec<&(f64, u32, String)> = index.iter().filter(|d| d.1 == 1).collect();
+    assert_eq!(surf.len(), frames.len());
+    let s = piece(&dir.join(&surf[0].2));
+    assert_eq!(s.polys.as_ref().unwrap().num_cells(), 2);
+    assert_eq!(s.num_points(), 4);
+    let z = s.points.clone().cast_into::<f64>().unwrap();
+    assert!(
+        z.chunks(3).all(|p| p[2].abs() < 1e-12),
+        "floor at z = 0: {z:?}"
+    );
+    let xs: Vec<f64> = z.chunks(3).map(|p| p[0]).collect();
+    let (lo, hi) = xs
+        .iter()
+        .fold((f64::MAX, f64::MIN), |a, &x| (a.0.min(x), a.1.max(x)));
+    assert!(
+        lo < -0.04 && hi > 0.44,
+        "patch spans the apples: {lo} .. {hi}"
+    );
+}
+
+#[test]
+fn frames_follow_a_changing_apple_count_and_surfaces_are_tessellated() {
+    // bodies.csv with 2, 3 and 1 apples (one of them not in the scenario), written by hand: the
+    // apple count may change from frame to frame (apples fed in later).
+    let mut sc = drops();
+    sc.output.sample_interval_s = 0.001;
+    let dir = tmp("vtk_count");
+    std::fs::create_dir_all(&dir).unwrap();
+    let head =
+        "time_s,apple,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,wx_rad_s,wy_rad_s,wz_rad_s,fx_n,fy_n,fz_n\n";
+    let row = |t: f64, a: &str| format!("{t},{a},1,2,3,0.1,0.2,0.3,4,5,6,7,8,9\n");
+    let mut csv = String::from(head);
+    for a in ["a0", "a1"] {
+        csv += &row(0.0, a);
+    }
+    for a in ["a0", "a1", "late"] {
+        csv += &row(0.001, a);
+    }
+    csv += &row(0.002, "a2");
+    std::fs::write(dir.join("bodies.csv"), csv).unwrap();
+
+    // A world with one surface of each drawable kind, plus a segment (drawn as its box).
+    let mut w = applesim::world::build(&sc, Path::new(".")).unwrap();
+    let mat = w
+        .layer
+        .add_material("steel2", Material::from_youngs(2e11, 0.3, None).unwrap());
+    let tri_v = vec![
+        Vector::new(0.0, 0.0, 0.0),
+        Vector::new(1.0, 0.0, 0.0),
+        Vector::new(0.0, 1.0, 0.0),
+        Vector::new(1.0, 1.0, 0.2),
+    ];
+    let tri_i = vec![[0, 1, 2], [1, 3, 2]];
+    let extra = [
+        ("box", ColliderBuilder::cuboid(0.1, 0.2, 0.05)),
+        ("ball", ColliderBuilder::ball(0.3)),
+        ("mesh", ColliderBuilder::trimesh(tri_v, tri_i).unwrap()),
+        ("rail", ColliderBuilder::capsule_z(0.5, 0.02)),
+        (
+            "wire",
+            ColliderBuilder::segment(Vector::ZERO, Vector::new(0.0, 0.0, 1.0)),
+        ),
+    ];
+    for (name, b) in extra {
+        let ch = w
+            .physics
+            .colliders
+            .insert(b.translation(Vector::new(2.0, 0.0, 0.0)));
+        w.layer
+            .add_surface(
+                &mut w.physics.colliders,
+                ch,
+                SurfaceOptions::hertz(name, mat),
+            )
+            .unwrap();
+        w.surface_colliders.push(ch);
+    }
+    let surfaces = SceneSurfaces::capture(&w);
+    assert_eq!(surfaces.len(), 6);
+    let order = ["a0", "a1", "a2"];
+    let out = vtk::write_vtk(
+        &dir,
+        &sc,
+        &surfaces,
+        &BruiseReport::default(),
+        &order,
+        0.001,
+    )
+    .unwrap();
+    println!("{:?}", out.warnings);
+    assert!(out.warnings.iter().any(|m| m.contains("'late'")));
+    assert!(out
+        .warnings
+        .iter()
+        .any(|m| m.contains("'wire'") && m.contains("bounding box")));
+    let index = pvd(&dir.join("scene.pvd"));
+    let counts: Vec<usize> = index
+        .iter()
+        .filter(|d| d.1 == 0)
+        .map(|d| piece(&dir.join(&d.2)).num_points())
+        .collect();
+    assert_eq!(counts, vec![2, 3, 1]);
+    let second = piece(&dir.join(&index[2].2));
+    assert_eq!(array(&second, "apple_id").1, vec![0.0, 1.0, -1.0]);
+    let r = array(&second, "radius").1;
+    assert!(r[0] == 0.04 && r[2].is_nan());
+    // Triangles per surface, from the cell array surface_id: floor patch 2, box 12, ball as parry
+    // tessellates it (32 x 16), mesh 2, capsule as parry tessellates it, segment's box 12.
+    let s = piece(&dir.join(&index[1].2));
+    let ids: Vec<f64> = s
+        .data
+        .cell
+        .iter()
+        .find_map(|a| match a {
+            Attribute::DataArray(d) if d.name == "surface_id" => {
+                Some(d.data.clone().cast_into::<f64>().unwrap())
+            }
+            _ => None,
+        })
+        .unwrap();
+    let per: Vec<usize> = (0..6)
+        .map(|k| ids.iter().filter(|&&i| i == k as f64).count())
+        .collect();
+    let ball = rapier3d_f64::parry::shape::Ball::new(0.3)
+        .to_trimesh(32, 16)
+        .1
+        .len();
+    let capsule = rapier3d_f64::parry::shape::Capsule::new_z(0.5, 0.02)
+        .to_trimesh(32, 16)
+        .1
+        .len();
+    println!("triangles per surface {per:?}");
+    assert_eq!(per, vec![2, 12, ball, 2, capsule, 12]);
+    assert_eq!(s.polys.as_ref().unwrap().num_cells(), ids.len());
+    // The ball's vertices lie on its sphere around (2, 0, 0).
+    let pts = s.points.clone().cast_into::<f64>().unwrap();
+    let first_ball_vertex = 4 + 8;
+    let p = &pts[3 * first_ball_vertex..3 * first_ball_vertex + 3];
+    let d = ((p[0] - 2.0).powi(2) + p[1].powi(2) + p[2].powi(2)).sqrt();
+    assert!((d - 0.3).abs() < 1e-12, "ball vertex at distance {d}");
+}
+
+#[test]
+fn rerun_with_fewer_frames_removes_stale_ones() {
+    let mut sc = drops();
+    let dir = tmp("vtk_rerun");
+    applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    sc.output.vtk = Some(VtkSpec { interval_s: 0.01 });
+    applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let n = std::fs::read_dir(dir.join("vtk"))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with("apples_")
+        })
+        .count();
+    assert_eq!(n, 4, "frames at 0, 10, 20, 30 ms only");
+    assert_eq!(pvd(&dir.join("scene.pvd")).len(), 8);
+}
+
+#[test]
+fn bad_interval_is_refused_with_the_field() {
+    let mut sc = drops();
+    sc.output.vtk = Some(VtkSpec { interval_s: 0.0 });
+    let err = scenario::validate(&sc).unwrap_err().to_string();
+    assert_eq!(err, "output.vtk.interval_s: 0 must be a finite number > 0");
+}
+
+#[test]
+fn analysis_files_are_byte_identical_across_runs() {
+    // Determinism (project rule): the files of this feature, run twice.
+    let sc = drops();
+    let (a, b) = (tmp("det_a"), tmp("det_b"));
+    for d in [&a, &b] {
+        applesim::output::run_to_dir(&sc, &repo("scenarios"), d, &mut |_| {}).unwrap();
+        applesim::output::plot::plot_runs(
+            std::slice::from_ref(d),
+            d,
+            &applesim::output::plot::PlotOptions::default(),
+        )
+        .unwrap();
+    }
+    let mut files = vec![
+        "forces.csv".to_string(),
+        "pulse_fits.csv".into(),
+        "bruise.csv".into(),
+        "scene.pvd".into(),
+        "force_time.svg".into(),
+        "linear_velocity.svg".into(),
+        "angular_velocity.svg".into(),
+    ];
+    for e in std::fs::read_dir(a.join("vtk")).unwrap() {
+        files.push(format!("vtk/{}", e.unwrap().file_name().to_string_lossy()));
+    }
+    assert_eq!(files.len(), 7 + 8);
+    for f in &files {
+        let (x, y) = (
+            std::fs::read(a.join(f)).unwrap(),
+            std::fs::read(b.join(f)).unwrap(),
+        );
+        assert!(x == y, "{f} differs between two runs");
+    }
+}
+
+#[test]
+fn handling_line_with_fed_apples_and_bin() {
+    // The shipped handling line (belt, trough chute, bin; apples fed in by a source at 4 per
+    // second) for 1.5 s: the apple count grows from frame to frame, the surfaces are drawn.
+    let mut sc = shipped("scenarios/handling_line.json");
+    sc.duration_s = 1.5;
+    sc.output.sample_interval_s = 0.01;
+    sc.output.vtk = Some(VtkSpec { interval_s: 0.1 });
+    let dir = tmp("vtk_line");
+    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let mut per_time: BTreeMap<String, usize> = BTreeMap::new();
+    let mut rd = csv::Reader::from_path(dir.join("bodies.csv")).unwrap();
+    for rec in rd.records() {
+        *per_time.entry(rec.unwrap()[0].to_string()).or_default() += 1;
+    }
+    let index = pvd(&dir.join("scene.pvd"));
+    let frames: Vec<&(f64, u32, String)> = index.iter().filter(|d| d.1 == 0).collect();
+    let mut counts = Vec::new();
+    for (t, _, file) in &frames {
+        let p = piece(&dir.join(file));
+        let n = p.num_points();
+        assert_eq!(
+            n,
+            per_time.get(&t.to_string()).copied().unwrap_or(0),
+            "t = {t}"
+        );
+        assert_eq!(p.data.point.len(), ARRAYS.len());
+        for (name, comps) in ARRAYS {
+            assert_eq!(array(&p, name).1.len(), n * comps, "{file} {name}");
+        }
+        // Fed-in apples have the source's sizes (mean 75 mm +- 5 mm).
+        assert!(array(&p, "radius")
+            .1
+            .iter()
+            .all(|&r| (0.035..=0.040).contains(&r)));
+        counts.push(n);
+    }
+    println!("apples per frame {counts:?}");
+    assert_eq!(frames.len(), 16);
+    assert!(counts.windows(2).all(|w| w[0] <= w[1]) && counts[0] < *counts.last().unwrap());
+    assert_eq!(*counts.last().unwrap(), r.apples.len());
+    // Belt, chute and the bin's floor and four walls: one surface_id per part.
+    let s = piece(&dir.join(&index[1].2));
+    let ids: std::collections::BTreeSet<i64> = s
+        .data
+        .cell
+        .iter()
+        .find_map(|a| match a {
+            Attribute::DataArray(d) if d.name == "surface_id" => {
+                Some(d.data.clone().cast_into::<f64>().unwrap())
+            }
+            _ => None,
+        })
+        .unwrap()
+        .into_iter()
+        .map(|x| x as i64)
+        .collect();
+    println!(
+        "surface parts {ids:?}, {} triangles",
+        s.polys.as_ref().unwrap().num_cells()
+    );
+    assert_eq!(ids.len(), 7);
+    assert!(
+        r.warnings.iter().all(|w| !w.contains("bounding box")),
+        "{:?}",
+        r.warnings
+    );
+}
+
+#[test]
+fn trough_chute_is_drawn_as_its_half_pipe() {
+    let mut sc = drops();
+    sc.surfaces.push(
+        serde_json::from_value(serde_json::json!({
+            "type": "chute", "name": "trough", "material": "steel", "profile": "trough",
+            "length_m": 0.4, "radius_m": 0.1, "position_m": [3.0, 0.0, 0.5]
+        }))
+        .unwrap(),
+    );
+    scenario::validate(&sc).unwrap();
+    let w = applesim::world::build(&sc, Path::new(".")).unwrap();
+    let surfaces = SceneSurfaces::capture(&w);
+    let (meshes, warnings) = surfaces.tessellate(Vector::ZERO, Vector::ONE);
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let m = &meshes[1];
+    // 48 strips of 2 triangles across the half pipe, both ends of each generator line.
+    assert_eq!((m.points.len(), m.triangles.len()), (98, 96));
+    // Every vertex lies on the circle of radius 0.1 m through the two rims and the bottom line
+    // (half pipe: the rims' midpoint is the axis).
+    let axis = 0.5 * (m.points[0] + m.points[96]);
+    for p in &m.points {
+        let d = ((p.y - axis.y).powi(2) + (p.z - axis.z).powi(2)).sqrt();
+        assert!(
+            (d - 0.1).abs() < 1e-9,
+            "vertex {p:?} at {d} m from the axis"
+        );
+        assert!((p.x - 3.0).abs() <= 0.2 + 1e-9);
+    }
+    let bottom = m.points.iter().map(|p| p.z).fold(f64::MAX, f64::min);
+    assert!((axis.z - bottom - 0.1).abs() < 1e-9, "opens upwards");
+}
