@@ -286,7 +286,10 @@ impl ImpactSetup {
         Scenario {
             description: Some("applesim calibrate: one impact".into()),
             duration_s: duration,
-            time_step_s: dt,
+            time_step_s: dt.into(),
+            accuracy: None,
+            max_time_step_s: None,
+            fidelity: Default::default(),
             gravity_m_s2: [0.0, 0.0, -self.gravity_m_s2],
             output: OutputSpec {
                 force_history: false,
