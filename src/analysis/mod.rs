@@ -8,6 +8,7 @@
 pub mod bruise;
 pub mod calibrate;
 pub mod pulse;
+pub mod tradeoff;
 
 use crate::scenario::{AppleSpec, Scenario};
 use crate::sim::RunResult;

@@ -3,6 +3,7 @@
 mod calibrate;
 mod plot;
 mod run;
+mod tradeoff;
 
 use clap::{Parser, Subcommand};
 
@@ -22,6 +23,8 @@ enum Command {
     Calibrate(calibrate::Args),
     /// Draw force-time and velocity-time charts (SVG) of one or several run folders.
     Plot(plot::Args),
+    /// Run a scenario across fidelity levels and step sizes and tabulate error against cost.
+    Tradeoff(tradeoff::Args),
 }
 
 /// Parses the arguments, runs the command, returns the exit code.
@@ -31,6 +34,7 @@ pub fn main() -> i32 {
         Command::Run(a) => run::main(a),
         Command::Calibrate(a) => calibrate::main(a),
         Command::Plot(a) => plot::main(a),
+        Command::Tradeoff(a) => tradeoff::main(a),
     };
     match result {
         Ok(()) => 0,

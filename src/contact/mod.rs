@@ -86,7 +86,7 @@ pub struct ContactKinematics {
     pub rel_velocity: Vec3,
     /// Tangential effective mass of the contact (kg), for the dashpot.
     pub tangential_mass_kg: f64,
-    /// Normal effective mass of the contact (kg), for the cap on eq. 12's rate part.
+    /// Normal effective mass of the contact (kg), for the bound on eq. 12's rate part.
     pub normal_mass_kg: f64,
 }
 
@@ -132,8 +132,10 @@ pub fn evaluate(
     let du_dt = -v_n;
     let elastic = normal::hertz_force(k, u);
     let p = if parts.energy_loss {
-        let cap = relaxation * kin.normal_mass_kg / dt_s;
-        damping::hysteresis_force(elastic, law.ke, law.lambda_s_m, du_dt, cap)
+        // The normal bound uses twice the tangential share: it stops the relative normal motion
+        // within one step (the friction dashpot within two), still stable shared among contacts.
+        let kill = 2.0 * relaxation * kin.normal_mass_kg / dt_s;
+        damping::hysteresis_force(elastic, law.ke, law.lambda_s_m, du_dt, kill)
     } else {
         elastic
     };

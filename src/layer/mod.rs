@@ -150,8 +150,10 @@ impl Default for Guard {
 /// When apples at rest stop being simulated, and what wakes them.
 ///
 /// An awake apple counts as *still* when |v| and |w| R are both below `speed_m_s`; it falls
-/// asleep after `time_s` of stillness during which it touched no apple that was not still and no
-/// moving surface (a belt, a moving body). A sleeper is not integrated (rapier's sleeping) and its
+/// asleep after `time_s` of stillness during which it touched something, its net force (contacts
+/// and gravity; set it with [`ContactLayer::set_gravity`]) could not change its speed by
+/// `speed_m_s` within `time_s`, and it touched no apple that was not still and no moving surface (a
+/// belt, a moving body). A sleeper is not integrated (rapier's sleeping) and its
 /// contacts with other sleepers and fixed surfaces are frozen, not evaluated. It wakes when a
 /// contact with an awake apple starts or ends, or when the overlap of such a contact moves by
 /// more than `wake_overlap_ratio` of its value at the time of sleeping (the neighbour pushes
@@ -421,6 +423,7 @@ pub struct ContactLayer {
     time_s: f64,
     last_dt: Option<f64>,
     dt_back: f64,
+    gravity: Vec3,
 }
 
 impl ContactLayer {
@@ -468,12 +471,18 @@ impl ContactLayer {
             time_s: 0.0,
             last_dt: None,
             dt_back: 0.0,
+            gravity: Vec3::ZERO,
         }
     }
 
     /// The configuration.
     pub fn config(&self) -> &LayerConfig {
         &self.config
+    }
+
+    /// Sets gravity (m/s^2): the sleep rule checks that an apple's net force is small.
+    pub fn set_gravity(&mut self, gravity: Vec3) {
+        self.gravity = gravity;
     }
 
     /// Sets (or clears) the step control of an adaptive driver.
@@ -1158,7 +1167,12 @@ impl ContactLayer {
             if !self.active[k] {
                 continue;
             }
-            if self.still[k] && !self.busy[k] {
+            // Still, supported (touching something) and not accelerating: the net force would not
+            // change its speed by the stillness threshold within the stillness time.
+            let net = self.force[k] + self.gravity * self.apples[k].mass;
+            let resting = self.count[k] > 0
+                && net.length() * cfg.time_s < cfg.speed_m_s * self.apples[k].mass;
+            if self.still[k] && !self.busy[k] && resting {
                 self.still_time[k] += dt_s;
             } else {
                 self.still_time[k] = 0.0;

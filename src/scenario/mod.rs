@@ -278,8 +278,10 @@ pub struct ModelSpec {
     pub max_steps: u64,
 }
 
+/// 5 %: the discrete energy of a resolved contact ripples by about (pi / N)^2 / 8 with N steps
+/// per contact (1.2 % at 10 steps) without drifting; a run that goes unstable grows without bound.
 fn default_energy_tolerance() -> f64 {
-    0.01
+    0.05
 }
 
 fn default_max_steps() -> u64 {

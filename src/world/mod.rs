@@ -109,6 +109,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         ..LayerConfig::default()
     };
     let mut layer = ContactLayer::new(config);
+    layer.set_gravity(vec3(sc.gravity_m_s2));
     let mut materials = BTreeMap::new();
     for (name, spec) in &sc.materials {
         let m = scenario::validate::material(name, spec)?;
