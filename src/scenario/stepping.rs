@@ -156,7 +156,7 @@ pub enum Fidelity {
     #[serde(rename = "hertz-damped")]
     HertzDamped,
     /// As `hertz-damped`, plus the eq. 9 shift of the contact patch along the friction force, which
-    /// changes the friction moment arm (a small rolling-resistance-like moment).
+    /// changes the friction moment arm (a small effect: 1e-4 on a slip-to-roll speed).
     #[serde(rename = "full")]
     Full,
 }

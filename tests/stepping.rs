@@ -1,0 +1,124 @@
+//! Time-step policies, fidelity levels and the stability guard (issue 6).
+
+mod common;
+use applesim::contact::{material::effective_modulus, normal, theory, Material};
+use applesim::scenario::{Accuracy, Fidelity, TimeStep};
+use applesim::sim::{SimError, Simulation};
+use applesim::record::series::NoSamples;
+use common::*;
+
+fn fig1_closed_form(v0: f64) -> theory::ElasticImpact {
+    let apple = Material::from_shear(1.1e6, 0.18, None).unwrap();
+    let steel = Material::from_shear(8.1e10, 0.28, None).unwrap();
+    let k = normal::stiffness(effective_modulus(&apple, &steel), 0.04);
+    theory::elastic_impact(0.107, v0, k, 0.04)
+}
+
+fn fig1(time_step: TimeStep, accuracy: Option<Accuracy>) -> applesim::sim::RunResult {
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.gravity_m_s2 = [0.0, 0.0, 0.0];
+    sc.time_step_s = time_step;
+    sc.accuracy = accuracy;
+    // Samples every 1 ms: the output interval does not cap the step.
+    sc.output.sample_interval_s = 1e-3;
+    run(&sc).0
+}
+
+#[test]
+fn auto_at_balanced_meets_half_a_percent_within_40_steps() {
+    let r = fig1(TimeStep::Auto, Some(Accuracy::Balanced));
+    let e = &r.events[0];
+    let cf = fig1_closed_form(1.4);
+    println!("auto, balanced: dt {:e} s, {} steps in contact", r.time_step_s, e.steps);
+    assert_eq!(r.step_policy, "auto");
+    assert!(e.steps <= 40, "{} steps per contact", e.steps);
+    assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 0.005);
+    assert_rel("contact time", e.duration_s.unwrap(), cf.contact_time_s, 0.005);
+}
+
+#[test]
+fn auto_is_refined_by_the_accuracy_target() {
+    let cf = fig1_closed_form(1.4);
+    let mut last_err = f64::INFINITY;
+    for acc in [Accuracy::Preview, Accuracy::Balanced, Accuracy::Precise] {
+        let r = fig1(TimeStep::Auto, Some(acc));
+        let err = rel(r.events[0].peak_force_n, cf.peak_force_n);
+        println!("{acc:?}: {} steps in contact, peak force error {:.4} %", r.events[0].steps, 100.0 * err);
+        assert!(r.events[0].steps as f64 >= acc.steps_per_contact() * 0.95);
+        assert!(err < last_err + 1e-6, "finer steps are not more accurate");
+        last_err = err;
+    }
+}
+
+#[test]
+fn adaptive_matches_the_closed_form_with_few_steps() {
+    let r = fig1(TimeStep::Adaptive, Some(Accuracy::Balanced));
+    let e = &r.events[0];
+    let cf = fig1_closed_form(1.4);
+    println!("adaptive: {} steps in all, {} in contact, steps {:?} s", r.steps, e.steps, r.step_range_s);
+    assert_eq!(r.step_policy, "adaptive");
+    assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 0.005);
+    assert_rel("contact time", e.duration_s.unwrap(), cf.contact_time_s, 0.005);
+    assert_rel("rebound", e.separation_speed_m_s.unwrap(), 1.4, 0.005);
+    // Free flight at the largest step, impacts at the resolving one.
+    assert!(r.step_range_s[1] >= 0.99e-3, "{:?}", r.step_range_s);
+    assert!(r.steps < 100, "{} steps", r.steps);
+}
+
+#[test]
+fn fidelity_levels_do_what_they_say() {
+    let mut sc = shipped("scenarios/slip_to_roll.json");
+    sc.duration_s = 0.1;
+    // rigid: rapier's own contact, nothing recorded, but the apple still moves and stays up.
+    sc.fidelity = Fidelity::Rigid;
+    let (r, s) = run(&sc);
+    assert!(r.events.is_empty());
+    let last = s.of(0).last().unwrap().1.clone();
+    assert!(last.position.x > 0.02 && last.position.z > 0.035, "{last:?}");
+    // hertz: elastic, so a drop comes back at its approach speed whatever ke says.
+    let mut d = shipped("scenarios/drop_on_steel.json");
+    d.contact.ke = 0.09;
+    d.gravity_m_s2 = [0.0; 3];
+    d.fidelity = Fidelity::Hertz;
+    let (r, _) = run(&d);
+    assert_rel("hertz: rebound", r.events[0].restitution.unwrap(), 1.0, 1e-3);
+    d.fidelity = Fidelity::HertzDamped;
+    let (r, _) = run(&d);
+    assert!(r.events[0].restitution.unwrap() < 0.32);
+    // full: the eq. 9 patch shift moves the point where the normal force acts, which changes the
+    // moments while the apple slides (a small effect: about 1e-4 on the rolling speed).
+    sc.fidelity = Fidelity::HertzDamped;
+    let (_, a) = run(&sc);
+    sc.fidelity = Fidelity::Full;
+    let (_, b) = run(&sc);
+    let (va, vb) = (a.of(0).last().unwrap().1.velocity.x, b.of(0).last().unwrap().1.velocity.x);
+    println!("rolling speed: hertz-damped {va}, full {vb}");
+    assert!(vb != va, "the patch shift changed nothing");
+}
+
+#[test]
+fn the_guard_refuses_a_run_that_blows_up() {
+    // An apple resting on steel at a step far beyond its contact's stability (omega dt ~ 3),
+    // with the steps-per-impact check switched off: only the energy or overlap guard is left.
+    let mut sc = shipped("scenarios/slip_to_roll.json");
+    sc.apples[0].velocity_m_s = [0.0; 3];
+    sc.time_step_s = TimeStep::Fixed(8e-3);
+    sc.duration_s = 2.0;
+    sc.model.min_steps_per_impact = 0.0;
+    sc.model.sleep.enabled = false;
+    let sim = Simulation::new(&sc, &repo("scenarios")).unwrap();
+    let err = sim.run(&mut NoSamples, &mut |_| {}).unwrap_err();
+    println!("{err}");
+    let msg = err.to_string();
+    assert!(msg.contains("unstable"), "{msg}");
+    assert!(matches!(err, SimError::EnergyRise { .. } | SimError::Layer(_)), "{err:?}");
+}
+
+#[test]
+fn too_many_steps_are_refused() {
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.model.max_steps = 1000;
+    let sim = Simulation::new(&sc, &repo("scenarios")).unwrap();
+    let err = sim.run(&mut NoSamples, &mut |_| {}).unwrap_err();
+    assert!(err.to_string().contains("model.max_steps = 1000"), "{err}");
+}
