@@ -88,6 +88,10 @@ pub struct ContactKinematics {
     pub tangential_mass_kg: f64,
     /// Normal effective mass of the contact (kg), for the bound on eq. 12's rate part.
     pub normal_mass_kg: f64,
+    /// Whether the contact is resting: its impact is over (it is older than three elastic contact
+    /// times at its approach speed). Only a resting contact gets the bound on eq. 12's rate part
+    /// (see [`damping::hysteresis_force`]): an impact passes its turn once and keeps the paper's law.
+    pub resting: bool,
 }
 
 /// What the law returns for one contact.
@@ -134,8 +138,16 @@ pub fn evaluate(
     let p = if parts.energy_loss {
         // The normal bound uses twice the tangential share: it stops the relative normal motion
         // within one step (the friction dashpot within two), still stable shared among contacts.
-        let kill = 2.0 * relaxation * kin.normal_mass_kg / dt_s;
-        damping::hysteresis_force(elastic, law.ke, law.lambda_s_m, du_dt, kill)
+        let kill = if kin.resting {
+            2.0 * relaxation * kin.normal_mass_kg / dt_s
+        } else {
+            f64::INFINITY
+        };
+        // The rate at the end of the step, from the contact's own mean force (the static part of
+        // eq. 12) decelerating the approach: the factor is averaged over the step.
+        let decel = 0.5 * (1.0 + law.ke) * elastic / kin.normal_mass_kg;
+        let du_dt_next = du_dt - decel * dt_s;
+        damping::hysteresis_force(elastic, law.ke, law.lambda_s_m, du_dt, du_dt_next, kill)
     } else {
         elastic
     };
@@ -192,6 +204,7 @@ mod tests {
             rel_velocity: vel,
             tangential_mass_kg: 0.03,
             normal_mass_kg: 0.107,
+            resting: false,
         }
     }
 

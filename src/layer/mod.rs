@@ -424,6 +424,7 @@ pub struct ContactLayer {
     last_dt: Option<f64>,
     dt_back: f64,
     gravity: Vec3,
+    land_in_s: f64,
 }
 
 impl ContactLayer {
@@ -472,6 +473,7 @@ impl ContactLayer {
             last_dt: None,
             dt_back: 0.0,
             gravity: Vec3::ZERO,
+            land_in_s: 0.0,
         }
     }
 
@@ -909,7 +911,9 @@ impl ContactLayer {
     /// Like [`apply_forces`](Self::apply_forces) for an adaptive driver (with
     /// [`LayerConfig::step_control`] set): finds the contacts at the current poses, chooses the
     /// coming step, at most `dt_cap_s`, that resolves them (see [`StepControl`]), applies the
-    /// forces for it and returns it. Pass the returned step to rapier.
+    /// forces for it and returns it. Pass the returned step to rapier. `land_in_s`, if positive,
+    /// is the time left to a point the driver must land on exactly (an output sample, the end):
+    /// the step is then shortened to divide it evenly, never leaving a sliver.
     pub fn apply_forces_adaptive(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -917,8 +921,12 @@ impl ContactLayer {
         narrow_phase: &NarrowPhase,
         time_s: f64,
         dt_cap_s: f64,
+        land_in_s: f64,
     ) -> Result<f64, LayerError> {
-        self.step_forces(bodies, colliders, narrow_phase, time_s, dt_cap_s)
+        self.land_in_s = land_in_s;
+        let r = self.step_forces(bodies, colliders, narrow_phase, time_s, dt_cap_s);
+        self.land_in_s = 0.0;
+        r
     }
 
     fn step_forces(
@@ -956,7 +964,12 @@ impl ContactLayer {
         self.to_wake.clear();
         self.motion_limit();
         let dt_s = if self.config.step_control.is_some() {
-            dt_cap_s.min(self.stats.dt_limit_s)
+            let dt = dt_cap_s.min(self.stats.dt_limit_s);
+            if self.land_in_s > 0.0 {
+                self.land_in_s / (self.land_in_s / dt).ceil()
+            } else {
+                dt
+            }
         } else {
             dt_cap_s
         };
@@ -1096,14 +1109,18 @@ impl ContactLayer {
             }
             let state = &mut self.grid.pairs_mut()[k].state;
             if u > 0.0 {
-                if self.config.step_control.is_some() {
+                if let Some(c) = self.config.step_control {
                     let rate = (self.vel[j] - self.vel[i]).dot(n);
-                    let v_a = state.open.as_ref().map_or(rate, |o| o.approach_speed_m_s());
+                    let (v_a, start) = state.open.as_ref().map_or((rate, time_s), |o| {
+                        (o.approach_speed_m_s(), o.start_time_s())
+                    });
                     let law = self.laws[self.apples[i].material.0 as usize * self.materials.len()
                         + self.apples[j].material.0 as usize];
                     let (ri, rj) = (self.radius[i], self.radius[j]);
                     let m_n = theory::reduced_mass(self.apples[i].mass, self.apples[j].mass);
-                    self.resolve_contact(m_n, law.e_star_pa, ri * rj / (ri + rj), u, v_a);
+                    let k = contact::normal::stiffness(law.e_star_pa, ri * rj / (ri + rj));
+                    let lim = contact_step_limit(&c, m_n, k, u, v_a, rate.abs(), time_s - start);
+                    self.stats.dt_limit_s = self.stats.dt_limit_s.min(lim);
                 }
                 self.hits.push(Hit {
                     i: i as u32,
@@ -1194,22 +1211,6 @@ impl ContactLayer {
                 }
             }
         }
-    }
-
-    /// With step control: the step that resolves a contact in progress at overlap `u` that began
-    /// at approach speed `v_a` (see [`StepControl`]).
-    fn resolve_contact(&mut self, m_n: f64, e_star: f64, r_star: f64, u: f64, v_a: f64) {
-        let Some(c) = self.config.step_control else {
-            return;
-        };
-        let k = contact::normal::stiffness(e_star, r_star);
-        let u_impact = if v_a > 0.0 {
-            theory::elastic_impact(m_n, v_a, k, r_star).max_overlap_m
-        } else {
-            0.0
-        };
-        let t = theory::contact_time_at_overlap(m_n, k, u.max(u_impact));
-        self.stats.dt_limit_s = self.stats.dt_limit_s.min(t / c.steps_per_contact);
     }
 
     /// With step control: no awake apple may move more than the pair-finding margins in one step.
@@ -1404,11 +1405,9 @@ impl ContactLayer {
                         let v_s =
                             surface_point_velocity(bodies, colliders, surf.collider, self.pos[ai]);
                         let rate = (v_s - self.vel[ai]).dot(hit.normal);
-                        let v_a = sl
-                            .state
-                            .open
-                            .as_ref()
-                            .map_or(rate, |o| o.approach_speed_m_s());
+                        let (v_a, start) = sl.state.open.as_ref().map_or((rate, time_s), |o| {
+                            (o.approach_speed_m_s(), o.start_time_s())
+                        });
                         if let Some(r_star) = contact::normal::effective_radius(
                             1.0 / self.radius[ai],
                             hit.curvature_1_m,
@@ -1418,18 +1417,16 @@ impl ContactLayer {
                                 + surf.material.0 as usize];
                             let kk = contact::normal::stiffness(law.e_star_pa, r_star);
                             let m_n = self.apples[ai].mass;
-                            let u_impact = if v_a > 0.0 {
-                                theory::elastic_impact(m_n, v_a, kk, r_star).max_overlap_m
-                            } else {
-                                0.0
-                            };
-                            let t = theory::contact_time_at_overlap(
+                            let lim = contact_step_limit(
+                                &c,
                                 m_n,
                                 kk,
-                                hit.overlap_m.max(u_impact),
+                                hit.overlap_m,
+                                v_a,
+                                rate.abs(),
+                                time_s - start,
                             );
-                            self.stats.dt_limit_s =
-                                self.stats.dt_limit_s.min(t / c.steps_per_contact);
+                            self.stats.dt_limit_s = self.stats.dt_limit_s.min(lim);
                         }
                     }
                     self.hits.push(Hit {
@@ -1583,13 +1580,15 @@ impl ContactLayer {
             None => self.count[i],
         }
         .max(1) as f64;
+        let m_n = 1.0 / (1.0 / ai.mass + inv_n2);
         let kin = ContactKinematics {
             normal: n,
             overlap_m: u,
             r_star_m: r_star,
             rel_velocity: rel,
             tangential_mass_kg: 1.0 / inv_t,
-            normal_mass_kg: 1.0 / (1.0 / ai.mass + inv_n2),
+            normal_mass_kg: m_n,
+            resting: false,
         };
         let relax = self.config.tangential_relaxation / share_count;
         let parts = self.config.parts;
@@ -1616,6 +1615,19 @@ impl ContactLayer {
                     .state
             }
         };
+        // Resting once its impact is over: older than three elastic contact times at its approach
+        // speed (eq. 12's unloading lasts up to (1 + 1/sqrt(ke)) / 2 of one).
+        let resting = state.open.as_ref().is_some_and(|o| {
+            let v_a = o.approach_speed_m_s();
+            let k = contact::normal::stiffness(law.e_star_pa, r_star);
+            let t_h = if v_a > 0.0 {
+                theory::elastic_impact(m_n, v_a, k, r_star).contact_time_s
+            } else {
+                0.0
+            };
+            time_s - o.start_time_s() > 3.0 * t_h
+        });
+        let kin = ContactKinematics { resting, ..kin };
         let resp = contact::evaluate(&law, parts, &kin, &mut state.xi, relax, dt_s);
         state.last_force = resp.force_on_1;
         if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
@@ -1707,6 +1719,30 @@ impl ContactLayer {
         self.stats.elastic_energy_j += contact::normal::elastic_energy(k, u);
         self.stats.max_overlap_ratio = self.stats.max_overlap_ratio.max(ratio);
         Ok(())
+    }
+}
+
+/// With step control: the longest step that resolves a contact in progress (see
+/// [`StepControl`]). `u` overlap, `v_a` approach speed at first touch, `s` current |du/dt|, `age`
+/// time since first touch. An impact (younger than three elastic contact times at its approach
+/// speed, which covers eq. 12's longer unloading) gets N steps per contact time of an impact
+/// reaching max(u, u_max(v_a)); a resting contact after that gets N/4 (at least 4) per contact time
+/// at max(u, u_max(s)): its normal oscillation, which needs resolving only for stability
+/// (omega dt = 4 / steps; explicit stepping is stable below 2).
+fn contact_step_limit(c: &StepControl, m_n: f64, k: f64, u: f64, v_a: f64, s: f64, age: f64) -> f64 {
+    let u_of = |v: f64| {
+        if v > 0.0 {
+            (5.0 * m_n * v * v / (4.0 * k)).powf(0.4)
+        } else {
+            0.0
+        }
+    };
+    let u_a = u_of(v_a);
+    let impact_time = theory::contact_time_at_overlap(m_n, k, u.max(u_a));
+    if age < 3.0 * impact_time {
+        impact_time / c.steps_per_contact
+    } else {
+        theory::contact_time_at_overlap(m_n, k, u.max(u_of(s))) / (0.25 * c.steps_per_contact).max(4.0)
     }
 }
 

@@ -242,6 +242,11 @@ impl OpenContact {
         }
     }
 
+    /// Time of first touch (s).
+    pub fn start_time_s(&self) -> f64 {
+        self.t_start
+    }
+
     /// Normal approach speed at first touch (m/s).
     pub fn approach_speed_m_s(&self) -> f64 {
         self.approach

@@ -74,8 +74,8 @@ pub struct Scenario {
     /// before the run is refused (see [`Accuracy`]; default `balanced`, 20 steps).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub accuracy: Option<Accuracy>,
-    /// Largest step the `auto` and `adaptive` policies may take (s); default the smaller of 1 ms
-    /// and the output interval.
+    /// Largest step the `auto` and `adaptive` policies may take (s); default the output interval,
+    /// at most 1 ms (`auto`) or 10 ms (`adaptive`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_time_step_s: Option<f64>,
     /// Which parts of the contact model run (see [`Fidelity`]; default `hertz-damped`).
@@ -126,10 +126,17 @@ impl Scenario {
         }
     }
 
-    /// The largest step the `auto` and `adaptive` policies may take (s).
+    /// The largest step the `auto` and `adaptive` policies may take (s): `max_time_step_s`, or
+    /// by default the output interval, at most 1 ms for `auto` and 10 ms for `adaptive` (which
+    /// shortens its steps wherever contacts need it).
     pub fn max_step_s(&self) -> f64 {
+        let cap = if self.time_step_s == TimeStep::Adaptive {
+            1e-2
+        } else {
+            1e-3
+        };
         self.max_time_step_s
-            .unwrap_or_else(|| self.output.sample_interval_s.min(1e-3))
+            .unwrap_or_else(|| self.output.sample_interval_s.min(cap))
     }
 
     /// The apples present at t = 0: the listed ones, then each generator's in order.

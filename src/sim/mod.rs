@@ -326,12 +326,14 @@ impl Simulation {
         let adaptive = matches!(self.plan.policy, timestep::Policy::Adaptive { .. });
         let w = &mut self.world;
         let dt = if adaptive {
+            let land = (self.next_sample as f64 * self.sample_interval_s).min(self.duration_s) - t;
             w.layer.apply_forces_adaptive(
                 &mut w.physics.bodies,
                 &w.physics.colliders,
                 &w.physics.narrow_phase,
                 t,
                 cap,
+                land,
             )?
         } else {
             w.layer.apply_forces(
