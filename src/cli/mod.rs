@@ -1,5 +1,7 @@
 //! Argument parsing and plain error reporting; every subcommand lives in its own file.
 
+mod batch;
+mod merge;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -16,6 +18,10 @@ struct Cli {
 enum Command {
     /// Run a scenario and write summary.json, contacts.csv and bodies.csv into a folder.
     Run(run::Args),
+    /// Run a batch of scenarios (a sweep spec or a folder) in parallel, resumable, by shards.
+    Batch(batch::Args),
+    /// Merge the runs of a batch into one table, OUT/merged.csv; report failed or missing runs.
+    Merge(merge::Args),
 }
 
 /// Parses the arguments, runs the command, returns the exit code.
@@ -23,6 +29,8 @@ pub fn main() -> i32 {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(a) => run::main(a),
+        Command::Batch(a) => batch::main(a),
+        Command::Merge(a) => merge::main(a),
     };
     match result {
         Ok(()) => 0,
