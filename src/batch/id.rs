@@ -82,14 +82,23 @@ mod tests {
 
     #[test]
     fn canonical_json_sorts_keys_at_every_level() {
-        let v: Value = serde_json::from_str(r#"{"b": 1, "a": {"y": [1, {"d": 2, "c": 3}], "x": "s"}}"#).unwrap();
-        assert_eq!(canonical_json(&v), r#"{"a":{"x":"s","y":[1,{"c":3,"d":2}]},"b":1}"#);
+        let v: Value =
+            serde_json::from_str(r#"{"b": 1, "a": {"y": [1, {"d": 2, "c": 3}], "x": "s"}}"#)
+                .unwrap();
+        assert_eq!(
+            canonical_json(&v),
+            r#"{"a":{"x":"s","y":[1,{"c":3,"d":2}]},"b":1}"#
+        );
     }
 
     #[test]
     fn ids_are_stable_and_ignore_key_order_and_spacing() {
-        let a: Value = serde_json::from_str(r#"{"duration_s": 0.03, "apples": [{"diameter_m": 0.08}]}"#).unwrap();
-        let b: Value = serde_json::from_str("{\"apples\":[{\"diameter_m\":0.08}],\n \"duration_s\":0.03}").unwrap();
+        let a: Value =
+            serde_json::from_str(r#"{"duration_s": 0.03, "apples": [{"diameter_m": 0.08}]}"#)
+                .unwrap();
+        let b: Value =
+            serde_json::from_str("{\"apples\":[{\"diameter_m\":0.08}],\n \"duration_s\":0.03}")
+                .unwrap();
         assert_eq!(run_id(&a), run_id(&b));
         // The value is pinned: an id must not change between versions of applesim, or a
         // resumed batch would rerun everything. sha256('{"apples":[{"diameter_m":0.08}],"duration_s":0.03}').

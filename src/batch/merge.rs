@@ -89,10 +89,11 @@ pub fn merge(out: &Path) -> Result<MergeReport, BatchError> {
                 path: summary.clone(),
                 source,
             })?;
-            let s: SummaryMetrics = serde_json::from_slice(&bytes).map_err(|e| BatchError::Output {
-                path: summary.clone(),
-                message: format!("unreadable summary: {e}"),
-            })?;
+            let s: SummaryMetrics =
+                serde_json::from_slice(&bytes).map_err(|e| BatchError::Output {
+                    path: summary.clone(),
+                    message: format!("unreadable summary: {e}"),
+                })?;
             report.ok += 1;
             (Status::Ok, s.metrics, String::new())
         } else if failed.is_file() {
@@ -101,7 +102,9 @@ pub fn merge(out: &Path) -> Result<MergeReport, BatchError> {
                 .and_then(|b| serde_json::from_slice::<FailedRun>(&b).ok())
                 .map(|f| f.error)
                 .unwrap_or_else(|| format!("(unreadable failure record {})", failed.display()));
-            report.failed.push((run.index, run.id.clone(), error.clone()));
+            report
+                .failed
+                .push((run.index, run.id.clone(), error.clone()));
             (Status::Failed, BTreeMap::new(), error)
         } else {
             report.missing.push((run.index, run.id.clone()));
@@ -126,14 +129,23 @@ pub fn merge(out: &Path) -> Result<MergeReport, BatchError> {
     header.push("error");
     w.write_record(&header).map_err(csv_err)?;
     for (run, (status, metrics, error)) in manifest.runs.iter().zip(&rows) {
-        let mut rec: Vec<String> = vec![run.index.to_string(), run.id.clone(), status.as_str().into()];
+        let mut rec: Vec<String> = vec![
+            run.index.to_string(),
+            run.id.clone(),
+            status.as_str().into(),
+        ];
         rec.extend(
             manifest
                 .parameters
                 .iter()
                 .map(|p| run.params.get(&p.name).map(cell).unwrap_or_default()),
         );
-        rec.extend(keys.iter().map(|k| metrics.get(*k).map(|v| v.get().to_string()).unwrap_or_default()));
+        rec.extend(keys.iter().map(|k| {
+            metrics
+                .get(*k)
+                .map(|v| v.get().to_string())
+                .unwrap_or_default()
+        }));
         rec.push(error.clone());
         w.write_record(&rec).map_err(csv_err)?;
     }

@@ -10,7 +10,9 @@ use serde_json::Value;
 /// The reference tokens of a pointer, unescaped (`~1` is `/`, `~0` is `~`).
 pub fn tokens(pointer: &str) -> Result<Vec<String>, String> {
     if pointer.is_empty() {
-        return Err("the empty pointer names the whole scenario; name a field, e.g. \"/duration_s\"".into());
+        return Err(
+            "the empty pointer names the whole scenario; name a field, e.g. \"/duration_s\"".into(),
+        );
     }
     let Some(rest) = pointer.strip_prefix('/') else {
         return Err(format!(
@@ -36,15 +38,21 @@ pub fn tokens(pointer: &str) -> Result<Vec<String>, String> {
 /// changes a scenario, it does not grow its lists by accident).
 pub fn set(doc: &mut Value, pointer: &str, value: Value) -> Result<(), String> {
     let toks = tokens(pointer)?;
-    let (last, parents) = toks.split_last().expect("tokens() returns at least one token");
+    let (last, parents) = toks
+        .split_last()
+        .expect("tokens() returns at least one token");
     let mut here = doc;
     let mut walked = String::new();
     for t in parents {
-        let shown = if walked.is_empty() { "the scenario".to_string() } else { format!("'{walked}'") };
+        let shown = if walked.is_empty() {
+            "the scenario".to_string()
+        } else {
+            format!("'{walked}'")
+        };
         here = match here {
-            Value::Object(map) => map.get_mut(t).ok_or_else(|| {
-                format!("'{pointer}': {shown} has no field '{t}'")
-            })?,
+            Value::Object(map) => map
+                .get_mut(t)
+                .ok_or_else(|| format!("'{pointer}': {shown} has no field '{t}'"))?,
             Value::Array(items) => {
                 let n = items.len();
                 let k = index(t, n).map_err(|m| format!("'{pointer}': {shown} {m}"))?;
@@ -60,7 +68,11 @@ pub fn set(doc: &mut Value, pointer: &str, value: Value) -> Result<(), String> {
         walked.push('/');
         walked.push_str(t);
     }
-    let shown = if walked.is_empty() { "the scenario".to_string() } else { format!("'{walked}'") };
+    let shown = if walked.is_empty() {
+        "the scenario".to_string()
+    } else {
+        format!("'{walked}'")
+    };
     match here {
         Value::Object(map) => {
             map.insert(last.clone(), value);
@@ -80,8 +92,11 @@ pub fn set(doc: &mut Value, pointer: &str, value: Value) -> Result<(), String> {
 
 fn index(t: &str, len: usize) -> Result<usize, String> {
     // RFC 6901: decimal digits without a leading zero.
-    let ok = !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit()) && (t == "0" || !t.starts_with('0'));
-    let k: usize = if ok { t.parse().map_err(|_| format!("has no index {t}"))? } else {
+    let ok =
+        !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit()) && (t == "0" || !t.starts_with('0'));
+    let k: usize = if ok {
+        t.parse().map_err(|_| format!("has no index {t}"))?
+    } else {
         return Err(format!("is a list: '{t}' is not an index (0, 1, ...)"));
     };
     if k < len {
@@ -112,7 +127,10 @@ mod tests {
         let mut v = json!({"apples": [{"velocity_m_s": [0, 0, -1]}], "output": {}});
         set(&mut v, "/apples/0/velocity_m_s/2", json!(-2.5)).unwrap();
         set(&mut v, "/output/force_history", json!(false)).unwrap();
-        assert_eq!(v, json!({"apples": [{"velocity_m_s": [0, 0, -2.5]}], "output": {"force_history": false}}));
+        assert_eq!(
+            v,
+            json!({"apples": [{"velocity_m_s": [0, 0, -2.5]}], "output": {"force_history": false}})
+        );
     }
 
     #[test]

@@ -79,7 +79,11 @@ pub struct Report {
 
 /// The runs of `batch` in `shard`, in expansion order.
 pub fn select<'a>(batch: &'a Batch, shard: &Shard) -> Vec<&'a PlannedRun> {
-    batch.runs.iter().filter(|r| shard.contains(r.index)).collect()
+    batch
+        .runs
+        .iter()
+        .filter(|r| shard.contains(r.index))
+        .collect()
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> BatchError + '_ {
@@ -126,7 +130,10 @@ pub fn run(
                 let Some(run) = todo.get(k) else { break };
                 let outcome = run_one(batch, run, out);
                 observer.finished(run, &outcome);
-                outcomes.lock().expect("no panic holds this lock").push((run.index, outcome));
+                outcomes
+                    .lock()
+                    .expect("no panic holds this lock")
+                    .push((run.index, outcome));
             });
         }
     });
@@ -144,7 +151,9 @@ pub fn run(
         match o {
             Outcome::Done { .. } => report.done += 1,
             Outcome::Failed { error } => {
-                report.failed.push((index, batch.runs[index].id.clone(), error))
+                report
+                    .failed
+                    .push((index, batch.runs[index].id.clone(), error))
             }
         }
     }
@@ -172,9 +181,16 @@ fn remove_stale(runs_dir: &Path, share: &[&PlannedRun]) -> Result<usize, BatchEr
         .collect();
     entries.sort();
     for p in entries {
-        let name = p.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        let name = p
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
         if stale_id(&name).is_some_and(|id| ids.contains(id)) {
-            let r = if p.is_dir() { std::fs::remove_dir_all(&p) } else { std::fs::remove_file(&p) };
+            let r = if p.is_dir() {
+                std::fs::remove_dir_all(&p)
+            } else {
+                std::fs::remove_file(&p)
+            };
             r.map_err(io(&p))?;
             n += 1;
         }
@@ -198,7 +214,9 @@ fn run_one(batch: &Batch, run: &PlannedRun, out: &Path) -> Outcome {
             .cloned()
             .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
             .unwrap_or_else(|| "unknown".into());
-        Err(format!("internal error (applesim panicked: {msg}); please report it"))
+        Err(format!(
+            "internal error (applesim panicked: {msg}); please report it"
+        ))
     });
     match result {
         Ok(()) => Outcome::Done {
@@ -277,9 +295,18 @@ mod tests {
 
     #[test]
     fn stale_names_map_to_their_run() {
-        assert_eq!(stale_id(".tmp-0123456789abcdef-4242"), Some("0123456789abcdef"));
-        assert_eq!(stale_id(".old-0123456789abcdef-7"), Some("0123456789abcdef"));
-        assert_eq!(stale_id(".0123456789abcdef.failed.json.tmp-9"), Some("0123456789abcdef"));
+        assert_eq!(
+            stale_id(".tmp-0123456789abcdef-4242"),
+            Some("0123456789abcdef")
+        );
+        assert_eq!(
+            stale_id(".old-0123456789abcdef-7"),
+            Some("0123456789abcdef")
+        );
+        assert_eq!(
+            stale_id(".0123456789abcdef.failed.json.tmp-9"),
+            Some("0123456789abcdef")
+        );
         assert_eq!(stale_id("0123456789abcdef"), None);
         assert_eq!(stale_id(".tmp-xyz"), None);
         assert_eq!(stale_id(".DS_Store"), None);

@@ -48,7 +48,10 @@ impl Shard {
         if n == 0 || i == 0 || i > n {
             return Err(bad());
         }
-        Ok(Shard { index: i - 1, count: n })
+        Ok(Shard {
+            index: i - 1,
+            count: n,
+        })
     }
 
     /// The shard of this task of a Slurm job array or Kubernetes indexed Job, read through
@@ -81,7 +84,10 @@ impl Shard {
             let min = num(env::SLURM_MIN)?.unwrap_or(0);
             let step = num(env::SLURM_STEP)?.unwrap_or(1);
             if step < 1 {
-                return Err(format!("--shard auto: {}={step} must be >= 1", env::SLURM_STEP));
+                return Err(format!(
+                    "--shard auto: {}={step} must be >= 1",
+                    env::SLURM_STEP
+                ));
             }
             let from_max = num(env::SLURM_MAX)?.map(|max| (max - min) / step + 1);
             let slurm_count = num(env::SLURM_COUNT)?;
@@ -112,7 +118,10 @@ impl Shard {
                     min + step
                 ));
             }
-            let shard = Shard { index: (off / step) as usize, count: n as usize };
+            let shard = Shard {
+                index: (off / step) as usize,
+                count: n as usize,
+            };
             return Ok((shard, format!("Slurm array task {id} of {n}")));
         }
         if let Some(k) = num(env::K8S_INDEX)? {
@@ -130,7 +139,10 @@ impl Shard {
                     env::K8S_INDEX
                 ));
             }
-            let shard = Shard { index: k as usize, count: n };
+            let shard = Shard {
+                index: k as usize,
+                count: n,
+            };
             return Ok((shard, format!("Kubernetes completion index {k} of {n}")));
         }
         Err(format!(
@@ -159,8 +171,10 @@ mod tests {
     use std::collections::BTreeMap;
 
     fn env(pairs: &[(&str, &str)]) -> impl Fn(&str) -> Option<String> {
-        let m: BTreeMap<String, String> =
-            pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
+        let m: BTreeMap<String, String> = pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
         move |k| m.get(k).cloned()
     }
 
@@ -178,7 +192,10 @@ mod tests {
                         seen[k] += 1;
                     }
                 }
-                assert!(seen.iter().all(|&c| c == 1), "total {total}, n {n}: {seen:?}");
+                assert!(
+                    seen.iter().all(|&c| c == 1),
+                    "total {total}, n {n}: {seen:?}"
+                );
                 let (lo, hi) = (sizes.iter().min().unwrap(), sizes.iter().max().unwrap());
                 assert!(hi - lo <= 1, "total {total}, n {n}: sizes {sizes:?}");
             }
@@ -197,26 +214,57 @@ mod tests {
     #[test]
     fn slurm_arrays_from_zero_or_one_with_steps() {
         let (s, _) = Shard::from_env(
-            env(&[("SLURM_ARRAY_TASK_ID", "0"), ("SLURM_ARRAY_TASK_COUNT", "4"), ("SLURM_ARRAY_TASK_MIN", "0"), ("SLURM_ARRAY_TASK_MAX", "3")]),
+            env(&[
+                ("SLURM_ARRAY_TASK_ID", "0"),
+                ("SLURM_ARRAY_TASK_COUNT", "4"),
+                ("SLURM_ARRAY_TASK_MIN", "0"),
+                ("SLURM_ARRAY_TASK_MAX", "3"),
+            ]),
             None,
         )
         .unwrap();
         assert_eq!(s, Shard { index: 0, count: 4 });
         let (s, _) = Shard::from_env(
-            env(&[("SLURM_ARRAY_TASK_ID", "10"), ("SLURM_ARRAY_TASK_MIN", "1"), ("SLURM_ARRAY_TASK_MAX", "10")]),
+            env(&[
+                ("SLURM_ARRAY_TASK_ID", "10"),
+                ("SLURM_ARRAY_TASK_MIN", "1"),
+                ("SLURM_ARRAY_TASK_MAX", "10"),
+            ]),
             None,
         )
         .unwrap();
-        assert_eq!(s, Shard { index: 9, count: 10 });
+        assert_eq!(
+            s,
+            Shard {
+                index: 9,
+                count: 10
+            }
+        );
         let (s, _) = Shard::from_env(
-            env(&[("SLURM_ARRAY_TASK_ID", "4"), ("SLURM_ARRAY_TASK_MIN", "0"), ("SLURM_ARRAY_TASK_MAX", "20"), ("SLURM_ARRAY_TASK_STEP", "2")]),
+            env(&[
+                ("SLURM_ARRAY_TASK_ID", "4"),
+                ("SLURM_ARRAY_TASK_MIN", "0"),
+                ("SLURM_ARRAY_TASK_MAX", "20"),
+                ("SLURM_ARRAY_TASK_STEP", "2"),
+            ]),
             None,
         )
         .unwrap();
-        assert_eq!(s, Shard { index: 2, count: 11 });
+        assert_eq!(
+            s,
+            Shard {
+                index: 2,
+                count: 11
+            }
+        );
         // A list such as --array=1,3,7 cannot be mapped onto shards.
         let e = Shard::from_env(
-            env(&[("SLURM_ARRAY_TASK_ID", "3"), ("SLURM_ARRAY_TASK_COUNT", "3"), ("SLURM_ARRAY_TASK_MIN", "1"), ("SLURM_ARRAY_TASK_MAX", "7")]),
+            env(&[
+                ("SLURM_ARRAY_TASK_ID", "3"),
+                ("SLURM_ARRAY_TASK_COUNT", "3"),
+                ("SLURM_ARRAY_TASK_MIN", "1"),
+                ("SLURM_ARRAY_TASK_MAX", "7"),
+            ]),
             None,
         )
         .unwrap_err();
@@ -231,7 +279,11 @@ mod tests {
     fn kubernetes_indexed_jobs_need_a_count() {
         let e = Shard::from_env(env(&[("JOB_COMPLETION_INDEX", "2")]), None).unwrap_err();
         assert!(e.contains("APPLESIM_SHARD_COUNT"), "{e}");
-        let (s, from) = Shard::from_env(env(&[("JOB_COMPLETION_INDEX", "2"), ("APPLESIM_SHARD_COUNT", "3")]), None).unwrap();
+        let (s, from) = Shard::from_env(
+            env(&[("JOB_COMPLETION_INDEX", "2"), ("APPLESIM_SHARD_COUNT", "3")]),
+            None,
+        )
+        .unwrap();
         assert_eq!(s, Shard { index: 2, count: 3 });
         assert!(from.contains("Kubernetes"), "{from}");
         let (s, _) = Shard::from_env(env(&[("JOB_COMPLETION_INDEX", "0")]), Some(4)).unwrap();
@@ -242,6 +294,9 @@ mod tests {
     #[test]
     fn no_scheduler_is_a_clear_error() {
         let e = Shard::from_env(env(&[]), None).unwrap_err();
-        assert!(e.contains("SLURM_ARRAY_TASK_ID") && e.contains("JOB_COMPLETION_INDEX"), "{e}");
+        assert!(
+            e.contains("SLURM_ARRAY_TASK_ID") && e.contains("JOB_COMPLETION_INDEX"),
+            "{e}"
+        );
     }
 }

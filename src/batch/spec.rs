@@ -187,7 +187,11 @@ pub fn expand_text(text: &str, file: &Path, dir: &Path) -> Result<Batch, BatchEr
     let de = &mut serde_json::Deserializer::from_str(text);
     let spec: SpecFile = serde_path_to_error::deserialize(de).map_err(|e| {
         let p = e.path().to_string();
-        spec_err(file, if p.is_empty() { ".".into() } else { p }, e.into_inner().to_string())
+        spec_err(
+            file,
+            if p.is_empty() { ".".into() } else { p },
+            e.into_inner().to_string(),
+        )
     })?;
     expand(&spec, file, dir)
 }
@@ -197,10 +201,16 @@ pub fn expand(spec: &SpecFile, file: &Path, dir: &Path) -> Result<Batch, BatchEr
     let (mut base, base_dir) = match &spec.base {
         Value::String(rel) => {
             let p = dir.join(rel);
-            let text = std::fs::read_to_string(&p)
-                .map_err(|e| spec_err(file, "base", format!("cannot read '{}': {e}", p.display())))?;
-            let v: Value = serde_json::from_str(&text)
-                .map_err(|e| spec_err(file, "base", format!("'{}' is not valid JSON: {e}", p.display())))?;
+            let text = std::fs::read_to_string(&p).map_err(|e| {
+                spec_err(file, "base", format!("cannot read '{}': {e}", p.display()))
+            })?;
+            let v: Value = serde_json::from_str(&text).map_err(|e| {
+                spec_err(
+                    file,
+                    "base",
+                    format!("'{}' is not valid JSON: {e}", p.display()),
+                )
+            })?;
             (v, p.parent().map(Path::to_path_buf).unwrap_or_default())
         }
         Value::Object(_) => (spec.base.clone(), dir.to_path_buf()),
@@ -213,7 +223,11 @@ pub fn expand(spec: &SpecFile, file: &Path, dir: &Path) -> Result<Batch, BatchEr
         }
     };
     if !base.is_object() {
-        return Err(spec_err(file, "base", "the base scenario must be a JSON object"));
+        return Err(spec_err(
+            file,
+            "base",
+            "the base scenario must be a JSON object",
+        ));
     }
     for (ptr, v) in &spec.set {
         pointer::set(&mut base, ptr, v.clone())
@@ -234,25 +248,50 @@ pub fn expand(spec: &SpecFile, file: &Path, dir: &Path) -> Result<Batch, BatchEr
             return Err(spec_err(
                 file,
                 format!("{field}.name"),
-                format!("'{name}' is a column of merged.csv already ({}); choose another", RESERVED_NAMES.join(", ")),
+                format!(
+                    "'{name}' is a column of merged.csv already ({}); choose another",
+                    RESERVED_NAMES.join(", ")
+                ),
             ));
         }
         if let Some(j) = parameters.iter().position(|q: &Parameter| q.name == name) {
-            return Err(spec_err(file, format!("{field}.name"), format!("'{name}' is already the name of parameters[{j}]")));
+            return Err(spec_err(
+                file,
+                format!("{field}.name"),
+                format!("'{name}' is already the name of parameters[{j}]"),
+            ));
         }
         if let Some(j) = spec.parameters[..k].iter().position(|q| q.path == p.path) {
-            return Err(spec_err(file, format!("{field}.path"), format!("'{}' is already set by parameters[{j}]", p.path)));
+            return Err(spec_err(
+                file,
+                format!("{field}.path"),
+                format!("'{}' is already set by parameters[{j}]", p.path),
+            ));
         }
         let vals = match (&p.values, &p.range) {
             (Some(v), None) => {
                 if v.is_empty() {
-                    return Err(spec_err(file, format!("{field}.values"), "is empty: give at least one value"));
+                    return Err(spec_err(
+                        file,
+                        format!("{field}.values"),
+                        "is empty: give at least one value",
+                    ));
                 }
                 v.clone()
             }
-            (None, Some(r)) => range_values(r).map_err(|m| spec_err(file, format!("{field}.range"), m))?,
-            (Some(_), Some(_)) => return Err(spec_err(file, field, "give 'values' or 'range', not both")),
-            (None, None) => return Err(spec_err(file, field, "give 'values' (a list) or 'range' (start, stop, step or count)")),
+            (None, Some(r)) => {
+                range_values(r).map_err(|m| spec_err(file, format!("{field}.range"), m))?
+            }
+            (Some(_), Some(_)) => {
+                return Err(spec_err(file, field, "give 'values' or 'range', not both"))
+            }
+            (None, None) => {
+                return Err(spec_err(
+                    file,
+                    field,
+                    "give 'values' (a list) or 'range' (start, stop, step or count)",
+                ))
+            }
         };
         if spec.mode == Mode::Zip && p.group.is_some() {
             return Err(spec_err(
@@ -261,7 +300,10 @@ pub fn expand(spec: &SpecFile, file: &Path, dir: &Path) -> Result<Batch, BatchEr
                 "has no meaning with \"mode\": \"zip\" (all parameters are zipped already)",
             ));
         }
-        parameters.push(Parameter { name, path: p.path.clone() });
+        parameters.push(Parameter {
+            name,
+            path: p.path.clone(),
+        });
         values.push(vals);
     }
     // Axes: lists of parameter indices that move together, in order of first appearance.
@@ -277,12 +319,18 @@ pub fn expand(spec: &SpecFile, file: &Path, dir: &Path) -> Result<Batch, BatchEr
                 if values[k].len() != values[first].len() {
                     let what = match spec.mode {
                         Mode::Zip => "zipped with".to_string(),
-                        Mode::Grid => format!("in group '{}' with", key.clone().unwrap_or_default()),
+                        Mode::Grid => {
+                            format!("in group '{}' with", key.clone().unwrap_or_default())
+                        }
                     };
                     return Err(spec_err(
                         file,
                         format!("parameters[{k}]"),
-                        format!("has {} values but is {what} parameters[{first}], which has {}", values[k].len(), values[first].len()),
+                        format!(
+                            "has {} values but is {what} parameters[{first}], which has {}",
+                            values[k].len(),
+                            values[first].len()
+                        ),
                     ));
                 }
                 members.push(k);
@@ -291,12 +339,21 @@ pub fn expand(spec: &SpecFile, file: &Path, dir: &Path) -> Result<Batch, BatchEr
         }
     }
     let lens: Vec<usize> = axes.iter().map(|(_, m)| values[m[0]].len()).collect();
-    let total = lens.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n).filter(|&t| t <= MAX_RUNS));
+    let total = lens.iter().try_fold(1usize, |acc, &n| {
+        acc.checked_mul(n).filter(|&t| t <= MAX_RUNS)
+    });
     let Some(total) = total else {
-        return Err(spec_err(file, "parameters", format!("the grid {lens:?} has more than {MAX_RUNS} runs")));
+        return Err(spec_err(
+            file,
+            "parameters",
+            format!("the grid {lens:?} has more than {MAX_RUNS} runs"),
+        ));
     };
 
-    let label_base = file.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    let label_base = file
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
     let mut runs: Vec<PlannedRun> = Vec::with_capacity(total);
     let mut by_id: BTreeMap<String, usize> = BTreeMap::new();
     for index in 0..total {
@@ -351,7 +408,10 @@ fn round12(x: f64) -> f64 {
 /// The values of a range.
 pub fn range_values(r: &RangeSpec) -> Result<Vec<Value>, String> {
     if !r.start.is_finite() || !r.stop.is_finite() {
-        return Err(format!("start {} and stop {} must be finite", r.start, r.stop));
+        return Err(format!(
+            "start {} and stop {} must be finite",
+            r.start, r.stop
+        ));
     }
     let xs: Vec<f64> = match (r.step, r.count) {
         (Some(step), None) => {
@@ -374,7 +434,10 @@ pub fn range_values(r: &RangeSpec) -> Result<Vec<Value>, String> {
         (None, Some(count)) => match count {
             0 => return Err("count 0: give at least 1".into()),
             1 if r.start != r.stop => {
-                return Err(format!("count 1 cannot span {}..{}: give count >= 2", r.start, r.stop))
+                return Err(format!(
+                    "count 1 cannot span {}..{}: give count >= 2",
+                    r.start, r.stop
+                ))
             }
             1 => vec![r.start],
             n if n > MAX_RUNS => return Err(format!("count {n} is more than {MAX_RUNS}")),
@@ -397,7 +460,10 @@ pub fn range_values(r: &RangeSpec) -> Result<Vec<Value>, String> {
 /// A folder batch: each `*.json` file of `dir` (not sub-folders), sorted by name, is one run,
 /// with one parameter, `file`.
 pub fn load_folder(dir: &Path) -> Result<Batch, BatchError> {
-    let io = |source| BatchError::Io { path: dir.to_path_buf(), source };
+    let io = |source| BatchError::Io {
+        path: dir.to_path_buf(),
+        source,
+    };
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .map_err(io)?
         .map(|e| e.map(|e| e.path()))
@@ -406,19 +472,36 @@ pub fn load_folder(dir: &Path) -> Result<Batch, BatchError> {
     files.retain(|p| p.is_file() && p.extension().and_then(|e| e.to_str()) == Some("json"));
     files.sort();
     if files.is_empty() {
-        return Err(spec_err(dir, ".", "the folder holds no *.json scenario file"));
+        return Err(spec_err(
+            dir,
+            ".",
+            "the folder holds no *.json scenario file",
+        ));
     }
     let mut runs: Vec<PlannedRun> = Vec::new();
     let mut by_id: BTreeMap<String, String> = BTreeMap::new();
     for (index, p) in files.iter().enumerate() {
-        let name = p.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-        let bytes = std::fs::read(p).map_err(|source| BatchError::Io { path: p.clone(), source })?;
+        let name = p
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        let bytes = std::fs::read(p).map_err(|source| BatchError::Io {
+            path: p.clone(),
+            source,
+        })?;
         let (id, scenario) = match serde_json::from_slice::<Value>(&bytes) {
             Ok(v) => (id::run_id(&v), Ok(v)),
-            Err(e) => (id::bytes_id(&bytes), Err(format!("{}: not valid JSON: {e}", p.display()))),
+            Err(e) => (
+                id::bytes_id(&bytes),
+                Err(format!("{}: not valid JSON: {e}", p.display())),
+            ),
         };
         if let Some(other) = by_id.get(&id) {
-            return Err(spec_err(dir, name, format!("holds the same scenario as {other} (id {id})")));
+            return Err(spec_err(
+                dir,
+                name,
+                format!("holds the same scenario as {other} (id {id})"),
+            ));
         }
         by_id.insert(id.clone(), name.clone());
         runs.push(PlannedRun {
@@ -432,7 +515,10 @@ pub fn load_folder(dir: &Path) -> Result<Batch, BatchError> {
     Ok(Batch {
         description: None,
         base_dir: dir.to_path_buf(),
-        parameters: vec![Parameter { name: "file".into(), path: String::new() }],
+        parameters: vec![Parameter {
+            name: "file".into(),
+            path: String::new(),
+        }],
         runs,
     })
 }
@@ -462,13 +548,42 @@ mod tests {
             {"name": "d", "path": "/apples/0/diameter_m", "values": [0.06, 0.08, 0.1]}]}))
         .unwrap();
         assert_eq!(b.runs.len(), 6);
-        assert_eq!(col(&b, 0), vec![json!(-1), json!(-1), json!(-1), json!(-2), json!(-2), json!(-2)]);
-        assert_eq!(col(&b, 1), vec![json!(0.06), json!(0.08), json!(0.1), json!(0.06), json!(0.08), json!(0.1)]);
+        assert_eq!(
+            col(&b, 0),
+            vec![
+                json!(-1),
+                json!(-1),
+                json!(-1),
+                json!(-2),
+                json!(-2),
+                json!(-2)
+            ]
+        );
+        assert_eq!(
+            col(&b, 1),
+            vec![
+                json!(0.06),
+                json!(0.08),
+                json!(0.1),
+                json!(0.06),
+                json!(0.08),
+                json!(0.1)
+            ]
+        );
         let sc = b.runs[4].scenario.as_ref().unwrap();
         assert_eq!(sc["apples"][0]["velocity_m_s"], json!([0, 0, -2]));
         assert_eq!(sc["apples"][0]["diameter_m"], json!(0.08));
-        assert_eq!(b.runs.iter().map(|r| r.index).collect::<Vec<_>>(), (0..6).collect::<Vec<_>>());
-        assert_eq!(b.parameters[1], Parameter { name: "d".into(), path: "/apples/0/diameter_m".into() });
+        assert_eq!(
+            b.runs.iter().map(|r| r.index).collect::<Vec<_>>(),
+            (0..6).collect::<Vec<_>>()
+        );
+        assert_eq!(
+            b.parameters[1],
+            Parameter {
+                name: "d".into(),
+                path: "/apples/0/diameter_m".into()
+            }
+        );
     }
 
     #[test]
@@ -479,11 +594,17 @@ mod tests {
             {"path": "/apples/0/position_m/2", "values": [0.0301, 0.0501], "group": "size"}]}))
         .unwrap();
         assert_eq!(b.runs.len(), 4);
-        assert_eq!(b.parameters[0].name, "/apples/0/velocity_m_s/2", "default name is the path");
+        assert_eq!(
+            b.parameters[0].name, "/apples/0/velocity_m_s/2",
+            "default name is the path"
+        );
         for r in &b.runs {
             let d = r.values[1].as_f64().unwrap();
             let z = r.values[2].as_f64().unwrap();
-            assert!((z - (d / 2.0 + 1e-4)).abs() < 1e-12, "group members move together");
+            assert!(
+                (z - (d / 2.0 + 1e-4)).abs() < 1e-12,
+                "group members move together"
+            );
         }
         let z = expand_json(json!({"base": base(), "mode": "zip", "parameters": [
             {"path": "/apples/0/velocity_m_s/2", "values": [-1, -2, -3]},
@@ -496,7 +617,10 @@ mod tests {
             {"path": "/apples/0/diameter_m", "values": [0.06, 0.08]}]}))
         .unwrap_err()
         .to_string();
-        assert!(e.contains("parameters[1]: has 2 values but is zipped with parameters[0], which has 3"), "{e}");
+        assert!(
+            e.contains("parameters[1]: has 2 values but is zipped with parameters[0], which has 3"),
+            "{e}"
+        );
         let e = expand_json(json!({"base": base(), "parameters": [
             {"path": "/apples/0/diameter_m", "values": [0.06, 0.08], "group": "g"},
             {"path": "/duration_s", "values": [1, 2, 3], "group": "g"}]}))
@@ -507,17 +631,37 @@ mod tests {
 
     #[test]
     fn ranges_by_step_and_count() {
-        let r = |start, stop, step: Option<f64>, count: Option<usize>| range_values(&RangeSpec { start, stop, step, count });
+        let r = |start, stop, step: Option<f64>, count: Option<usize>| {
+            range_values(&RangeSpec {
+                start,
+                stop,
+                step,
+                count,
+            })
+        };
         let v = r(-0.2, -1.4, Some(-0.2), None).unwrap();
-        assert_eq!(v, [-0.2, -0.4, -0.6, -0.8, -1.0, -1.2, -1.4].map(Value::from).to_vec());
+        assert_eq!(
+            v,
+            [-0.2, -0.4, -0.6, -0.8, -1.0, -1.2, -1.4]
+                .map(Value::from)
+                .to_vec()
+        );
         let v = r(0.0, 1.0, None, Some(5)).unwrap();
         assert_eq!(v, [0.0, 0.25, 0.5, 0.75, 1.0].map(Value::from).to_vec());
         let v = r(0.1, 0.35, Some(0.1), None).unwrap();
-        assert_eq!(v, [0.1, 0.2, 0.3].map(Value::from).to_vec(), "stop not on a step: the last step below it");
+        assert_eq!(
+            v,
+            [0.1, 0.2, 0.3].map(Value::from).to_vec(),
+            "stop not on a step: the last step below it"
+        );
         assert_eq!(r(2.0, 2.0, None, Some(1)).unwrap(), vec![Value::from(2.0)]);
-        assert!(r(0.0, 1.0, Some(-0.1), None).unwrap_err().contains("flip its sign"));
+        assert!(r(0.0, 1.0, Some(-0.1), None)
+            .unwrap_err()
+            .contains("flip its sign"));
         assert!(r(0.0, 1.0, Some(0.0), None).is_err());
-        assert!(r(0.0, 1.0, Some(0.1), Some(3)).unwrap_err().contains("not both"));
+        assert!(r(0.0, 1.0, Some(0.1), Some(3))
+            .unwrap_err()
+            .contains("not both"));
         assert!(r(0.0, 1.0, None, None).is_err());
         assert!(r(0.0, 1.0, None, Some(0)).is_err());
         assert!(r(0.0, 1.0, None, Some(1)).is_err());
@@ -525,7 +669,10 @@ mod tests {
             {"path": "/duration_s", "range": {"start": 0, "stop": 1, "step": -1}}]}))
         .unwrap_err()
         .to_string();
-        assert!(e.starts_with("spec.json: parameters[0].range: step -1 leads away"), "{e}");
+        assert!(
+            e.starts_with("spec.json: parameters[0].range: step -1 leads away"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -551,14 +698,20 @@ mod tests {
         ];
         for (spec, want) in cases {
             let e = expand_json(spec.clone()).unwrap_err().to_string();
-            assert!(e.contains(want), "spec {spec}\n  error: {e}\n  wanted: {want}");
+            assert!(
+                e.contains(want),
+                "spec {spec}\n  error: {e}\n  wanted: {want}"
+            );
             assert!(e.starts_with("spec.json: "), "{e}");
         }
     }
 
     #[test]
     fn set_applies_to_every_run_and_no_parameters_is_one_run() {
-        let b = expand_json(json!({"base": base(), "set": {"/output/force_history": false, "/duration_s": 0.02}})).unwrap();
+        let b = expand_json(
+            json!({"base": base(), "set": {"/output/force_history": false, "/duration_s": 0.02}}),
+        )
+        .unwrap();
         assert_eq!(b.runs.len(), 1);
         let sc = b.runs[0].scenario.as_ref().unwrap();
         assert_eq!(sc["output"]["force_history"], json!(false));
@@ -577,7 +730,10 @@ mod tests {
         .unwrap();
         let ids_a: std::collections::BTreeSet<_> = a.runs.iter().map(|r| r.id.clone()).collect();
         let ids_b: std::collections::BTreeSet<_> = b.runs.iter().map(|r| r.id.clone()).collect();
-        assert!(ids_a.is_subset(&ids_b), "a grown, reordered sweep finds the same runs");
+        assert!(
+            ids_a.is_subset(&ids_b),
+            "a grown, reordered sweep finds the same runs"
+        );
         assert_eq!(ids_b.len() - ids_a.len(), 2);
     }
 }

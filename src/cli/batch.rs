@@ -68,7 +68,9 @@ impl Progress<'_> {
 impl runner::Observer for Progress<'_> {
     fn start(&self, to_run: usize, already_done: usize) {
         if already_done > 0 && !self.quiet {
-            self.println(format!("{already_done} run(s) done before: skipped (--force reruns them)"));
+            self.println(format!(
+                "{already_done} run(s) done before: skipped (--force reruns them)"
+            ));
         }
         let target = if self.show_bar {
             ProgressDrawTarget::stderr()
@@ -153,7 +155,9 @@ pub fn main(a: Args) -> Result<(), String> {
     let jobs = match a.jobs {
         Some(0) => return Err("--jobs 0: give at least 1".into()),
         Some(j) => j,
-        None => std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
+        None => std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1),
     };
     let share = runner::select(&b, &shard);
 
@@ -162,7 +166,11 @@ pub fn main(a: Args) -> Result<(), String> {
             "{} runs in the batch, {} in shard {shard}; parameters: {}",
             b.runs.len(),
             share.len(),
-            b.parameters.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+            b.parameters
+                .iter()
+                .map(|p| p.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
         );
         for run in share {
             let state = if batch::manifest::is_done(&out, &run.id) {
@@ -172,7 +180,12 @@ pub fn main(a: Args) -> Result<(), String> {
             } else {
                 "todo"
             };
-            println!("{:>5} {} {state:<6} {}", run.index, run.id, params_text(&b, run));
+            println!(
+                "{:>5} {} {state:<6} {}",
+                run.index,
+                run.id,
+                params_text(&b, run)
+            );
         }
         return Ok(());
     }
@@ -184,7 +197,11 @@ pub fn main(a: Args) -> Result<(), String> {
         quiet: a.quiet,
         failed: AtomicUsize::new(0),
     };
-    let opts = runner::Options { jobs, shard, force: a.force };
+    let opts = runner::Options {
+        jobs,
+        shard,
+        force: a.force,
+    };
     let report = runner::run(&b, &out, &opts, &progress).map_err(|e| e.to_string())?;
     if let Some(bar) = progress.bar.get() {
         bar.finish_and_clear();
@@ -197,7 +214,10 @@ pub fn main(a: Args) -> Result<(), String> {
             );
         }
         if report.stale_removed > 0 {
-            println!("removed {} temporary folder(s) left by an interrupted batch", report.stale_removed);
+            println!(
+                "removed {} temporary folder(s) left by an interrupted batch",
+                report.stale_removed
+            );
         }
         println!(
             "{} runs in shard {shard} of {}: {} ran, {} skipped (done before), {} failed; results in {}",
