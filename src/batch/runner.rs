@@ -171,7 +171,8 @@ fn stale_id(name: &str) -> Option<&str> {
     super::id::is_id(id).then_some(id)
 }
 
-/// Removes what killed runs of this share left in `runs/`.
+/// Removes what killed runs of this share left in `runs/` (and restores a complete run that a
+/// killed `--force` rerun had moved aside).
 fn remove_stale(runs_dir: &Path, share: &[&PlannedRun]) -> Result<usize, BatchError> {
     let ids: BTreeSet<&str> = share.iter().map(|r| r.id.as_str()).collect();
     let mut n = 0;
@@ -185,15 +186,23 @@ fn remove_stale(runs_dir: &Path, share: &[&PlannedRun]) -> Result<usize, BatchEr
             .file_name()
             .map(|n| n.to_string_lossy().to_string())
             .unwrap_or_default();
-        if stale_id(&name).is_some_and(|id| ids.contains(id)) {
-            let r = if p.is_dir() {
-                std::fs::remove_dir_all(&p)
-            } else {
-                std::fs::remove_file(&p)
-            };
-            r.map_err(io(&p))?;
-            n += 1;
+        let Some(id) = stale_id(&name).filter(|id| ids.contains(id)) else {
+            continue;
+        };
+        // A --force rerun killed between its two renames left the old, complete run aside
+        // and no `runs/<id>`: put it back rather than lose it.
+        let dest = runs_dir.join(id);
+        if name.starts_with(".old-") && !dest.exists() && p.join("summary.json").is_file() {
+            std::fs::rename(&p, &dest).map_err(io(&p))?;
+            continue;
         }
+        let r = if p.is_dir() {
+            std::fs::remove_dir_all(&p)
+        } else {
+            std::fs::remove_file(&p)
+        };
+        r.map_err(io(&p))?;
+        n += 1;
     }
     Ok(n)
 }
@@ -292,6 +301,43 @@ fn commit(out: &Path, id: &str, tmp: &Path) -> std::io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn planned(id: &str) -> PlannedRun {
+        PlannedRun {
+            index: 0,
+            id: id.into(),
+            values: vec![],
+            scenario: Err("unused".into()),
+            label: "test".into(),
+        }
+    }
+
+    #[test]
+    fn stale_leftovers_of_this_share_go_and_a_moved_aside_run_comes_back() {
+        let runs = std::env::temp_dir().join(format!("applesim-stale-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&runs);
+        let (mine, other, forced) = ("0123456789abcdef", "fedcba9876543210", "00000000000000aa");
+        for d in [
+            format!(".tmp-{mine}-11"),
+            format!(".tmp-{other}-12"),
+            format!(".old-{forced}-13"),
+        ] {
+            std::fs::create_dir_all(runs.join(d)).unwrap();
+        }
+        std::fs::write(runs.join(format!(".old-{forced}-13/summary.json")), "{}").unwrap();
+        std::fs::write(runs.join(format!(".{mine}.failed.json.tmp-11")), "{").unwrap();
+        let share = [planned(mine), planned(forced)];
+        let refs: Vec<&PlannedRun> = share.iter().collect();
+        assert_eq!(remove_stale(&runs, &refs).unwrap(), 2);
+        let mut left: Vec<String> = std::fs::read_dir(&runs)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+            .collect();
+        left.sort();
+        assert_eq!(left, [format!(".tmp-{other}-12"), forced.to_string()]);
+        assert!(runs.join(forced).join("summary.json").is_file());
+        std::fs::remove_dir_all(&runs).unwrap();
+    }
 
     #[test]
     fn stale_names_map_to_their_run() {
