@@ -230,8 +230,7 @@ pub fn expand(spec: &SpecFile, file: &Path, dir: &Path) -> Result<Batch, BatchEr
         ));
     }
     for (ptr, v) in &spec.set {
-        pointer::set(&mut base, ptr, v.clone())
-            .map_err(|m| spec_err(file, format!("set.{ptr}"), m))?;
+        pointer::set(&mut base, ptr, v.clone()).map_err(|m| spec_err(file, "set", m))?;
     }
 
     // Parameters: names, values, groups (axes of the grid).
@@ -689,7 +688,7 @@ mod tests {
             (json!({"base": base(), "parameters": [{"name": "a", "path": "/duration_s", "values": [1]}, {"name": "a", "path": "/contact/friction", "values": [1]}]}), "parameters[1].name: 'a' is already"),
             (json!({"base": base(), "parameters": [{"path": "/duration_s", "values": [1]}, {"name": "b", "path": "/duration_s", "values": [2]}]}), "parameters[1].path: '/duration_s' is already set"),
             (json!({"base": base(), "parameters": [{"path": "/duration_s", "values": [1, 1]}]}), "runs 0 and 1 expand to the same scenario"),
-            (json!({"base": base(), "set": {"/surfaces/0/material": "x"}}), "set./surfaces/0/material: '/surfaces/0/material': the scenario has no field 'surfaces'"),
+            (json!({"base": base(), "set": {"/surfaces/0/material": "x"}}), "set: '/surfaces/0/material': the scenario has no field 'surfaces'"),
             (json!({"base": 3}), "base: give a scenario file path"),
             (json!({"base": "no_such_file.json"}), "base: cannot read"),
             (json!({"base": base(), "mode": "zip", "parameters": [{"path": "/duration_s", "values": [1], "group": "g"}]}), "parameters[0].group"),
