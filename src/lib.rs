@@ -19,6 +19,7 @@ pub mod contact;
 pub mod layer;
 pub mod math;
 pub mod output;
+pub mod batch;
 pub mod record;
 pub mod scenario;
 pub mod sim;

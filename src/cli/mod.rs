@@ -2,6 +2,8 @@
 
 mod calibrate;
 mod plot;
+mod batch;
+mod merge;
 mod run;
 mod tradeoff;
 
@@ -25,6 +27,10 @@ enum Command {
     Plot(plot::Args),
     /// Run a scenario across fidelity levels and step sizes and tabulate error against cost.
     Tradeoff(tradeoff::Args),
+    /// Run a batch of scenarios (a sweep spec or a folder) in parallel, resumable, by shards.
+    Batch(batch::Args),
+    /// Merge the runs of a batch into one table, OUT/merged.csv; report failed or missing runs.
+    Merge(merge::Args),
 }
 
 /// Parses the arguments, runs the command, returns the exit code.
@@ -35,6 +41,8 @@ pub fn main() -> i32 {
         Command::Calibrate(a) => calibrate::main(a),
         Command::Plot(a) => plot::main(a),
         Command::Tradeoff(a) => tradeoff::main(a),
+        Command::Batch(a) => batch::main(a),
+        Command::Merge(a) => merge::main(a),
     };
     match result {
         Ok(()) => 0,
