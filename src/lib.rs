@@ -15,11 +15,11 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+pub mod batch;
 pub mod contact;
 pub mod layer;
 pub mod math;
 pub mod output;
-pub mod batch;
 pub mod record;
 pub mod scenario;
 pub mod sim;

@@ -27,7 +27,9 @@ const DT: [f64; 5] = [1e-7, 1e-6, 1e-5, 1e-3, 1e-2];
 fn every_extreme_matches_or_is_refused() {
     let mut seed = 7u64;
     let mut pick = |n: usize| {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((seed >> 33) % n as u64) as usize
     };
     let (mut matched, mut refused) = (0, 0);
@@ -64,9 +66,8 @@ fn every_extreme_matches_or_is_refused() {
         });
         let sc = scenario::from_json(&v.to_string(), "extreme").unwrap();
         scenario::validate(&sc).unwrap();
-        let label = format!(
-            "case {case}: G2 {g2:e}, G1 {g1:e}, v0 {v0}, D {d}, mu {mu}, dt {dt:e}"
-        );
+        let label =
+            format!("case {case}: G2 {g2:e}, G1 {g1:e}, v0 {v0}, D {d}, mu {mu}, dt {dt:e}");
         let outcome = Simulation::new(&sc, &repo("scenarios"))
             .and_then(|sim| sim.run(&mut NoSamples, &mut |_| {}));
         match outcome {
@@ -110,5 +111,8 @@ fn every_extreme_matches_or_is_refused() {
         100.0 * worst
     );
     assert_eq!(matched + refused, 336);
-    assert!(matched >= 100, "only {matched} cases ran: the sweep tests little");
+    assert!(
+        matched >= 100,
+        "only {matched} cases ran: the sweep tests little"
+    );
 }

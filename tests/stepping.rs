@@ -2,9 +2,9 @@
 
 mod common;
 use applesim::contact::{material::effective_modulus, normal, theory, Material};
+use applesim::record::series::NoSamples;
 use applesim::scenario::{Accuracy, Fidelity, TimeStep};
 use applesim::sim::{SimError, Simulation};
-use applesim::record::series::NoSamples;
 use common::*;
 
 fn fig1_closed_form(v0: f64) -> theory::ElasticImpact {
@@ -29,11 +29,19 @@ fn auto_at_balanced_meets_half_a_percent_within_40_steps() {
     let r = fig1(TimeStep::Auto, Some(Accuracy::Balanced));
     let e = &r.events[0];
     let cf = fig1_closed_form(1.4);
-    println!("auto, balanced: dt {:e} s, {} steps in contact", r.time_step_s, e.steps);
+    println!(
+        "auto, balanced: dt {:e} s, {} steps in contact",
+        r.time_step_s, e.steps
+    );
     assert_eq!(r.step_policy, "auto");
     assert!(e.steps <= 40, "{} steps per contact", e.steps);
     assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 0.005);
-    assert_rel("contact time", e.duration_s.unwrap(), cf.contact_time_s, 0.005);
+    assert_rel(
+        "contact time",
+        e.duration_s.unwrap(),
+        cf.contact_time_s,
+        0.005,
+    );
 }
 
 #[test]
@@ -43,7 +51,11 @@ fn auto_is_refined_by_the_accuracy_target() {
     for acc in [Accuracy::Preview, Accuracy::Balanced, Accuracy::Precise] {
         let r = fig1(TimeStep::Auto, Some(acc));
         let err = rel(r.events[0].peak_force_n, cf.peak_force_n);
-        println!("{acc:?}: {} steps in contact, peak force error {:.4} %", r.events[0].steps, 100.0 * err);
+        println!(
+            "{acc:?}: {} steps in contact, peak force error {:.4} %",
+            r.events[0].steps,
+            100.0 * err
+        );
         assert!(r.events[0].steps as f64 >= acc.steps_per_contact() * 0.95);
         assert!(err < last_err + 1e-6, "finer steps are not more accurate");
         last_err = err;
@@ -55,10 +67,18 @@ fn adaptive_matches_the_closed_form_with_few_steps() {
     let r = fig1(TimeStep::Adaptive, Some(Accuracy::Balanced));
     let e = &r.events[0];
     let cf = fig1_closed_form(1.4);
-    println!("adaptive: {} steps in all, {} in contact, steps {:?} s", r.steps, e.steps, r.step_range_s);
+    println!(
+        "adaptive: {} steps in all, {} in contact, steps {:?} s",
+        r.steps, e.steps, r.step_range_s
+    );
     assert_eq!(r.step_policy, "adaptive");
     assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 0.005);
-    assert_rel("contact time", e.duration_s.unwrap(), cf.contact_time_s, 0.005);
+    assert_rel(
+        "contact time",
+        e.duration_s.unwrap(),
+        cf.contact_time_s,
+        0.005,
+    );
     assert_rel("rebound", e.separation_speed_m_s.unwrap(), 1.4, 0.005);
     // Free flight at the largest step, impacts at the resolving one.
     assert!(r.step_range_s[1] >= 0.99e-3, "{:?}", r.step_range_s);
@@ -74,14 +94,22 @@ fn fidelity_levels_do_what_they_say() {
     let (r, s) = run(&sc);
     assert!(r.events.is_empty());
     let last = s.of(0).last().unwrap().1.clone();
-    assert!(last.position.x > 0.02 && last.position.z > 0.035, "{last:?}");
+    assert!(
+        last.position.x > 0.02 && last.position.z > 0.035,
+        "{last:?}"
+    );
     // hertz: elastic, so a drop comes back at its approach speed whatever ke says.
     let mut d = shipped("scenarios/drop_on_steel.json");
     d.contact.ke = 0.09;
     d.gravity_m_s2 = [0.0; 3];
     d.fidelity = Fidelity::Hertz;
     let (r, _) = run(&d);
-    assert_rel("hertz: rebound", r.events[0].restitution.unwrap(), 1.0, 1e-3);
+    assert_rel(
+        "hertz: rebound",
+        r.events[0].restitution.unwrap(),
+        1.0,
+        1e-3,
+    );
     d.fidelity = Fidelity::HertzDamped;
     let (r, _) = run(&d);
     assert!(r.events[0].restitution.unwrap() < 0.32);
@@ -91,7 +119,10 @@ fn fidelity_levels_do_what_they_say() {
     let (_, a) = run(&sc);
     sc.fidelity = Fidelity::Full;
     let (_, b) = run(&sc);
-    let (va, vb) = (a.of(0).last().unwrap().1.velocity.x, b.of(0).last().unwrap().1.velocity.x);
+    let (va, vb) = (
+        a.of(0).last().unwrap().1.velocity.x,
+        b.of(0).last().unwrap().1.velocity.x,
+    );
     println!("rolling speed: hertz-damped {va}, full {vb}");
     assert!(vb != va, "the patch shift changed nothing");
 }
@@ -111,7 +142,10 @@ fn the_guard_refuses_a_run_that_blows_up() {
     println!("{err}");
     let msg = err.to_string();
     assert!(msg.contains("unstable"), "{msg}");
-    assert!(matches!(err, SimError::EnergyRise { .. } | SimError::Layer(_)), "{err:?}");
+    assert!(
+        matches!(err, SimError::EnergyRise { .. } | SimError::Layer(_)),
+        "{err:?}"
+    );
 }
 
 #[test]

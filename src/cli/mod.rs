@@ -1,9 +1,9 @@
 //! Argument parsing and plain error reporting; every subcommand lives in its own file.
 
-mod calibrate;
-mod plot;
 mod batch;
+mod calibrate;
 mod merge;
+mod plot;
 mod run;
 mod tradeoff;
 

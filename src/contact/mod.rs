@@ -88,8 +88,8 @@ pub struct ContactKinematics {
     pub tangential_mass_kg: f64,
     /// Normal effective mass of the contact (kg), for the bound on eq. 12's rate part.
     pub normal_mass_kg: f64,
-    /// Whether the contact is resting: its impact is over (it is older than three elastic contact
-    /// times at its approach speed). Only a resting contact gets the bound on eq. 12's rate part
+    /// Whether the contact is resting: its impact is over (it is older than 1.2 times eq. 12's
+    /// contact time at its approach speed). Only a resting contact gets the bound on eq. 12's rate part
     /// (see [`damping::hysteresis_force`]): an impact passes its turn once and keeps the paper's law.
     pub resting: bool,
 }

@@ -10,7 +10,7 @@
 //! whatever the history of rebuilds. Each pair carries its contact state, carried over rebuilds.
 
 use crate::math::Vec3;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// A candidate pair with the state the law needs across steps.
 #[derive(Debug, Clone)]
@@ -30,7 +30,7 @@ pub struct NeighborList<S> {
     pairs: Vec<NeighborPair<S>>,
     reference: Vec<Vec3>,
     rebuilds: u64,
-    cells: HashMap<(i64, i64, i64), (u32, u32)>,
+    cells: FxHashMap<(i64, i64, i64), (u32, u32)>,
     order: Vec<((i64, i64, i64), u32)>,
     keys: Vec<(i64, i64, i64)>,
 }
@@ -43,7 +43,7 @@ impl<S: Default> NeighborList<S> {
             pairs: Vec::new(),
             reference: Vec::new(),
             rebuilds: 0,
-            cells: HashMap::new(),
+            cells: FxHashMap::default(),
             order: Vec::new(),
             keys: Vec::new(),
         }

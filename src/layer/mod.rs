@@ -195,10 +195,11 @@ impl Default for SleepConfig {
 pub struct StepControl {
     /// Steps per elastic contact time.
     pub steps_per_contact: f64,
-    /// How far ahead to look for contacts about to start (s): the largest step the driver takes.
+    /// How far ahead to look for contacts about to start (s): the largest step the driver takes
+    /// (the layer looks at most twice its last step ahead: the driver never more than doubles it).
     pub lookahead_s: f64,
     /// Largest displacement of an apple in one step allowed by rapier's pair finding (m); the
-    /// layer also keeps it within a quarter of its own grid skin.
+    /// layer also keeps it within half its own grid skin.
     pub max_displacement_m: f64,
     /// Gravity (m/s^2): when the step changes from h_k-1 to h_k, the velocity kick of pose k must
     /// span (h_k-1 + h_k) / 2, the time between the staggered velocities (leapfrog with variable
@@ -362,6 +363,22 @@ struct Hit {
     curvature2: f64,
 }
 
+/// What limited an adaptive step.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord)]
+pub enum StepLimit {
+    /// Nothing in the layer: the driver's cap (largest step, output samples, end).
+    #[default]
+    None,
+    /// An impact in progress.
+    Impact,
+    /// A resting contact's normal oscillation.
+    Resting,
+    /// A pair about to touch.
+    Approaching,
+    /// The pair-finding margins (an apple moving fast).
+    Motion,
+}
+
 /// Per-step figures of the layer.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StepStats {
@@ -378,6 +395,17 @@ pub struct StepStats {
     /// With [`LayerConfig::step_control`]: the longest next step that resolves every contact in
     /// progress or about to start (s); infinite when nothing limits it.
     pub dt_limit_s: f64,
+    /// What set `dt_limit_s`.
+    pub dt_limit_reason: StepLimit,
+}
+
+impl StepStats {
+    fn limit(&mut self, dt: f64, why: StepLimit) {
+        if dt < self.dt_limit_s {
+            self.dt_limit_s = dt;
+            self.dt_limit_reason = why;
+        }
+    }
 }
 
 /// The Hertz contact layer. See the module documentation for how to attach it to a world.
@@ -1092,7 +1120,7 @@ impl ContactLayer {
             if u <= 0.0 {
                 if let Some(c) = self.config.step_control {
                     let closing = (self.vel[j] - self.vel[i]).dot(n);
-                    if closing > 0.0 && -u < closing * c.lookahead_s {
+                    if closing > 0.0 && -u < closing * self.lookahead(&c) {
                         // About to touch: resolve the impact (see `StepControl`).
                         let law = self.laws[self.apples[i].material.0 as usize
                             * self.materials.len()
@@ -1103,7 +1131,7 @@ impl ContactLayer {
                         let m_n = theory::reduced_mass(self.apples[i].mass, self.apples[j].mass);
                         let t_h = theory::elastic_impact(m_n, closing, k, r_star).contact_time_s;
                         let lim = -u / closing + t_h / c.steps_per_contact;
-                        self.stats.dt_limit_s = self.stats.dt_limit_s.min(lim);
+                        self.stats.limit(lim, StepLimit::Approaching);
                     }
                 }
             }
@@ -1111,16 +1139,25 @@ impl ContactLayer {
             if u > 0.0 {
                 if let Some(c) = self.config.step_control {
                     let rate = (self.vel[j] - self.vel[i]).dot(n);
-                    let (v_a, start) = state.open.as_ref().map_or((rate, time_s), |o| {
-                        (o.approach_speed_m_s(), o.start_time_s())
-                    });
                     let law = self.laws[self.apples[i].material.0 as usize * self.materials.len()
                         + self.apples[j].material.0 as usize];
                     let (ri, rj) = (self.radius[i], self.radius[j]);
                     let m_n = theory::reduced_mass(self.apples[i].mass, self.apples[j].mass);
                     let k = contact::normal::stiffness(law.e_star_pa, ri * rj / (ri + rj));
-                    let lim = contact_step_limit(&c, m_n, k, u, v_a, rate.abs(), time_s - start);
-                    self.stats.dt_limit_s = self.stats.dt_limit_s.min(lim);
+                    let (scale, start) = match state.open.as_mut() {
+                        Some(o) => (
+                            o.impact_scale(|v| impact_scale(m_n, k, v)),
+                            o.start_time_s(),
+                        ),
+                        None => (impact_scale(m_n, k, rate), time_s),
+                    };
+                    let ke = if self.config.parts.energy_loss {
+                        law.ke
+                    } else {
+                        1.0
+                    };
+                    let lim = contact_step_limit(&c, m_n, k, u, scale, rate, ke, time_s - start);
+                    self.stats.limit(lim.0, lim.1);
                 }
                 self.hits.push(Hit {
                     i: i as u32,
@@ -1213,6 +1250,15 @@ impl ContactLayer {
         }
     }
 
+    /// How far ahead to look for contacts about to start: the coming step is at most the
+    /// driver's largest and at most twice the last (the driver's growth limit).
+    fn lookahead(&self, c: &StepControl) -> f64 {
+        match self.last_dt {
+            Some(dt) => c.lookahead_s.min(2.0 * dt),
+            None => c.lookahead_s,
+        }
+    }
+
     /// With step control: no awake apple may move more than the pair-finding margins in one step.
     fn motion_limit(&mut self) {
         let Some(c) = self.config.step_control else {
@@ -1221,13 +1267,16 @@ impl ContactLayer {
         let mut v_max: f64 = 0.0;
         for k in 0..self.apples.len() {
             if self.active[k] {
-                v_max = v_max.max(self.vel[k].length() + self.angvel[k].length() * self.radius[k]);
+                // Centres only: spin moves no centre, and the margins are about centres.
+                v_max = v_max.max(self.vel[k].length());
             }
         }
         // The grid's skin is known once apples exist (sources may add the first ones late).
-        let reach = c.max_displacement_m.min(0.25 * self.grid.skin_m());
+        // Two apples closing at up to 2 v_max must not cross the skin of the list unseen in one
+        // step: each may move half the skin.
+        let reach = c.max_displacement_m.min(0.5 * self.grid.skin_m());
         if v_max > 0.0 && reach > 0.0 {
-            self.stats.dt_limit_s = self.stats.dt_limit_s.min(reach / v_max);
+            self.stats.limit(reach / v_max, StepLimit::Motion);
         }
     }
 
@@ -1327,7 +1376,7 @@ impl ContactLayer {
             let Some(co) = colliders.get(surf.collider) else {
                 continue;
             };
-            let ahead = control.map_or(dt_s, |c| c.lookahead_s.max(dt_s));
+            let ahead = control.map_or(dt_s, |c| self.lookahead(&c).max(dt_s));
             let margin = 2.0 * self.vel[ai].length() * ahead + 1e-9;
             self.scratch.clear();
             surface::surface_hits(
@@ -1378,7 +1427,7 @@ impl ContactLayer {
                                 )
                                 .contact_time_s;
                                 let lim = -hit.overlap_m / closing + t_h / c.steps_per_contact;
-                                self.stats.dt_limit_s = self.stats.dt_limit_s.min(lim);
+                                self.stats.limit(lim, StepLimit::Approaching);
                             }
                         }
                     }
@@ -1405,9 +1454,6 @@ impl ContactLayer {
                         let v_s =
                             surface_point_velocity(bodies, colliders, surf.collider, self.pos[ai]);
                         let rate = (v_s - self.vel[ai]).dot(hit.normal);
-                        let (v_a, start) = sl.state.open.as_ref().map_or((rate, time_s), |o| {
-                            (o.approach_speed_m_s(), o.start_time_s())
-                        });
                         if let Some(r_star) = contact::normal::effective_radius(
                             1.0 / self.radius[ai],
                             hit.curvature_1_m,
@@ -1417,16 +1463,29 @@ impl ContactLayer {
                                 + surf.material.0 as usize];
                             let kk = contact::normal::stiffness(law.e_star_pa, r_star);
                             let m_n = self.apples[ai].mass;
+                            let (scale, start) = match sl.state.open.as_mut() {
+                                Some(o) => (
+                                    o.impact_scale(|v| impact_scale(m_n, kk, v)),
+                                    o.start_time_s(),
+                                ),
+                                None => (impact_scale(m_n, kk, rate), time_s),
+                            };
+                            let ke = if self.config.parts.energy_loss {
+                                law.ke
+                            } else {
+                                1.0
+                            };
                             let lim = contact_step_limit(
                                 &c,
                                 m_n,
                                 kk,
                                 hit.overlap_m,
-                                v_a,
-                                rate.abs(),
+                                scale,
+                                rate,
+                                ke,
                                 time_s - start,
                             );
-                            self.stats.dt_limit_s = self.stats.dt_limit_s.min(lim);
+                            self.stats.limit(lim.0, lim.1);
                         }
                     }
                     self.hits.push(Hit {
@@ -1615,17 +1674,13 @@ impl ContactLayer {
                     .state
             }
         };
-        // Resting once its impact is over: older than three elastic contact times at its approach
-        // speed (eq. 12's unloading lasts up to (1 + 1/sqrt(ke)) / 2 of one).
-        let resting = state.open.as_ref().is_some_and(|o| {
-            let v_a = o.approach_speed_m_s();
-            let k = contact::normal::stiffness(law.e_star_pa, r_star);
-            let t_h = if v_a > 0.0 {
-                theory::elastic_impact(m_n, v_a, k, r_star).contact_time_s
-            } else {
-                0.0
-            };
-            time_s - o.start_time_s() > 3.0 * t_h
+        // Resting once its impact is over: older than 1.2 times eq. 12's contact time at its
+        // approach speed, (1 + 1/sqrt(ke)) / 2 elastic contact times (physics.md section 3).
+        let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
+        let resting = state.open.as_mut().is_some_and(|o| {
+            let (t_h, _) = o.impact_scale(|v| impact_scale(m_n, k_n, v));
+            let ke = if parts.energy_loss { law.ke } else { 1.0 };
+            time_s - o.start_time_s() > 1.2 * t_h * 0.5 * (1.0 + 1.0 / ke.max(1e-4).sqrt())
         });
         let kin = ContactKinematics { resting, ..kin };
         let resp = contact::evaluate(&law, parts, &kin, &mut state.xi, relax, dt_s);
@@ -1722,28 +1777,63 @@ impl ContactLayer {
     }
 }
 
-/// With step control: the longest step that resolves a contact in progress (see
-/// [`StepControl`]). `u` overlap, `v_a` approach speed at first touch, `s` current |du/dt|, `age`
-/// time since first touch. An impact (younger than three elastic contact times at its approach
-/// speed, which covers eq. 12's longer unloading) gets N steps per contact time of an impact
-/// reaching max(u, u_max(v_a)); a resting contact after that gets N/4 (at least 4) per contact time
-/// at max(u, u_max(s)): its normal oscillation, which needs resolving only for stability
-/// (omega dt = 4 / steps; explicit stepping is stable below 2).
-fn contact_step_limit(c: &StepControl, m_n: f64, k: f64, u: f64, v_a: f64, s: f64, age: f64) -> f64 {
-    let u_of = |v: f64| {
-        if v > 0.0 {
-            (5.0 * m_n * v * v / (4.0 * k)).powf(0.4)
-        } else {
-            0.0
-        }
-    };
-    let u_a = u_of(v_a);
-    let impact_time = theory::contact_time_at_overlap(m_n, k, u.max(u_a));
-    if age < 3.0 * impact_time {
-        impact_time / c.steps_per_contact
+/// Elastic contact time and maximum overlap of an impact at approach speed `v` (zeros for v <= 0).
+fn impact_scale(m_n: f64, k: f64, v: f64) -> (f64, f64) {
+    if v > 0.0 {
+        let u = (5.0 * m_n * v * v / (4.0 * k)).powf(0.4);
+        (2.0 * theory::HERTZ_TIME_INTEGRAL * u / v, u)
     } else {
-        theory::contact_time_at_overlap(m_n, k, u.max(u_of(s))) / (0.25 * c.steps_per_contact).max(4.0)
+        (0.0, 0.0)
     }
+}
+
+/// With step control: the longest step that resolves a contact in progress (see
+/// [`StepControl`]). `u` overlap, `impact` = (contact time, max overlap) of its impact at the
+/// approach speed (see [`impact_scale`]), `rate` current du/dt (> 0 approaching), `unloading_ke`
+/// the eq. 12 ke of the pair (1 when elastic), `age` time since first touch. An impact (younger
+/// than 1.2 times eq. 12's contact time, (1 + 1/sqrt(ke)) / 2 elastic ones) gets N steps per
+/// contact time of an impact reaching max(u, u_max), and while it separates N steps per contact
+/// time of its softer unloading curve (ke k); a resting contact after that gets
+/// N/4 (at least 4) per contact time at max(u, u_max(s)): its normal oscillation, which needs
+/// resolving only for stability (omega dt = 4 / steps; explicit stepping is stable below 2).
+fn contact_step_limit(
+    c: &StepControl,
+    m_n: f64,
+    k: f64,
+    u: f64,
+    impact: (f64, f64),
+    rate: f64,
+    unloading_ke: f64,
+    age: f64,
+) -> (f64, StepLimit) {
+    let (t_a, u_a) = impact;
+    let s = rate.abs();
+    // An impact lasts (1 + 1/sqrt(ke)) / 2 elastic contact times with eq. 12 (physics.md section
+    // 3); 20 % more covers the lower speeds' longer contacts.
+    let window = 1.2 * t_a * 0.5 * (1.0 + 1.0 / unloading_ke.max(1e-4).sqrt());
+    if age < window {
+        let mut t = if u > u_a {
+            theory::contact_time_at_overlap(m_n, k, u)
+        } else {
+            t_a
+        };
+        if rate < 0.0 && unloading_ke < 1.0 {
+            // Separating: eq. 12 unloads along ke times the Hertz curve, a contact of stiffness
+            // ke k, whose time scale is 1 / sqrt(ke) longer; N steps of that scale resolve it.
+            t /= unloading_ke.max(1e-4).sqrt();
+        }
+        return (t / c.steps_per_contact, StepLimit::Impact);
+    }
+    // u_max(s) > u  <=>  5 m s^2 / (4 k) > u^(5/2): compared without powers.
+    let u_eff = if 1.25 * m_n * s * s / k > u * u * u.sqrt() {
+        impact_scale(m_n, k, s).1
+    } else {
+        u
+    };
+    (
+        theory::contact_time_at_overlap(m_n, k, u_eff) / (0.25 * c.steps_per_contact).max(4.0),
+        StepLimit::Resting,
+    )
 }
 
 fn party_key(p: Party) -> (u8, u32) {

@@ -127,6 +127,8 @@ pub struct OpenContact {
     steps: u64,
     point_at_peak: Vec3,
     history: Option<History>,
+    /// Elastic contact time and maximum overlap of the impact at the approach speed, once known.
+    impact_scale: Option<(f64, f64)>,
 }
 
 /// One step's observation of an overlapping contact.
@@ -177,6 +179,7 @@ impl OpenContact {
             steps: 0,
             point_at_peak: Vec3::ZERO,
             history: (history_cap > 0).then(|| History::new(history_cap)),
+            impact_scale: None,
         }
     }
 
@@ -240,6 +243,13 @@ impl OpenContact {
             // already holds: F (x_k - x_k-1) / 2, whatever the next step.
             self.absorbed + 0.5 * self.last_p * (self.last_u - self.prev_u)
         }
+    }
+
+    /// The elastic contact time and maximum overlap of this contact's impact (at its approach
+    /// speed), computed once by `f` and kept (they need powers; the layer asks every step).
+    pub fn impact_scale(&mut self, f: impl FnOnce(f64) -> (f64, f64)) -> (f64, f64) {
+        let v = self.approach;
+        *self.impact_scale.get_or_insert_with(|| f(v))
     }
 
     /// Time of first touch (s).
