@@ -140,6 +140,9 @@ pub struct ContactSample {
     pub dt_s: f64,
     /// Step length that led to this pose (s); equal to `dt_s` with a fixed step.
     pub dt_back_s: f64,
+    /// How far back this pose's force kick reaches (s): `dt_back_s`, or with adaptive steps the
+    /// contact's age if shorter (a contact pushes only since its touch; see `layer::StepControl`).
+    pub kick_back_s: f64,
     /// Overlap (m).
     pub overlap_m: f64,
     /// Normal force (N).
@@ -207,7 +210,7 @@ impl OpenContact {
             self.absorb(s.overlap_m);
             self.prev_u = self.last_u;
         }
-        let span = 0.5 * (s.dt_back_s + s.dt_s);
+        let span = 0.5 * (s.kick_back_s + s.dt_s);
         self.last_w = (0.5 * span / s.dt_s, 0.5 * span / s.dt_back_s);
         self.last_u = s.overlap_m;
         self.last_p = s.force_n;
@@ -255,6 +258,12 @@ impl OpenContact {
     /// Time of first touch (s).
     pub fn start_time_s(&self) -> f64 {
         self.t_start
+    }
+
+    /// Replaces the approach speed taken from the first pose's overlap rate by a better estimate
+    /// of the speed at the touch instant (the layer knows the free acceleration; m/s).
+    pub fn set_approach_speed(&mut self, v: f64) {
+        self.approach = v;
     }
 
     /// Normal approach speed at first touch (m/s).
@@ -349,6 +358,7 @@ mod tests {
             time_s: 1.0,
             dt_s: 1e-3,
             dt_back_s: 1e-3,
+            kick_back_s: 1e-3,
             overlap_m: 0.25e-3,
             force_n: 2.0,
             contact_radius_m: 1e-3,
