@@ -429,7 +429,7 @@ impl TradeoffTable {
     /// The table as a Markdown table (for docs/accuracy.md).
     pub fn to_markdown(&self) -> String {
         let mut s = format!(
-            "Reference: {} ({:.3} s wall time).\n\n| rung | mean step (s) | steps | wall (s) | peak forces err max / median (%) | first surface contact times err max / median (%) | restitution err max | final heights err max / median (R) |\n|---|---|---|---|---|---|---|---|\n",
+            "Reference: {} ({:.2e} s wall time).\n\n| rung | mean step (s) | steps | wall (s) | peak forces err max / median (%) | first surface contact times err max / median (%) | restitution err max | final heights err max / median (R) |\n|---|---|---|---|---|---|---|---|\n",
             self.reference, self.reference_wall_time_s
         );
         let f = |x: f64, d: usize| {
@@ -449,7 +449,7 @@ impl TradeoffTable {
                 r.rung,
                 r.time_step_s,
                 r.steps,
-                f(r.wall_time_s, 3),
+                format!("{:.2e}", r.wall_time_s),
                 f(r.peak_force_err_max_pct, 3),
                 f(r.peak_force_err_median_pct, 3),
                 f(r.contact_time_err_max_pct, 3),
