@@ -199,5 +199,9 @@ fn adaptive_landing_after_free_fall_matches_a_fine_fixed_step() {
     );
     // A peak sampled at 20 steps per contact: within 1 % of the fine step's.
     assert_rel("peak force", a.peak_force_n, f.peak_force_n, 0.01);
-    assert!(adaptive.step_range_s[1] > 2e-3, "{:?}", adaptive.step_range_s);
+    assert!(
+        adaptive.step_range_s[1] > 2e-3,
+        "{:?}",
+        adaptive.step_range_s
+    );
 }

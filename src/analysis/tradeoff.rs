@@ -449,7 +449,7 @@ impl TradeoffTable {
                 r.rung,
                 r.time_step_s,
                 r.steps,
-                format!("{:.2e}", r.wall_time_s),
+                format_args!("{:.2e}", r.wall_time_s),
                 f(r.peak_force_err_max_pct, 3),
                 f(r.peak_force_err_median_pct, 3),
                 f(r.contact_time_err_max_pct, 3),

@@ -19,6 +19,10 @@ pub struct Args {
     /// output folder.
     #[arg(long)]
     plots: bool,
+    /// Threads for the contact force pass (default: every core). The outputs do not depend on
+    /// it, byte for byte.
+    #[arg(long)]
+    threads: Option<usize>,
 }
 
 pub fn main(a: Args) -> Result<(), String> {
@@ -37,7 +41,16 @@ pub fn main(a: Args) -> Result<(), String> {
             eprint!("\r{pct:3} %");
         }
     };
-    let r = output::run_to_dir(&sc, &base, &a.out, &mut progress).map_err(|e| e.to_string());
+    let r = match a.threads {
+        Some(0) => return Err("--threads 0: give at least 1".into()),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| format!("--threads {n}: {e}"))?
+            .install(|| output::run_to_dir(&sc, &base, &a.out, &mut progress)),
+        None => output::run_to_dir(&sc, &base, &a.out, &mut progress),
+    }
+    .map_err(|e| e.to_string());
     if tty {
         eprint!("\r      \r");
     }

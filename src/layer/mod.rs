@@ -354,6 +354,27 @@ enum Other {
     Surface(u32, u32, usize),
 }
 
+/// Contacts per step from which the force pass runs in parallel (below that, rayon's overhead
+/// outweighs the work). The results do not depend on it.
+const PARALLEL_MIN_HITS: usize = 256;
+
+/// One evaluated contact, ready to be added to the loads.
+#[derive(Debug, Clone, Copy)]
+struct HitOut {
+    i: usize,
+    j: Option<usize>,
+    body2: Option<RigidBodyHandle>,
+    /// Force on apple i (N).
+    force: Vec3,
+    point: Vec3,
+    /// The leapfrog kick factor with adaptive steps.
+    kick: Option<f64>,
+    /// On a belt or a moving part: keeps the apple awake.
+    moving_surface: bool,
+    elastic_energy_j: f64,
+    overlap_ratio: f64,
+}
+
 #[derive(Debug, Clone, Copy)]
 struct Hit {
     i: u32,
@@ -453,6 +474,9 @@ pub struct ContactLayer {
     kicked_torque: Vec<Vec3>,
     /// Adaptive steps only: apples not yet stepped, whose first kick spans half a step.
     fresh: Vec<bool>,
+    /// Force pass buffers (reused every step).
+    states_buf: Vec<PairState>,
+    outs_buf: Vec<Result<HitOut, LayerError>>,
     stats: StepStats,
     time_s: f64,
     last_dt: Option<f64>,
@@ -505,6 +529,8 @@ impl ContactLayer {
             kicked_force: Vec::new(),
             kicked_torque: Vec::new(),
             fresh: Vec::new(),
+            states_buf: Vec::new(),
+            outs_buf: Vec::new(),
             stats: StepStats::default(),
             time_s: 0.0,
             last_dt: None,
@@ -1021,13 +1047,7 @@ impl ContactLayer {
 
         // Force pass, in the fixed order of `hits`.
         let hits = std::mem::take(&mut self.hits);
-        let mut result = Ok(());
-        for h in &hits {
-            if let Err(e) = self.contact_force(h, bodies, colliders, time_s, dt_s) {
-                result = Err(e);
-                break;
-            }
-        }
+        let result = self.force_pass(&hits, bodies, colliders, time_s, dt_s);
         self.stats.contacts = hits.len();
         self.hits = hits;
         result?;
@@ -1571,14 +1591,21 @@ impl ContactLayer {
         }
     }
 
-    fn contact_force(
-        &mut self,
+    /// Evaluates one contact at the current poses: the contact law, the guards and the contact
+    /// record. Reads the layer and writes only the contact's own `state`, so contacts can be
+    /// evaluated in parallel; [`apply_hit`](Self::apply_hit) then adds the results in a fixed
+    /// order (bit-identical sums whatever the thread count).
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate_hit(
+        &self,
         h: &Hit,
+        state: &mut PairState,
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
         time_s: f64,
         dt_s: f64,
-    ) -> Result<(), LayerError> {
+    ) -> Result<HitOut, LayerError> {
+        let mut moving_surface = false;
         let i = h.i as usize;
         let ai = &self.apples[i];
         let n_mat = self.materials.len();
@@ -1642,7 +1669,7 @@ impl ContactLayer {
                     .is_some_and(|rb| !rb.is_fixed());
                 if moving_parent || surf.belt_local != Vec3::ZERO {
                     // An apple on a belt or a moving part must stay awake.
-                    self.busy[i] = true;
+                    moving_surface = true;
                 }
                 let (vb, inv_m, dyn_body) = match parent.and_then(|p| bodies.get(p).map(|b| (p, b)))
                 {
@@ -1698,16 +1725,6 @@ impl ContactLayer {
                 self.names_apple(p.i, p.j)
             }
             Other::Surface(a, s, _) => self.names_surface(a, s),
-        };
-        let state = match h.other {
-            Other::Apple(k) => &mut self.grid.pairs_mut()[k].state,
-            Other::Surface(a, s, slot) => {
-                &mut self
-                    .surface_slots
-                    .get_mut(&(a, s))
-                    .expect("slot exists for a surface hit")[slot]
-                    .state
-            }
         };
         // Resting once its impact is over: older than 1.2 times eq. 12's contact time at its
         // approach speed, (1 + 1/sqrt(ke)) / 2 elastic contact times (physics.md section 3).
@@ -1807,6 +1824,34 @@ impl ContactLayer {
             .config
             .step_control
             .map(|_| (kick_back + dt_s) / (2.0 * dt_s));
+        let k = contact::normal::stiffness(law.e_star_pa, r_star);
+        Ok(HitOut {
+            i,
+            j: j_apple,
+            body2,
+            force: f,
+            point,
+            kick,
+            moving_surface,
+            elastic_energy_j: contact::normal::elastic_energy(k, u),
+            overlap_ratio: ratio,
+        })
+    }
+
+    /// Adds one evaluated contact to the apples' loads (see [`evaluate_hit`](Self::evaluate_hit)).
+    fn apply_hit(&mut self, o: &HitOut) {
+        let HitOut {
+            i,
+            j: j_apple,
+            body2,
+            force: f,
+            point,
+            kick,
+            ..
+        } = *o;
+        if o.moving_surface {
+            self.busy[i] = true;
+        }
         if let Some(j) = j_apple {
             // A neighbour that is not still keeps an apple awake.
             if !self.still[j] {
@@ -1838,10 +1883,75 @@ impl ContactLayer {
         if let Some(b) = body2 {
             self.body_loads.push((b, load, point));
         }
-        let k = contact::normal::stiffness(law.e_star_pa, r_star);
-        self.stats.elastic_energy_j += contact::normal::elastic_energy(k, u);
-        self.stats.max_overlap_ratio = self.stats.max_overlap_ratio.max(ratio);
-        Ok(())
+        self.stats.elastic_energy_j += o.elastic_energy_j;
+        self.stats.max_overlap_ratio = self.stats.max_overlap_ratio.max(o.overlap_ratio);
+    }
+
+    /// The state of the contact a hit belongs to.
+    fn state_of(&mut self, h: &Hit) -> &mut PairState {
+        match h.other {
+            Other::Apple(k) => &mut self.grid.pairs_mut()[k].state,
+            Other::Surface(a, s, slot) => {
+                &mut self
+                    .surface_slots
+                    .get_mut(&(a, s))
+                    .expect("slot exists for a surface hit")[slot]
+                    .state
+            }
+        }
+    }
+
+    /// The force pass: every hit evaluated (in parallel on rayon's current pool when there are
+    /// enough of them), then applied in the order of `hits`.
+    fn force_pass(
+        &mut self,
+        hits: &[Hit],
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        time_s: f64,
+        dt_s: f64,
+    ) -> Result<(), LayerError> {
+        // Each contact's state is moved out for the evaluation, so the layer itself is only read.
+        let mut states = std::mem::take(&mut self.states_buf);
+        states.clear();
+        for h in hits {
+            states.push(std::mem::take(self.state_of(h)));
+        }
+        let mut outs = std::mem::take(&mut self.outs_buf);
+        outs.clear();
+        let parallel = hits.len() >= PARALLEL_MIN_HITS && rayon::current_num_threads() > 1;
+        {
+            let this = &*self;
+            let eval = |(h, st): (&Hit, &mut PairState)| {
+                this.evaluate_hit(h, st, bodies, colliders, time_s, dt_s)
+            };
+            if parallel {
+                use rayon::prelude::*;
+                hits.par_iter()
+                    .zip(states.par_iter_mut())
+                    .with_min_len(64)
+                    .map(eval)
+                    .collect_into_vec(&mut outs);
+            } else {
+                outs.extend(hits.iter().zip(states.iter_mut()).map(eval));
+            }
+        }
+        for (h, st) in hits.iter().zip(states.drain(..)) {
+            *self.state_of(h) = st;
+        }
+        self.states_buf = states;
+        let mut result = Ok(());
+        for o in outs.drain(..) {
+            match o {
+                Ok(o) => self.apply_hit(&o),
+                Err(e) => {
+                    result = Err(e);
+                    break;
+                }
+            }
+        }
+        self.outs_buf = outs;
+        result
     }
 }
 
@@ -1884,6 +1994,7 @@ fn impact_scale(m_n: f64, k: f64, v: f64) -> (f64, f64) {
 /// time of its softer unloading curve (ke k); a resting contact after that gets
 /// N/4 (at least 4) per contact time at max(u, u_max(s)): its normal oscillation, which needs
 /// resolving only for stability (omega dt = 4 / steps; explicit stepping is stable below 2).
+#[allow(clippy::too_many_arguments)]
 fn contact_step_limit(
     c: &StepControl,
     m_n: f64,

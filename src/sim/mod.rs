@@ -218,8 +218,8 @@ impl Simulation {
         let belt_or_moving = sc.surfaces.iter().any(|s| {
             matches!(s, crate::scenario::SurfaceSpec::Conveyor(c) if c.belt_velocity_m_s != 0.0)
         });
-        let energy =
-            (!belt_or_moving && sc.fidelity != crate::scenario::Fidelity::Rigid).then(|| {
+        let energy = (!belt_or_moving && sc.fidelity != crate::scenario::Fidelity::Rigid)
+            .then_some({
                 EnergyGuard {
                     budget_j: f64::NAN,
                     scale_j: 0.0,
