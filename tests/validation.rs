@@ -58,8 +58,18 @@ fn fig1_reproduces_the_quoted_points_within_4_percent() {
             .find(|i| (i.v0_m_s - v0).abs() < 1e-12)
             .expect("run at the quoted speed");
         assert_eq!(i.mass_kg, 0.107, "the mass physics.md section 8 explains");
-        assert_rel(&format!("peak force at {v0} m/s vs paper"), i.peak_force_n, p, 0.04);
-        assert_rel(&format!("contact time at {v0} m/s vs paper"), i.contact_time_s, t, 0.04);
+        assert_rel(
+            &format!("peak force at {v0} m/s vs paper"),
+            i.peak_force_n,
+            p,
+            0.04,
+        );
+        assert_rel(
+            &format!("contact time at {v0} m/s vs paper"),
+            i.contact_time_s,
+            t,
+            0.04,
+        );
     }
 }
 
@@ -68,15 +78,35 @@ fn fig1_every_speed_within_half_a_percent_of_the_gravity_integration() {
     let k = k_on_steel(1.1e6);
     // The integrator itself against physics.md section 8 (with gravity).
     let a = reference::elastic_impact_with_gravity(0.107, 0.2, k, 9.81);
-    assert_rel("integrator P at 0.2 m/s vs physics.md", a.peak_force_n, 11.18, 5e-4);
-    assert_rel("integrator t at 0.2 m/s vs physics.md", a.contact_time_s, 8.66e-3, 6e-4);
+    assert_rel(
+        "integrator P at 0.2 m/s vs physics.md",
+        a.peak_force_n,
+        11.18,
+        5e-4,
+    );
+    assert_rel(
+        "integrator t at 0.2 m/s vs physics.md",
+        a.contact_time_s,
+        8.66e-3,
+        6e-4,
+    );
     let f = figure("fig1");
     for (n, i) in f.impacts.iter().enumerate() {
         let v0 = 0.2 * (n + 1) as f64;
         assert!((i.v0_m_s - v0).abs() < 1e-9, "run {n} at {} m/s", i.v0_m_s);
         let r = reference::elastic_impact_with_gravity(0.107, v0, k, 9.81);
-        assert_rel(&format!("P at {v0:.1} m/s"), i.peak_force_n, r.peak_force_n, 0.005);
-        assert_rel(&format!("t at {v0:.1} m/s"), i.contact_time_s, r.contact_time_s, 0.005);
+        assert_rel(
+            &format!("P at {v0:.1} m/s"),
+            i.peak_force_n,
+            r.peak_force_n,
+            0.005,
+        );
+        assert_rel(
+            &format!("t at {v0:.1} m/s"),
+            i.contact_time_s,
+            r.contact_time_s,
+            0.005,
+        );
     }
 }
 
@@ -115,7 +145,12 @@ fn fig2_force_and_time_rise_with_size_and_time_is_longer_when_slower() {
         assert_eq!(d, [0.06, 0.08, 0.1]);
         // Mass scaled with D^3 from 0.107 kg at 80 mm.
         for i in &at {
-            assert_rel("mass", i.mass_kg, 0.107 * (i.diameter_m / 0.08).powi(3), 1e-12);
+            assert_rel(
+                "mass",
+                i.mass_kg,
+                0.107 * (i.diameter_m / 0.08).powi(3),
+                1e-12,
+            );
         }
         let p: Vec<f64> = at.iter().map(|i| i.peak_force_n).collect();
         let t: Vec<f64> = at.iter().map(|i| i.contact_time_s).collect();
@@ -164,7 +199,10 @@ fn fig4_stiff_platforms_change_nothing_and_soft_ones_lower_the_force() {
             100.0 * change
         );
         if i.platform_shear_modulus_pa >= 1e8 {
-            assert!(change.abs() < 0.005, "G2 >= 1e8 Pa changes the force < 0.5 %");
+            assert!(
+                change.abs() < 0.005,
+                "G2 >= 1e8 Pa changes the force < 0.5 %"
+            );
             stiff += 1;
         }
         if i.platform_shear_modulus_pa <= i.apple_shear_modulus_pa {
@@ -172,7 +210,11 @@ fn fig4_stiff_platforms_change_nothing_and_soft_ones_lower_the_force() {
             soft += 1;
         }
     }
-    assert_eq!((stiff, soft), (3, 4), "1e8, wood, steel; 1e4, 1e5, 5e5, 1e6");
+    assert_eq!(
+        (stiff, soft),
+        (3, 4),
+        "1e8, wood, steel; 1e4, 1e5, 5e5, 1e6"
+    );
 }
 
 #[test]
@@ -201,7 +243,12 @@ fn figs6_7_every_case_rolls_within_a_tenth_of_a_second_with_mu_0_3() {
             println!("{id} {}: rolls at {:.5} s", r.label, r.t_roll_s);
             assert_eq!(r.friction, 0.3);
             assert!(r.t_roll_s.is_finite() && r.t_roll_s < 0.1, "{}", r.label);
-            assert_rel("time to rolling, lever R - u", r.t_roll_s, r.closed.time_s, 0.005);
+            assert_rel(
+                "time to rolling, lever R - u",
+                r.t_roll_s,
+                r.closed.time_s,
+                0.005,
+            );
             assert_rel(
                 "rolling speed, lever R - u",
                 r.rolling_speed_m_s,
@@ -261,7 +308,10 @@ fn report_renders_tables_and_charts() {
         assert!(curves >= 4, "{file}: {curves} polylines");
         shown += 1;
     }
-    assert_eq!(shown, 10, "5 force charts of Figs. 1-5, 2 x 2 of Figs. 6-7, eq. 12");
+    assert_eq!(
+        shown, 10,
+        "5 force charts of Figs. 1-5, 2 x 2 of Figs. 6-7, eq. 12"
+    );
     assert_eq!(v.files.len(), shown + 1);
     // The paper's inconsistencies are all there.
     for n in 1..=8 {
@@ -303,8 +353,15 @@ fn the_command_reproduces_the_report_byte_for_byte() {
     // The report and its charts (no wall times in them)...
     for f in &v.files {
         let name = f.file_name().unwrap();
-        let (x, y) = (std::fs::read(f).unwrap(), std::fs::read(b.join(name)).unwrap());
-        assert!(x == y, "{} differs between two runs", name.to_string_lossy());
+        let (x, y) = (
+            std::fs::read(f).unwrap(),
+            std::fs::read(b.join(name)).unwrap(),
+        );
+        assert!(
+            x == y,
+            "{} differs between two runs",
+            name.to_string_lossy()
+        );
     }
     // ... and every figure's merged table (metrics without wall time), with other --jobs.
     let (mut xs, mut ys) = (vec![], vec![]);
@@ -328,4 +385,80 @@ fn the_command_reproduces_the_report_byte_for_byte() {
         );
     }
     let _ = std::fs::remove_dir_all(&b);
+}
+
+/// The committed copy under docs/validation/ is what the command writes now (issue 7: "a copy
+/// of the report and figures committed under docs/validation/, regenerated by the command").
+/// A change of the physics that moves a number makes this fail until the copy is regenerated.
+#[test]
+fn the_committed_copy_in_docs_validation_is_current() {
+    let (_, v) = validation();
+    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/validation");
+    let regenerate = validate::report::COMMAND;
+    let mut names: Vec<String> = Vec::new();
+    for f in &v.files {
+        let name = f.file_name().unwrap().to_string_lossy().to_string();
+        let committed = std::fs::read(docs.join(&name)).unwrap_or_else(|e| {
+            panic!("docs/validation/{name}: {e}; regenerate with `{regenerate}`")
+        });
+        assert!(
+            committed == std::fs::read(f).unwrap(),
+            "docs/validation/{name} is stale: regenerate with `{regenerate}`"
+        );
+        names.push(name);
+    }
+    // Nothing else in the folder: no chart left over from an older report.
+    let mut present: Vec<String> = std::fs::read_dir(&docs)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    present.sort();
+    names.sort();
+    assert_eq!(present, names, "files in docs/validation/");
+}
+
+/// A specs folder edited out of shape is an error message and a non-zero exit, never a panic:
+/// here Fig. 1's apple is set down on the plate without speed, so it has no impact to measure.
+#[test]
+fn a_spec_out_of_shape_is_an_error_not_a_panic() {
+    let specs = tmp("validation-bad-specs");
+    let _ = std::fs::remove_dir_all(&specs);
+    std::fs::create_dir_all(&specs).unwrap();
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/paper");
+    for e in std::fs::read_dir(&shipped).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, specs.join(p.file_name().unwrap())).unwrap();
+    }
+    let fig1 = std::fs::read_to_string(specs.join("fig1.json")).unwrap();
+    let at_rest = fig1.replace("[-0.2, -0.4, -0.6, -0.8, -1.0, -1.2, -1.4]", "[0.0]");
+    assert_ne!(fig1, at_rest, "the edit applies");
+    std::fs::write(specs.join("fig1.json"), at_rest).unwrap();
+    let out = tmp("validation-bad-out");
+    let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .args(["validate", "--specs", specs.to_str().unwrap()])
+        .args(["--out", out.to_str().unwrap(), "--jobs", "1"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    println!("{stderr}");
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("fig1.json") && stderr.contains("must approach"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    // Bad options too.
+    for args in [vec!["--jobs", "0"], vec!["--specs", "no/such/folder"]] {
+        let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
+            .arg("validate")
+            .args(&args)
+            .args(["--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.starts_with("error: "), "{args:?}: {stderr}");
+    }
+    let _ = std::fs::remove_dir_all(&specs);
+    let _ = std::fs::remove_dir_all(&out);
 }

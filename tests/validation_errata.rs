@@ -45,7 +45,12 @@ fn eq12_printed_sign_creates_energy() {
     for ke in [0.09, 0.8, 0.95] {
         let printed = reference::eq12_restitution(ke, 1000.0, Eq12Sign::AsPrinted);
         let right = reference::eq12_restitution(ke, 1000.0, Eq12Sign::Dissipative);
-        assert_rel("printed sign: e vs 1/sqrt(ke)", printed, 1.0 / ke.sqrt(), 0.002);
+        assert_rel(
+            "printed sign: e vs 1/sqrt(ke)",
+            printed,
+            1.0 / ke.sqrt(),
+            0.002,
+        );
         assert_rel("dissipative sign: e vs sqrt(ke)", right, ke.sqrt(), 0.002);
         assert!(printed > 1.0);
     }
@@ -57,7 +62,11 @@ fn eq12_printed_sign_creates_energy() {
 fn fig1_was_computed_with_1_1_mpa() {
     let e11 = reference::fig1_worst_error(0.107, k_on_steel(1.1e6), 9.81);
     let (m10, e10) = reference::fig1_best_mass(k_on_steel(1.0e6), 9.81);
-    println!("1.1 MPa, 0.107 kg: {:.2} %; 1 MPa, best {m10:.4} kg: {:.2} %", 100.0 * e11, 100.0 * e10);
+    println!(
+        "1.1 MPa, 0.107 kg: {:.2} %; 1 MPa, best {m10:.4} kg: {:.2} %",
+        100.0 * e11,
+        100.0 * e10
+    );
     assert!(e11 < 0.031);
     assert!(e10 > 0.04);
 }
@@ -84,7 +93,11 @@ fn ten_milliseconds_need_a_platform_over_twice_softer() {
         let k = reference::flat_stiffness(&apple, &p, 0.04);
         reference::elastic_impact_with_gravity(0.107, 1.0, k, 9.81).contact_time_s
     };
-    println!("G2 = G1/2: {:.3} ms; G1/3: {:.3} ms", t(5e5) * 1e3, t(1e6 / 3.0) * 1e3);
+    println!(
+        "G2 = G1/2: {:.3} ms; G1/3: {:.3} ms",
+        t(5e5) * 1e3,
+        t(1e6 / 3.0) * 1e3
+    );
     assert!(t(5e5) < 10e-3);
     assert!(t(1e6 / 3.0) > 10e-3);
 }

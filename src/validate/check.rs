@@ -137,7 +137,11 @@ impl Check {
     }
 
     /// A check that could not be evaluated (its runs failed): always a failure.
-    pub fn missing(key: impl Into<String>, what: impl Into<String>, why: impl Into<String>) -> Check {
+    pub fn missing(
+        key: impl Into<String>,
+        what: impl Into<String>,
+        why: impl Into<String>,
+    ) -> Check {
         Check {
             key: key.into(),
             what: what.into(),
@@ -194,10 +198,24 @@ mod tests {
         assert!((c.error().unwrap() + 0.027826).abs() < 1e-6);
         let c = Check::relative("k", "w", 10.0, 11.5, "paper", Unit::Newton, 0.04);
         assert!(!c.pass);
-        let c = Check::bound("k", "w", 0.0978, "paper", Unit::Second, Criterion::Below { limit: 0.1 });
+        let c = Check::bound(
+            "k",
+            "w",
+            0.0978,
+            "paper",
+            Unit::Second,
+            Criterion::Below { limit: 0.1 },
+        );
         assert!(c.pass);
         assert_eq!(c.tolerance_text(), "< 0.1000 s");
-        let c = Check::bound("k", "w", 0.0, "", Unit::Percent, Criterion::Above { limit: 0.0 });
+        let c = Check::bound(
+            "k",
+            "w",
+            0.0,
+            "",
+            Unit::Percent,
+            Criterion::Above { limit: 0.0 },
+        );
         assert!(!c.pass);
         assert!(!Check::missing("k", "w", "run failed").pass);
         assert_eq!(Unit::Millisecond.show(8.66e-3), "8.660 ms");

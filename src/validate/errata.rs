@@ -69,7 +69,10 @@ pub fn errata(ctx: &mut Context, figs: &[Figure]) -> Result<Vec<Erratum>, Valida
     };
     let mut eq4_ratios = Vec::new();
     let mut eq1_gravity_ratios = Vec::new();
-    for (law, k) in [("eq. 4 (4/(3 pi) E*)", k_eq4), ("eq. 1, Hertz (4/3 E*)", k11)] {
+    for (law, k) in [
+        ("eq. 4 (4/(3 pi) E*)", k_eq4),
+        ("eq. 1, Hertz (4/3 E*)", k11),
+    ] {
         for q in FIG1_QUOTED {
             for g in [G_M_S2, 0.0] {
                 let mp = reference::mass_for_peak_force(q.v0_m_s, k, g, q.peak_force_n);
@@ -234,10 +237,7 @@ pub fn errata(ctx: &mut Context, figs: &[Figure]) -> Result<Vec<Erratum>, Valida
                 format!("{:.3}", a.contact_time_s * 1e3),
                 format!("{:.2}", b.peak_force_n),
                 format!("{:.3}", b.contact_time_s * 1e3),
-                format!(
-                    "{:.1} %",
-                    100.0 * reference::fig1_worst_error(m, k, G_M_S2)
-                ),
+                format!("{:.1} %", 100.0 * reference::fig1_worst_error(m, k, G_M_S2)),
             ]));
         }
     }
@@ -260,7 +260,10 @@ pub fn errata(ctx: &mut Context, figs: &[Figure]) -> Result<Vec<Erratum>, Valida
         .find(|f| f.id == "fig2")
         .map(|f| {
             let at1: Vec<&ImpactRun> = f.impacts.iter().filter(|i| i.v0_m_s == 1.0).collect();
-            let lo = at1.iter().map(|i| i.peak_force_n).fold(f64::INFINITY, f64::min);
+            let lo = at1
+                .iter()
+                .map(|i| i.peak_force_n)
+                .fold(f64::INFINITY, f64::min);
             let hi = at1.iter().map(|i| i.peak_force_n).fold(0.0, f64::max);
             format!("{lo:.1}-{hi:.1} N")
         })
@@ -334,10 +337,10 @@ pub fn errata(ctx: &mut Context, figs: &[Figure]) -> Result<Vec<Erratum>, Valida
     // (G1 / G2, force change vs steel, contact time) of the softer platforms.
     let mut soft: Vec<(f64, f64, f64)> = Vec::new();
     if let Some(f) = fig4 {
-        let steel_run = f
-            .impacts
-            .iter()
-            .max_by(|a, b| a.platform_shear_modulus_pa.total_cmp(&b.platform_shear_modulus_pa));
+        let steel_run = f.impacts.iter().max_by(|a, b| {
+            a.platform_shear_modulus_pa
+                .total_cmp(&b.platform_shear_modulus_pa)
+        });
         for i in f
             .impacts
             .iter()

@@ -119,15 +119,20 @@ pub struct RollRun {
     pub v0_m_s: f64,
     /// Launch spin about y (rad/s).
     pub w0_rad_s: f64,
+    /// Apple radius R (m).
+    pub radius_m: f64,
     /// Time at which the slip speed v - (R - u) w reaches zero (s); NaN if it never did.
     pub t_roll_s: f64,
     /// Centre speed at the end of the run, rolling (m/s).
     pub rolling_speed_m_s: f64,
-    /// Mean lever arm R - u (centre height above the plate) while sliding (m).
+    /// Mean lever arm R - u (centre height above the plate) while sliding, as run (m).
     pub lever_m: f64,
+    /// Resting sag u = (2 m g / ((1 + ke) k))^(2/3) under eq. 12 (physics.md section 3) (m):
+    /// the closed form's lever is R - u.
+    pub resting_overlap_m: f64,
     /// Friction coefficient.
     pub friction: f64,
-    /// Closed form with the lever R - u (physics.md section 6).
+    /// Closed form with the lever R - u, u the resting sag (physics.md section 6).
     pub closed: SlipToRoll,
     /// Closed form with the lever R.
     pub closed_plain: SlipToRoll,
@@ -237,17 +242,36 @@ fn impact(
             format!("run {}: '{apple}' never touched '{other}'", run.index),
         )
     })?;
+    if !(v0.is_finite() && v0 > 0.0 && g.is_finite() && mass_kg > 0.0 && k > 0.0) {
+        return Err(shape(
+            ex,
+            format!(
+                "run {}: apple '{apple}' must approach '{other}' (touch speed {v0} m/s, mass {mass_kg} kg, gravity {g} m/s^2)",
+                run.index
+            ),
+        ));
+    }
+    // The reference integrates the same impact from the touch. Its step is set by the elastic
+    // no-gravity contact time (physics.md section 4), lengthened for eq. 12's slower unloading
+    // (section 3: t_c = t_H / 2 (1 + 1/sqrt(ke))).
+    let scale =
+        theory::elastic_impact(mass_kg, v0, k, r).contact_time_s * 0.5 * (1.0 + 1.0 / ke.sqrt());
     let reference = if ke == 1.0 {
-        reference::elastic_impact_with_gravity(mass_kg, v0, k, g)
+        reference::integrate_impact(mass_kg, v0, g, scale, |u, _| reference::hertz(k, u))
     } else {
-        let scale = theory::elastic_impact(mass_kg, v0, k, r).contact_time_s
-            * 0.5
-            * (1.0 + 1.0 / ke.sqrt());
         reference::integrate_impact(mass_kg, v0, g, scale, |u, w| {
             reference::eq12(k, ke, lambda, Eq12Sign::Dissipative, u, w)
         })
-        .ok_or_else(|| shape(ex, format!("run {}: the reference never lifts off", run.index)))?
-    };
+    }
+    .ok_or_else(|| {
+        shape(
+            ex,
+            format!(
+                "run {}: the reference integration of '{apple}' on '{other}' never lifts off",
+                run.index
+            ),
+        )
+    })?;
     Ok(ImpactRun {
         label,
         params: run.params.clone(),
@@ -766,18 +790,25 @@ pub fn fig4(ctx: &mut Context) -> Result<Figure, ValidateError> {
     let id = "fig4";
     let ex = ctx.execute("fig4.json")?;
     let impacts = impacts_of(&ex, "apple", "plate", |r| {
-        format!("G2 = {}", platform_name(r.param("platform_shear_modulus_pa")))
+        format!(
+            "G2 = {}",
+            platform_name(r.param("platform_shear_modulus_pa"))
+        )
     })?;
     let mut checks = failed_runs(id, &ex);
     for i in &impacts {
         let case = format!("G2_{}", modulus(i.platform_shear_modulus_pa));
         checks.extend(reference_checks(id, &case, i, &reference_source(i)));
     }
-    let steel = impacts
-        .iter()
-        .max_by(|a, b| a.platform_shear_modulus_pa.total_cmp(&b.platform_shear_modulus_pa));
+    let steel = impacts.iter().max_by(|a, b| {
+        a.platform_shear_modulus_pa
+            .total_cmp(&b.platform_shear_modulus_pa)
+    });
     let mut sorted: Vec<&ImpactRun> = impacts.iter().collect();
-    sorted.sort_by(|a, b| a.platform_shear_modulus_pa.total_cmp(&b.platform_shear_modulus_pa));
+    sorted.sort_by(|a, b| {
+        a.platform_shear_modulus_pa
+            .total_cmp(&b.platform_shear_modulus_pa)
+    });
     if let Some(steel) = steel {
         for i in &sorted {
             let change = i.peak_force_n / steel.peak_force_n - 1.0;
@@ -930,10 +961,7 @@ pub fn fig5(ctx: &mut Context) -> Result<Figure, ValidateError> {
     speeds.sort_by(f64::total_cmp);
     speeds.dedup();
     for &v in &speeds {
-        let mut at: Vec<&ImpactRun> = impacts
-            .iter()
-            .filter(|i| -i.param("v0_m_s") == v)
-            .collect();
+        let mut at: Vec<&ImpactRun> = impacts.iter().filter(|i| -i.param("v0_m_s") == v).collect();
         at.sort_by(|a, b| a.param("layers").total_cmp(&b.param("layers")));
         let p: Vec<f64> = at.iter().map(|i| i.peak_force_n).collect();
         checks.push(rises(
@@ -1019,17 +1047,34 @@ fn roll(ex: &Executed, run: &Run, label: String) -> Result<RollRun, ValidateErro
         .first()
         .ok_or_else(|| shape(ex, format!("run {}: no apple", run.index)))?;
     let s = run.bodies(&spec.name)?;
-    let plate = sc
-        .surfaces
-        .first()
-        .map(|s| match s {
-            SurfaceSpec::Plane(p) => p.material.clone(),
-            _ => String::new(),
-        })
-        .unwrap_or_default();
-    let (mu, _, _) = coefficients(sc, &spec.material, &plate);
+    let plate = match sc.surfaces.first() {
+        Some(SurfaceSpec::Plane(p)) if p.normal == [0.0, 0.0, 1.0] && p.point_m[2] == 0.0 => {
+            p.material.clone()
+        }
+        _ => {
+            return Err(shape(
+                ex,
+                format!(
+                    "run {}: the first surface must be a plane through z = 0 facing +z",
+                    run.index
+                ),
+            ))
+        }
+    };
+    let (mu, ke, _) = coefficients(sc, &spec.material, &plate);
     let g = -sc.gravity_m_s2[2];
     let r = spec.diameter_m / 2.0;
+    // The lever of the closed form, R - u with u the resting sag under eq. 12 (physics.md
+    // sections 3 and 6), from the materials and the mass alone, not from the run.
+    let mass_kg = apple_roster(sc)
+        .get(&spec.name)
+        .map_or(f64::NAN, |a| a.mass_kg);
+    let k = reference::flat_stiffness(
+        &material(ex, sc, &spec.material)?,
+        &material(ex, sc, &plate)?,
+        r,
+    );
+    let sag = reference::resting_overlap(mass_kg, g, k, ke);
     let (v0, w0) = (spec.velocity_m_s[0], spec.angular_velocity_rad_s[1]);
     let slip: Vec<(f64, f64)> = s
         .iter()
@@ -1063,11 +1108,13 @@ fn roll(ex: &Executed, run: &Run, label: String) -> Result<RollRun, ValidateErro
         label,
         v0_m_s: v0,
         w0_rad_s: w0,
+        radius_m: r,
         t_roll_s: t_roll,
         rolling_speed_m_s: last.velocity_m_s[0],
         lever_m: lever,
         friction: mu,
-        closed: theory::slip_to_roll_with_lever(v0, w0, r, lever, mu, g),
+        resting_overlap_m: sag,
+        closed: theory::slip_to_roll_with_lever(v0, w0, r, r - sag, mu, g),
         closed_plain: theory::slip_to_roll(v0, w0, r, mu, g),
     })
 }
@@ -1165,7 +1212,8 @@ fn roll_figure(
             "closed form, lever R (ms)",
             "rolling speed (m/s)",
             "closed form, R - u (m/s)",
-            "lever R - u (mm)",
+            "centre height while sliding, as run (mm)",
+            "R - u, u resting sag (mm)",
         ]
         .map(String::from)
         .to_vec(),
@@ -1180,8 +1228,19 @@ fn roll_figure(
             fmt_sig(rr.rolling_speed_m_s),
             fmt_sig(rr.closed.speed_m_s),
             format!("{:.4}", rr.lever_m * 1e3),
+            format!("{:.4}", (rr.radius_m - rr.resting_overlap_m) * 1e3),
         ]);
     }
+    let note = match rolls.first() {
+        Some(rr) => format!(
+            "The transition is where the slip speed of the contact point, v_x - (R - u) w_y, reaches zero, from bodies.csv sampled every 0.1 ms (linear through the last two sliding samples; R - u is the centre's height above the plate as run). The closed form's lever is R - u with u = (2 m g / ((1 + ke) k))^(2/3) = {:.4} mm, the resting sag under eq. 12, from the materials and mass alone: it is {:.2} % shorter than R, which changes the time to rolling by {:+.2} % against the textbook lever R ({}).",
+            rr.resting_overlap_m * 1e3,
+            100.0 * rr.resting_overlap_m / rr.radius_m,
+            100.0 * (rr.closed.time_s / rr.closed_plain.time_s - 1.0),
+            rr.label
+        ),
+        None => String::new(),
+    };
     Ok(Figure {
         id: id.into(),
         title: title.into(),
@@ -1190,9 +1249,7 @@ fn roll_figure(
         description: ex.description.clone(),
         charts,
         table,
-        notes: vec![
-            "The transition is where the slip speed of the contact point, v_x - (R - u) w_y, reaches zero, from bodies.csv sampled every 0.1 ms (linear through the last two sliding samples). The lever R - u is the apple's centre height while it slides: its sag under its weight shortens it by 0.5 %, which lengthens the slide by 0.7 % against the textbook lever R.".into(),
-        ],
+        notes: vec![note],
         checks,
         impacts: vec![],
         rolls,

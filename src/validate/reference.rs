@@ -139,7 +139,12 @@ pub fn hertz(k: f64, u_m: f64) -> f64 {
 /// An elastic Hertz impact of mass `m` at `v0` on a flat of stiffness `k`, with gravity
 /// `g_m_s2` pushing it onto the flat (physics.md section 4: "with gravity the closed forms no
 /// longer hold; compare against an accurate ODE integration").
-pub fn elastic_impact_with_gravity(mass_kg: f64, v0_m_s: f64, k: f64, g_m_s2: f64) -> ImpactOutcome {
+pub fn elastic_impact_with_gravity(
+    mass_kg: f64,
+    v0_m_s: f64,
+    k: f64,
+    g_m_s2: f64,
+) -> ImpactOutcome {
     let scale = elastic_impact(mass_kg, v0_m_s, k, 1.0).contact_time_s;
     integrate_impact(mass_kg, v0_m_s, g_m_s2, scale, |u, _| hertz(k, u))
         .expect("an elastic impact always lifts off: its energy is conserved")
@@ -369,7 +374,13 @@ mod tests {
     #[test]
     fn eq12_restitution_matches_the_physics_md_table() {
         // physics.md section 3, ke = 0.09 column and ke = 0.25 at lambda v0 = 100.
-        for (lv, e) in [(1.0, 0.664), (2.0, 0.534), (5.0, 0.394), (10.0, 0.332), (100.0, 0.300)] {
+        for (lv, e) in [
+            (1.0, 0.664),
+            (2.0, 0.534),
+            (5.0, 0.394),
+            (10.0, 0.332),
+            (100.0, 0.300),
+        ] {
             let got = eq12_restitution(0.09, lv, Eq12Sign::Dissipative);
             assert!((got - e).abs() < 0.0015, "lambda v0 {lv}: {got} vs {e}");
         }

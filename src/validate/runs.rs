@@ -121,8 +121,7 @@ pub fn execute(spec: &Path, out: &Path, jobs: usize) -> Result<Executed, Validat
         shard: Shard::ALL,
         force: true,
     };
-    let report =
-        runner::run(&batch, out, &opts, &runner::Silent).map_err(ValidateError::Batch)?;
+    let report = runner::run(&batch, out, &opts, &runner::Silent).map_err(ValidateError::Batch)?;
     batch::merge(out).map_err(ValidateError::Batch)?;
     let mut runs = Vec::new();
     for planned in &batch.runs {
