@@ -80,6 +80,8 @@ pub struct ImpactRun {
     pub stiffness: f64,
     /// Eq. 12 ke of the pair (1: elastic).
     pub ke: f64,
+    /// Eq. 12 lambda of the pair (s/m).
+    pub lambda_s_m: f64,
     /// Gravity along the platform normal (m/s^2).
     pub gravity_m_s2: f64,
     /// Row of `contacts.csv`.
@@ -282,6 +284,7 @@ fn impact(
         platform_shear_modulus_pa: p.shear_modulus_pa,
         stiffness: k,
         ke,
+        lambda_s_m: lambda,
         gravity_m_s2: g,
         contact: row.index,
         peak_force_n: row.peak_force_n,
@@ -1290,15 +1293,47 @@ pub fn eq12_runs(
     let impacts = impacts_of(&ex, "apple", "plate", |r| format!("ke = {}", r.param("ke")))?;
     let mut checks = failed_runs(id, &ex);
     for i in &impacts {
+        let lv = i.lambda_s_m * i.v0_m_s;
         checks.push(Check::relative(
             format!("{id}/restitution/ke{}", i.ke),
             format!("restitution at ke = {}", i.ke),
             i.restitution,
             i.reference.restitution(i.v0_m_s),
-            "RK4 of eq. 12 (dissipative sign), lambda v0 = 1000",
+            format!("RK4 of eq. 12 (dissipative sign), lambda v0 = {lv}"),
             Unit::Plain,
             CLOSED_FORM_TOLERANCE,
         ));
+        // physics.md section 3: for lambda v0 >> 1, e = sqrt(ke), the peak force is the
+        // elastic one and the contact lasts t_H / 2 (1 + 1/sqrt(ke)); exact without gravity.
+        checks.push(Check::relative(
+            format!("{id}/closed_form/restitution/ke{}", i.ke),
+            format!("restitution at ke = {}", i.ke),
+            i.restitution,
+            i.ke.sqrt(),
+            format!("physics.md section 3: e = sqrt(ke) for lambda v0 >> 1 (here {lv})"),
+            Unit::Plain,
+            CLOSED_FORM_TOLERANCE,
+        ));
+        if i.gravity_m_s2 == 0.0 {
+            checks.push(Check::relative(
+                format!("{id}/closed_form/peak_force/ke{}", i.ke),
+                format!("peak force at ke = {}", i.ke),
+                i.peak_force_n,
+                i.closed_form.peak_force_n,
+                "physics.md sections 3-4: P_max of the elastic impact, no gravity",
+                Unit::Newton,
+                CLOSED_FORM_TOLERANCE,
+            ));
+            checks.push(Check::relative(
+                format!("{id}/closed_form/contact_time/ke{}", i.ke),
+                format!("contact time at ke = {}", i.ke),
+                i.contact_time_s,
+                0.5 * i.closed_form.contact_time_s * (1.0 + 1.0 / i.ke.sqrt()),
+                "physics.md section 3: t_H / 2 (1 + 1/sqrt(ke)), no gravity",
+                Unit::Millisecond,
+                CLOSED_FORM_TOLERANCE,
+            ));
+        }
     }
     let chart = force_chart(
         ctx,
