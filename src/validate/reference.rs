@@ -139,6 +139,12 @@ pub fn hertz(k: f64, u_m: f64) -> f64 {
 /// An elastic Hertz impact of mass `m` at `v0` on a flat of stiffness `k`, with gravity
 /// `g_m_s2` pushing it onto the flat (physics.md section 4: "with gravity the closed forms no
 /// longer hold; compare against an accurate ODE integration").
+///
+/// # Panics
+///
+/// Unless `mass_kg`, `v0_m_s` and `k` are positive and finite and `g_m_s2` is finite (then
+/// the body always lifts off: its energy is conserved). The validation checks a run's values
+/// before it calls this; [`integrate_impact`] is the fallible form.
 pub fn elastic_impact_with_gravity(
     mass_kg: f64,
     v0_m_s: f64,
@@ -175,6 +181,10 @@ pub fn eq12(k: f64, ke: f64, lambda_s_m: f64, sign: Eq12Sign, u_m: f64, du_dt_m_
 /// Restitution of one eq. 12 impact without gravity. Without gravity it depends only on ke and
 /// lambda v0 (physics.md section 3), so any mass and stiffness will do; the Fig. 1 apple on
 /// steel is used.
+///
+/// # Panics
+///
+/// Unless 0 < ke <= 1 and `lambda_v0` > 0 (the ranges the scenario validation admits).
 pub fn eq12_restitution(ke: f64, lambda_v0: f64, sign: Eq12Sign) -> f64 {
     let (m, v0, k) = (0.107, 1.0, 7.1545e5);
     let lambda = lambda_v0 / v0;
