@@ -11,7 +11,7 @@
 //! [`contact`] (the law, pure functions) -> [`layer`] (pair finding, hooks, forces) ->
 //! [`sim`] (stepping, stability guard) -> [`record`] (contact events, time series) ->
 //! [`output`] (summary, CSV, charts, ParaView) -> [`analysis`] (pulse fit, bruise assessment,
-//! ke calibration).
+//! ke calibration); [`validate`] runs the paper's figures against it.
 #![warn(missing_docs)]
 
 pub mod analysis;
@@ -23,6 +23,7 @@ pub mod output;
 pub mod record;
 pub mod scenario;
 pub mod sim;
+pub mod validate;
 pub mod world;
 
 /// The README's code blocks, compiled and run as doctests.

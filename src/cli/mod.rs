@@ -6,6 +6,7 @@ mod merge;
 mod plot;
 mod run;
 mod tradeoff;
+mod validate;
 
 use clap::{Parser, Subcommand};
 
@@ -31,6 +32,9 @@ enum Command {
     Batch(batch::Args),
     /// Merge the runs of a batch into one table, OUT/merged.csv; report failed or missing runs.
     Merge(merge::Args),
+    /// Run the paper's Figs. 1-7, check them against its numbers and closed forms, and write a
+    /// Markdown report with SVG charts.
+    Validate(validate::Args),
 }
 
 /// Parses the arguments, runs the command, returns the exit code.
@@ -43,6 +47,7 @@ pub fn main() -> i32 {
         Command::Tradeoff(a) => tradeoff::main(a),
         Command::Batch(a) => batch::main(a),
         Command::Merge(a) => merge::main(a),
+        Command::Validate(a) => validate::main(a),
     };
     match result {
         Ok(()) => 0,

@@ -1,0 +1,237 @@
+//! Validation against the paper (`applesim validate`): its Figs. 1-7 as batch specs
+//! (`scenarios/paper/figN.json`), run through the batch machinery, measured, compared with the
+//! numbers the paper quotes, with closed forms and with our own accurate integration of the
+//! impact (with gravity, where the closed forms of physics.md section 4 no longer hold), and
+//! written up as a Markdown report with SVG charts beside it (`report.md`, `figN_*.svg`), with a
+//! section on the paper's inconsistencies (physics.md section 9) and our evidence for each.
+//!
+//! Every check is a row with our value, the reference, the error, the tolerance and PASS/FAIL
+//! ([`check::Check`]). The report holds no wall-clock time or path of the run folders, so the
+//! same code gives the same report, byte for byte.
+//!
+//! Modules: [`runs`] runs a spec and reads its run folders back; [`reference`] the independent
+//! reference values; [`figures`] what each figure measures and checks; [`errata`] the evidence
+//! for the paper's errata; [`report`] the Markdown.
+
+pub mod check;
+pub mod errata;
+pub mod figures;
+pub mod reference;
+pub mod report;
+pub mod runs;
+
+use crate::output::atomic;
+use crate::output::plot::{LineChart, PlotError};
+use check::Check;
+use std::path::{Path, PathBuf};
+
+/// Errors that stop the validation (a failing run does not: it is a failed check).
+#[derive(Debug, thiserror::Error)]
+pub enum ValidateError {
+    /// A spec could not be loaded or its batch could not be run or merged.
+    #[error(transparent)]
+    Batch(#[from] crate::batch::BatchError),
+    /// A run's file could not be read back or parsed.
+    #[error("{path}: {message}")]
+    Read {
+        /// File or folder.
+        path: PathBuf,
+        /// What was wrong.
+        message: String,
+    },
+    /// A chart could not be read or drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    /// A report file could not be written.
+    #[error("writing {path}: {source}")]
+    Io {
+        /// File or folder.
+        path: PathBuf,
+        /// OS error.
+        source: std::io::Error,
+    },
+    /// A scenario of a spec is not what the validation measures (e.g. no apple named as
+    /// expected): the specs under `scenarios/paper/` were edited out of shape.
+    #[error("{spec}: {message}")]
+    Shape {
+        /// The spec.
+        spec: String,
+        /// What the validation expected.
+        message: String,
+    },
+}
+
+/// Where the validation reads and writes.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Folder of the figure specs (`fig1.json` ... `fig7.json`, `eq12_restitution.json`); the
+    /// shipped ones are `scenarios/paper`. Shown in the report as given.
+    pub specs_dir: PathBuf,
+    /// Folder of the report and its charts.
+    pub out_dir: PathBuf,
+    /// Folder of the runs, one batch folder per figure (`RUNS/fig1/`, ...).
+    pub runs_dir: PathBuf,
+    /// Runs at a time within each figure's batch.
+    pub jobs: usize,
+}
+
+/// A table of the report: header and rows of text cells.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Table {
+    /// Column captions.
+    pub header: Vec<String>,
+    /// Rows.
+    pub rows: Vec<Vec<String>>,
+}
+
+/// A chart of the report, written beside it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chart {
+    /// File name in the output folder.
+    pub file: String,
+    /// What it shows (alt text and caption).
+    pub caption: String,
+}
+
+/// One figure of the paper as the validation ran it.
+#[derive(Debug, Clone)]
+pub struct Figure {
+    /// `fig1`, ..., `fig7`.
+    pub id: String,
+    /// Heading.
+    pub title: String,
+    /// What the paper shows and claims for it.
+    pub paper: String,
+    /// The spec that ran it, as given.
+    pub spec: String,
+    /// The spec's description: the parameters and why.
+    pub description: String,
+    /// Charts.
+    pub charts: Vec<Chart>,
+    /// What every run gave.
+    pub table: Table,
+    /// Remarks under the table.
+    pub notes: Vec<String>,
+    /// The checks.
+    pub checks: Vec<Check>,
+    /// The impacts measured (Figs. 1-5), in run order.
+    pub impacts: Vec<figures::ImpactRun>,
+    /// The slip-to-roll runs (Figs. 6-7), in run order.
+    pub rolls: Vec<figures::RollRun>,
+}
+
+/// What the validation found.
+#[derive(Debug, Clone)]
+pub struct Validation {
+    /// The figures, in order.
+    pub figures: Vec<Figure>,
+    /// The paper's inconsistencies with our evidence.
+    pub errata: Vec<errata::Erratum>,
+    /// The report file.
+    pub report: PathBuf,
+    /// Every file written into the output folder (report and charts).
+    pub files: Vec<PathBuf>,
+}
+
+impl Validation {
+    /// Every check, figure by figure, then those of the errata.
+    pub fn checks(&self) -> impl Iterator<Item = &Check> {
+        self.figures
+            .iter()
+            .flat_map(|f| f.checks.iter())
+            .chain(self.errata.iter().flat_map(|e| e.checks.iter()))
+    }
+
+    /// The check with this key.
+    pub fn check(&self, key: &str) -> Option<&Check> {
+        self.checks().find(|c| c.key == key)
+    }
+
+    /// The figure with this id (`fig1`).
+    pub fn figure(&self, id: &str) -> Option<&Figure> {
+        self.figures.iter().find(|f| f.id == id)
+    }
+
+    /// Checks that failed.
+    pub fn failed(&self) -> Vec<&Check> {
+        self.checks().filter(|c| !c.pass).collect()
+    }
+}
+
+/// The report file name.
+pub const REPORT: &str = "report.md";
+
+/// Runs every figure, writes the report and its charts into `opts.out_dir`, returns what was
+/// found. `progress` gets one line per figure.
+pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Validation, ValidateError> {
+    std::fs::create_dir_all(&opts.out_dir).map_err(|source| ValidateError::Io {
+        path: opts.out_dir.clone(),
+        source,
+    })?;
+    let mut ctx = figures::Context {
+        specs_dir: opts.specs_dir.clone(),
+        out_dir: opts.out_dir.clone(),
+        runs_dir: opts.runs_dir.clone(),
+        jobs: opts.jobs.max(1),
+        written: Vec::new(),
+    };
+    type Build = fn(&mut figures::Context) -> Result<Figure, ValidateError>;
+    let builds: [(&str, Build); 7] = [
+        ("fig1", figures::fig1),
+        ("fig2", figures::fig2),
+        ("fig3", figures::fig3),
+        ("fig4", figures::fig4),
+        ("fig5", figures::fig5),
+        ("fig6", figures::fig6),
+        ("fig7", figures::fig7),
+    ];
+    let mut figs = Vec::new();
+    for (id, build) in builds {
+        let f = build(&mut ctx)?;
+        let pass = f.checks.iter().filter(|c| c.pass).count();
+        progress(&format!(
+            "{id}: {} runs, {pass} of {} checks pass",
+            f.impacts.len() + f.rolls.len(),
+            f.checks.len()
+        ));
+        figs.push(f);
+    }
+    let errata = errata::errata(&mut ctx, &figs)?;
+    let pass = errata.iter().flat_map(|e| &e.checks).filter(|c| c.pass);
+    progress(&format!(
+        "errata: {} items, {} of {} checks pass",
+        errata.len(),
+        pass.count(),
+        errata.iter().map(|e| e.checks.len()).sum::<usize>()
+    ));
+    let text = report::markdown(opts, &figs, &errata);
+    let report = opts.out_dir.join(REPORT);
+    write(&report, text.as_bytes())?;
+    let mut files = ctx.written;
+    files.push(report.clone());
+    Ok(Validation {
+        figures: figs,
+        errata,
+        report,
+        files,
+    })
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<(), ValidateError> {
+    atomic::write_file(path, bytes).map_err(|source| ValidateError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Writes `chart` as `file` into the output folder and records it.
+fn write_chart(
+    ctx: &mut figures::Context,
+    file: &str,
+    chart: &LineChart,
+) -> Result<(), ValidateError> {
+    let path = ctx.out_dir.join(file);
+    chart.write_svg(&path)?;
+    ctx.written.push(path);
+    Ok(())
+}
