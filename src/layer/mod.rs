@@ -233,6 +233,9 @@ pub struct LayerConfig {
     pub passive: bool,
     /// Step control for adaptive stepping.
     pub step_control: Option<StepControl>,
+    /// Keep each step's slip of every evaluated contact ([`ContactLayer::slips`]) for the
+    /// slip/roll detector ([`crate::record::transitions`]).
+    pub record_slips: bool,
 }
 
 impl Default for LayerConfig {
@@ -247,6 +250,7 @@ impl Default for LayerConfig {
             sleep: SleepConfig::default(),
             passive: false,
             step_control: None,
+            record_slips: false,
         }
     }
 }
@@ -373,6 +377,29 @@ struct HitOut {
     moving_surface: bool,
     elastic_energy_j: f64,
     overlap_ratio: f64,
+    /// The other party (for the slip samples).
+    party: Party,
+    /// Tangential slip speed at the contact point (m/s).
+    slip_m_s: f64,
+    /// Normal force (N).
+    normal_force_n: f64,
+}
+
+/// The slip of one contact at the current poses, seen from one apple (an apple-apple contact
+/// gives one sample for each of its apples).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlipSample {
+    /// The apple.
+    pub apple: u32,
+    /// What it touches.
+    pub other: Party,
+    /// Tangential slip speed of the apple's surface point over the other surface at the contact
+    /// point, belt velocity included (m/s): |s_t| of physics.md section 5.
+    pub slip_m_s: f64,
+    /// Normal force (N).
+    pub normal_force_n: f64,
+    /// Contact point (m, world).
+    pub point: Vec3,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -464,6 +491,7 @@ pub struct ContactLayer {
     stats_sleeps: u64,
     stats_wakeups: u64,
     hits: Vec<Hit>,
+    slips: Vec<SlipSample>,
     scratch: Vec<SurfaceHit>,
     candidates: Vec<(u32, u32)>,
     finished: Vec<ContactEvent>,
@@ -522,6 +550,7 @@ impl ContactLayer {
             stats_sleeps: 0,
             stats_wakeups: 0,
             hits: Vec::new(),
+            slips: Vec::new(),
             scratch: Vec::new(),
             candidates: Vec::new(),
             finished: Vec::new(),
@@ -1358,6 +1387,18 @@ impl ContactLayer {
         self.asleep.get(id.0 as usize).copied().unwrap_or(false)
     }
 
+    /// The slip of every contact evaluated at the last force pass, in a fixed order (needs
+    /// [`LayerConfig::record_slips`]). Contacts of sleeping apples are not evaluated.
+    pub fn slips(&self) -> &[SlipSample] {
+        &self.slips
+    }
+
+    /// Centre, velocity and angular velocity of an apple as the last force pass saw them.
+    pub fn apple_motion(&self, id: AppleId) -> (Vec3, Vec3, Vec3) {
+        let k = id.0 as usize;
+        (self.pos[k], self.vel[k], self.angvel[k])
+    }
+
     /// Total sleeps and wake-ups so far.
     pub fn sleep_counts(&self) -> (u64, u64) {
         (self.stats_sleeps, self.stats_wakeups)
@@ -1825,6 +1866,11 @@ impl ContactLayer {
             .step_control
             .map(|_| (kick_back + dt_s) / (2.0 * dt_s));
         let k = contact::normal::stiffness(law.e_star_pa, r_star);
+        let party = match (j_apple, surf_idx) {
+            (Some(j), _) => Party::Apple(j as u32),
+            (_, Some(s)) => Party::Surface(s as u32),
+            _ => unreachable!(),
+        };
         Ok(HitOut {
             i,
             j: j_apple,
@@ -1835,6 +1881,9 @@ impl ContactLayer {
             moving_surface,
             elastic_energy_j: contact::normal::elastic_energy(k, u),
             overlap_ratio: ratio,
+            party,
+            slip_m_s: (rel - n * rel.dot(n)).length(),
+            normal_force_n: resp.normal_force_n,
         })
     }
 
@@ -1885,6 +1934,23 @@ impl ContactLayer {
         }
         self.stats.elastic_energy_j += o.elastic_energy_j;
         self.stats.max_overlap_ratio = self.stats.max_overlap_ratio.max(o.overlap_ratio);
+        if self.config.record_slips {
+            let sample = SlipSample {
+                apple: i as u32,
+                other: o.party,
+                slip_m_s: o.slip_m_s,
+                normal_force_n: o.normal_force_n,
+                point,
+            };
+            self.slips.push(sample);
+            if let Some(j) = j_apple {
+                self.slips.push(SlipSample {
+                    apple: j as u32,
+                    other: Party::Apple(i as u32),
+                    ..sample
+                });
+            }
+        }
     }
 
     /// The state of the contact a hit belongs to.
@@ -1911,6 +1977,7 @@ impl ContactLayer {
         time_s: f64,
         dt_s: f64,
     ) -> Result<(), LayerError> {
+        self.slips.clear();
         // Each contact's state is moved out for the evaluation, so the layer itself is only read.
         let mut states = std::mem::take(&mut self.states_buf);
         states.clear();

@@ -1,4 +1,5 @@
-//! Outputs of a run: `summary.json`, `contacts.csv`, `bodies.csv` (and the scenario as run);
+//! Outputs of a run: `summary.json`, `contacts.csv`, `bodies.csv`, `transitions.csv` (and the
+//! scenario as run);
 //! with force histories `forces.csv` and `pulse_fits.csv`; always `bruise.csv`; on request the
 //! ParaView files ([`vtk`]) and the charts ([`plot`]).
 //!
@@ -15,6 +16,7 @@ use crate::analysis::pulse::PulseFit;
 use crate::analysis::Analysis;
 use crate::record::events::ContactEvent;
 use crate::record::series::{AppleState, SampleSink};
+use crate::record::transitions::{Transition, TransitionSummary};
 use crate::scenario::Scenario;
 use crate::sim::{AppleFinal, RunResult};
 use atomic::AtomicFile;
@@ -62,6 +64,10 @@ pub struct Summary<'a> {
     /// Eq. 13 fits of the impacts (also `pulse_fits.csv`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pulse_fits: Option<&'a [PulseFit]>,
+    /// Slip/roll transitions: per apple and per surface (every transition in
+    /// `transitions.csv`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub transitions: Option<&'a TransitionSummary>,
 }
 
 /// The bruise section of `summary.json`.
@@ -133,6 +139,56 @@ pub fn write_contacts(path: &Path, events: &[ContactEvent]) -> std::io::Result<(
     f.commit()
 }
 
+/// Header of `transitions.csv`.
+pub const TRANSITION_HEADER: [&str; 16] = [
+    "apple",
+    "from",
+    "to",
+    "from_surface",
+    "surface",
+    "time_s",
+    "x_m",
+    "y_m",
+    "z_m",
+    "along_m",
+    "speed_m_s",
+    "spin_rad_s",
+    "slip_m_s",
+    "slid_m",
+    "sliding_time_s",
+    "since_previous_s",
+];
+
+/// Writes `transitions.csv`: one row per slip/roll transition ([`TRANSITION_HEADER`]).
+pub fn write_transitions(path: &Path, rows: &[Transition]) -> std::io::Result<()> {
+    let f = AtomicFile::create(path)?;
+    let mut w = csv::Writer::from_writer(f);
+    w.write_record(TRANSITION_HEADER)?;
+    for e in rows {
+        let name = |s: &Option<std::sync::Arc<str>>| s.as_deref().unwrap_or("").to_string();
+        w.write_record([
+            e.apple.to_string(),
+            e.from.as_str().to_string(),
+            e.to.as_str().to_string(),
+            name(&e.from_surface),
+            name(&e.surface),
+            e.time_s.to_string(),
+            e.position_m[0].to_string(),
+            e.position_m[1].to_string(),
+            e.position_m[2].to_string(),
+            opt(e.along_m),
+            e.speed_m_s.to_string(),
+            e.spin_rad_s.to_string(),
+            e.slip_m_s.to_string(),
+            e.slid_m.to_string(),
+            e.sliding_time_s.to_string(),
+            e.since_previous_s.to_string(),
+        ])?;
+    }
+    let f = w.into_inner().map_err(|e| e.into_error())?;
+    f.commit()
+}
+
 /// Writes `summary.json`.
 pub fn write_summary(path: &Path, sc: &Scenario, r: &RunResult) -> std::io::Result<()> {
     write_summary_with(path, sc, r, None)
@@ -172,6 +228,7 @@ pub fn write_summary_with(
             contacts_at_risk: a.bruise.contacts_at_risk().collect(),
         }),
         pulse_fits: analysis.map(|a| a.pulse_fits.as_slice()),
+        transitions: r.transition_summary.as_ref(),
     };
     let mut bytes = serde_json::to_vec_pretty(&s).map_err(std::io::Error::other)?;
     bytes.push(b'\n');
@@ -186,9 +243,11 @@ pub fn write_scenario(path: &Path, sc: &Scenario) -> std::io::Result<()> {
 }
 
 /// Header of `bodies.csv` (one row per apple per sample).
-pub const BODIES_HEADER: [&str; 14] = [
+/// `slip_m_s` is the slip speed of the contact the apple slides or rolls on (0 in the air; empty
+/// when `output.transitions.enabled` is false).
+pub const BODIES_HEADER: [&str; 15] = [
     "time_s", "apple", "x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s", "wx_rad_s", "wy_rad_s",
-    "wz_rad_s", "fx_n", "fy_n", "fz_n",
+    "wz_rad_s", "fx_n", "fy_n", "fz_n", "slip_m_s",
 ];
 
 /// A sample sink streaming `bodies.csv` to a temporary file, renamed on [`BodiesCsv::commit`].
@@ -234,6 +293,7 @@ impl SampleSink for BodiesCsv {
                 &f.x.to_string(),
                 &f.y.to_string(),
                 &f.z.to_string(),
+                &a.slip_speed.map(|x| x.to_string()).unwrap_or_default(),
             ])?;
         }
         Ok(())
@@ -243,6 +303,9 @@ impl SampleSink for BodiesCsv {
 /// Writes the result files of a finished run into `dir` (which must exist).
 pub fn write_results(dir: &Path, sc: &Scenario, r: &RunResult) -> std::io::Result<()> {
     write_contacts(&dir.join("contacts.csv"), &r.events)?;
+    if r.transition_summary.is_some() {
+        write_transitions(&dir.join("transitions.csv"), &r.transitions)?;
+    }
     write_scenario(&dir.join("scenario.json"), sc)?;
     // The summary last: its presence marks a complete run.
     write_summary(&dir.join("summary.json"), sc, r)?;
@@ -461,6 +524,10 @@ pub fn run_to_dir(
     let p = out_dir.join("bruise.csv");
     write_bruise(&p, &analysis).map_err(io_at(&p))?;
     write_contacts(&out_dir.join("contacts.csv"), &result.events).map_err(io_at(out_dir))?;
+    if result.transition_summary.is_some() {
+        let p = out_dir.join("transitions.csv");
+        write_transitions(&p, &result.transitions).map_err(io_at(&p))?;
+    }
     write_scenario(&out_dir.join("scenario.json"), sc).map_err(io_at(out_dir))?;
     let p = out_dir.join("summary.json");
     write_summary_with(&p, sc, &result, Some(&analysis)).map_err(io_at(&p))?;

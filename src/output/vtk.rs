@@ -462,7 +462,13 @@ fn for_each_sample(
     };
     let mut rd = csv::Reader::from_path(path).map_err(|e| bad(e.to_string()))?;
     let header = rd.headers().map_err(|e| bad(e.to_string()))?.clone();
-    if header.iter().collect::<Vec<_>>() != super::BODIES_HEADER {
+    // The first 14 columns (files written before `slip_m_s` was added are read too).
+    if header.len() < 14
+        || header
+            .iter()
+            .take(14)
+            .ne(super::BODIES_HEADER[..14].iter().copied())
+    {
         return Err(bad(format!("unexpected header {:?}", header)));
     }
     let mut rows: Vec<csv::StringRecord> = Vec::new();

@@ -18,6 +18,9 @@ pub struct AppleState {
     pub angular_velocity: Vec3,
     /// Total contact force acting at this pose (N).
     pub contact_force: Vec3,
+    /// Slip speed of the contact the apple slides or rolls on (m/s; 0 when airborne), when the
+    /// slip/roll detector runs ([`crate::record::transitions`]).
+    pub slip_speed: Option<f64>,
 }
 
 /// Receives the samples of a run (a CSV writer, an in-memory store, a plot, ...).

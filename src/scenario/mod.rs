@@ -163,6 +163,77 @@ pub struct OutputSpec {
     /// ParaView time series of the apples and surfaces (`scene.pvd`, `vtk/`); off when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vtk: Option<VtkSpec>,
+    /// Slip-to-roll detection (`transitions.csv`, docs/transitions.md); on with the defaults
+    /// when absent.
+    #[serde(default, skip_serializing_if = "TransitionSpec::is_default")]
+    pub transitions: TransitionSpec,
+}
+
+/// Settings of the slip/roll detector (docs/transitions.md). A contact slides when its slip speed
+/// exceeds `hysteresis` times the threshold max(`slip_speed_m_s`, `relative_tolerance` |v|), |v|
+/// the apple's speed, and rolls again once it falls below the threshold; a new state counts only
+/// once it has lasted `min_dwell_s` (it is then dated back to where it began).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransitionSpec {
+    /// Detect and record transitions.
+    #[serde(default = "default_true")]
+    pub enabled: bool,
+    /// Absolute slip-speed threshold (m/s).
+    #[serde(default = "default_slip_speed")]
+    pub slip_speed_m_s: f64,
+    /// Threshold relative to the apple's centre speed.
+    #[serde(default = "default_relative_tolerance")]
+    pub relative_tolerance: f64,
+    /// A rolling contact starts sliding only above this multiple of the threshold (>= 1).
+    #[serde(default = "default_hysteresis")]
+    pub hysteresis: f64,
+    /// Shortest state that counts (s): briefer slips, bounces and rolls are not transitions.
+    #[serde(default = "default_min_dwell")]
+    pub min_dwell_s: f64,
+    /// Bin width of the per-surface histograms of where apples start rolling (m).
+    #[serde(default = "default_histogram_bin")]
+    pub histogram_bin_m: f64,
+}
+
+fn default_slip_speed() -> f64 {
+    5e-3
+}
+
+fn default_relative_tolerance() -> f64 {
+    0.01
+}
+
+fn default_hysteresis() -> f64 {
+    2.0
+}
+
+fn default_min_dwell() -> f64 {
+    0.01
+}
+
+fn default_histogram_bin() -> f64 {
+    0.05
+}
+
+impl Default for TransitionSpec {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            slip_speed_m_s: default_slip_speed(),
+            relative_tolerance: default_relative_tolerance(),
+            hysteresis: default_hysteresis(),
+            min_dwell_s: default_min_dwell(),
+            histogram_bin_m: default_histogram_bin(),
+        }
+    }
+}
+
+impl TransitionSpec {
+    /// Whether these are the defaults (then omitted from the scenario as written).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
 }
 
 /// VTK output for ParaView (docs/analysis.md, "ParaView").
@@ -188,6 +259,7 @@ impl Default for OutputSpec {
             sample_interval_s: default_sample_interval(),
             force_history: true,
             vtk: None,
+            transitions: TransitionSpec::default(),
         }
     }
 }

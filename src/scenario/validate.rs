@@ -21,6 +21,17 @@ fn positive(field: &str, v: f64) -> R {
     }
 }
 
+fn non_negative(field: &str, v: f64) -> R {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(ScenarioError::invalid(
+            field,
+            format!("{v} must be a finite number >= 0"),
+        ))
+    }
+}
+
 fn finite3(field: &str, v: [f64; 3]) -> R {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
@@ -143,6 +154,20 @@ pub fn validate(sc: &Scenario) -> R {
     }
     finite3("gravity_m_s2", sc.gravity_m_s2)?;
     positive("output.sample_interval_s", sc.output.sample_interval_s)?;
+    let tr = &sc.output.transitions;
+    positive("output.transitions.slip_speed_m_s", tr.slip_speed_m_s)?;
+    non_negative(
+        "output.transitions.relative_tolerance",
+        tr.relative_tolerance,
+    )?;
+    if !(tr.hysteresis >= 1.0 && tr.hysteresis.is_finite()) {
+        return Err(ScenarioError::invalid(
+            "output.transitions.hysteresis",
+            format!("must be a finite number >= 1, got {}", tr.hysteresis),
+        ));
+    }
+    non_negative("output.transitions.min_dwell_s", tr.min_dwell_s)?;
+    positive("output.transitions.histogram_bin_m", tr.histogram_bin_m)?;
     if let Some(v) = &sc.output.vtk {
         positive("output.vtk.interval_s", v.interval_s)?;
     }

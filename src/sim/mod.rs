@@ -13,6 +13,7 @@ use crate::layer::{AppleId, LayerError, StepControl};
 use crate::math::arr3;
 use crate::record::events::{ContactEvent, Party};
 use crate::record::series::{AppleState, SampleSink};
+use crate::record::transitions::{self, Detector, Transition, TransitionSummary};
 use crate::scenario::Scenario;
 use crate::world::{self, BuildError, World};
 use serde::Serialize;
@@ -111,6 +112,10 @@ pub struct RunResult {
     pub events: Vec<ContactEvent>,
     /// Final state per apple.
     pub apples: Vec<AppleFinal>,
+    /// Slip/roll transitions in order of time (empty when the detector is off).
+    pub transitions: Vec<Transition>,
+    /// The transitions section of the summary (`None` when the detector is off).
+    pub transition_summary: Option<TransitionSummary>,
     /// Things the user should know that did not stop the run.
     pub warnings: Vec<String>,
     /// Key results as flat, unit-suffixed numbers (one row of a batch table): every feature that
@@ -182,6 +187,7 @@ pub struct Simulation {
     states: Vec<AppleState>,
     gravity: crate::math::Vec3,
     energy: Option<EnergyGuard>,
+    detector: Option<Detector>,
 }
 
 /// Watches the total energy of a scene without energy input (no belt, no moving body).
@@ -239,7 +245,6 @@ impl Simulation {
             crate::scenario::TimeStep::Adaptive => "adaptive",
         };
         Ok(Self {
-            world,
             dt_prev: plan.initial_s,
             plan,
             step_policy,
@@ -255,6 +260,9 @@ impl Simulation {
             states: Vec::new(),
             gravity: crate::math::vec3(sc.gravity_m_s2),
             energy: energy.map(|e| EnergyGuard { v_bound, ..e }),
+            detector: (sc.output.transitions.enabled && !world.layer.config().passive)
+                .then(|| Detector::new(sc.output.transitions, world.surface_frames.clone())),
+            world,
         })
     }
 
@@ -315,6 +323,7 @@ impl Simulation {
                 velocity: rb.linvel(),
                 angular_velocity: rb.angvel(),
                 contact_force: layer.apple_contact_force(id),
+                slip_speed: self.detector.as_ref().map(|d| d.current_slip(k)),
             });
         }
     }
@@ -346,6 +355,9 @@ impl Simulation {
             cap
         };
         self.events.extend(w.layer.take_finished_events());
+        if let Some(d) = self.detector.as_mut() {
+            d.observe(t, &w.layer);
+        }
         Ok(dt)
     }
 
@@ -601,9 +613,19 @@ impl Simulation {
                 ));
             }
         }
-        let metrics = base_metrics(&events, &apples);
+        let mut metrics = base_metrics(&events, &apples);
+        let (transitions, transition_summary) = match self.detector.take() {
+            Some(d) => {
+                let (t, s) = d.finish();
+                metrics.extend(transitions::metrics(&s));
+                (t, Some(s))
+            }
+            None => (Vec::new(), None),
+        };
         RunResult {
             metrics,
+            transitions,
+            transition_summary,
             steps: self.step,
             time_step_s: if self.step > 0 {
                 self.time_s / self.step as f64

@@ -51,6 +51,9 @@ pub struct World {
     pub apple_bodies: Vec<RigidBodyHandle>,
     /// Collider of each surface part, in layer order.
     pub surface_colliders: Vec<ColliderHandle>,
+    /// Frame of each surface part in which positions along it are measured
+    /// ([`surfaces::SurfacePart::along`]).
+    pub surface_frames: Vec<rapier3d_f64::math::Pose>,
     materials: BTreeMap<String, (MaterialId, Material)>,
     /// Emissions still to come: (time, source index, apple), in order.
     pending: VecDeque<(f64, usize, AppleSpec)>,
@@ -100,6 +103,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             patch_shift: sc.fidelity == Fidelity::Full,
         },
         passive: rigid,
+        record_slips: sc.output.transitions.enabled,
         sleep: SleepConfig {
             enabled: sl.enabled,
             speed_m_s: sl.speed_m_s,
@@ -134,6 +138,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         layer,
         apple_bodies: Vec::new(),
         surface_colliders: Vec::new(),
+        surface_frames: Vec::new(),
         materials,
         pending: VecDeque::new(),
         postponed: 0,
@@ -188,6 +193,7 @@ impl World {
         let (mid, _) = self.materials[&part.material];
         let rigid = part.model == ContactModel::Rigid || self.layer.config().passive;
         let mut collider = part.collider;
+        let along = part.along;
         if rigid {
             // rapier's own response: friction and restitution of the apple-surface pair.
             let c = match apple_material {
@@ -213,6 +219,7 @@ impl World {
             },
         )?;
         self.surface_colliders.push(ch);
+        self.surface_frames.push(along);
         Ok(())
     }
 

@@ -31,15 +31,20 @@ pub struct SurfacePart {
     pub belt_local: Vec3,
     /// Contact model.
     pub model: ContactModel,
+    /// The frame in which positions along the part are measured (transitions' `along_m`): +x
+    /// runs along it from its start (a belt's upstream end, a chute's top end, a box's -x
+    /// end); a plane's origin is its point, a bin wall's or a mesh's the collider's pose.
+    pub along: Pose,
 }
 
 fn part(name: &str, material: &str, collider: ColliderBuilder, model: ContactModel) -> SurfacePart {
     SurfacePart {
         name: name.to_string(),
         material: material.to_string(),
-        collider,
         shape: SurfaceShape::FromCollider,
         belt_local: Vec3::ZERO,
+        along: collider.position,
+        collider,
         model,
     }
 }
@@ -64,12 +69,14 @@ pub fn parts(
         )],
         SurfaceSpec::Box(b) => {
             let pose = Pose::from_parts(vec3(b.position_m), rotation_of(&b.rotation, field)?);
-            vec![part(
+            let mut p = part(
                 &b.name,
                 &b.material,
                 cuboid(b.size_m, pose),
                 b.contact_model,
-            )]
+            );
+            p.along = pose * Pose::from_translation(Vec3::new(-b.size_m[0] / 2.0, 0.0, 0.0));
+            vec![p]
         }
         SurfaceSpec::Conveyor(b) => {
             let pose = Pose::from_parts(vec3(b.position_m), rotation_of(&b.rotation, field)?);
@@ -80,6 +87,16 @@ pub fn parts(
                 b.contact_model,
             );
             p.belt_local = Vec3::new(b.belt_velocity_m_s, 0.0, 0.0);
+            // Along the belt's travel from its upstream end.
+            let half = b.size_m[0] / 2.0;
+            p.along = if b.belt_velocity_m_s < 0.0 {
+                pose * Pose::from_parts(
+                    Vec3::new(half, 0.0, 0.0),
+                    Rotation::from_rotation_z(std::f64::consts::PI),
+                )
+            } else {
+                pose * Pose::from_translation(Vec3::new(-half, 0.0, 0.0))
+            };
             vec![p]
         }
         SurfaceSpec::Chute(c) => {
@@ -89,7 +106,9 @@ pub fn parts(
                     * Rotation::from_rotation_y(c.incline_deg.to_radians()),
             );
             let t = c.thickness_m.unwrap_or(DEFAULT_THICKNESS_M);
-            match c.profile {
+            // Along the slope from the top end.
+            let along = frame * Pose::from_translation(Vec3::new(-c.length_m / 2.0, 0.0, 0.0));
+            let mut parts = match c.profile {
                 ChuteProfile::Flat => {
                     let w = c.width_m.unwrap_or(0.0);
                     let pose = frame * Pose::from_translation(Vec3::new(0.0, 0.0, -t / 2.0));
@@ -118,7 +137,9 @@ pub fn parts(
                     };
                     vec![p]
                 }
-            }
+            };
+            parts[0].along = along;
+            parts
         }
         SurfaceSpec::Bin(b) => {
             let frame = Pose::from_parts(vec3(b.position_m), rotation_of(&b.rotation, field)?);

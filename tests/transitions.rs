@@ -1,0 +1,326 @@
+//! Slip-to-roll transitions as results (issue 8 acceptance): the detector's transition time,
+//! speed, slide distance and position against physics.md section 6's closed forms on a flat
+//! plate and a belt; roll -> slide at a transfer onto a steep chute and none onto a gentle one;
+//! no chatter; the outputs (transitions.csv, summary.json section, metrics, bodies.csv slip).
+
+mod common;
+use applesim::contact::theory;
+use applesim::record::transitions::{Motion, Transition};
+use applesim::scenario::Scenario;
+use common::*;
+use serde_json::json;
+
+const R: f64 = 0.04;
+const G: f64 = 9.81;
+
+/// The shipped slip-to-roll apple on its steel plate with the given launch and friction.
+fn plate(v0: f64, w0: f64, mu: f64, duration: f64) -> Scenario {
+    let mut sc = shipped("scenarios/slip_to_roll.json");
+    sc.apples[0].velocity_m_s = [v0, 0.0, 0.0];
+    sc.apples[0].angular_velocity_rad_s = [0.0, w0, 0.0];
+    sc.contact.friction = mu;
+    sc.duration_s = duration;
+    sc.output.sample_interval_s = 0.01;
+    sc
+}
+
+fn only_transition(t: &[Transition]) -> &Transition {
+    assert_eq!(t.len(), 1, "one transition expected, got {t:#?}");
+    &t[0]
+}
+
+fn check_plate(v0: f64, w0: f64, mu: f64) {
+    let cf = theory::slip_to_roll(v0, w0, R, mu, G);
+    let x0 = 0.0;
+    let (r, _) = run(&plate(v0, w0, mu, 1.5 * cf.time_s + 0.03));
+    let e = only_transition(&r.transitions);
+    println!("v0 {v0} w0 {w0} mu {mu}: {e:?}");
+    assert_eq!((e.from, e.to), (Motion::Sliding, Motion::Rolling));
+    assert_eq!(e.surface.as_deref(), Some("plate"));
+    assert_rel("transition time", e.time_s, cf.time_s, 0.01);
+    assert_rel("rolling speed", e.speed_m_s, cf.speed_m_s.abs(), 0.01);
+    assert_rel("slide distance", e.slid_m, cf.slide_distance_m, 0.02);
+    assert_rel("sliding time", e.sliding_time_s, cf.time_s, 0.01);
+    // Where it starts rolling: the centre travel while sliding.
+    let travel = e.position_m[0] - x0;
+    if cf.centre_travel_m.abs() > 1e-3 {
+        assert_rel("centre travel", travel, cf.centre_travel_m, 0.02);
+    }
+    // With the true lever arm R - u (the centre height over the plate) the detector is exact
+    // to the step: 0.15 % as in tests/slip_to_roll.rs.
+    let rho = e.position_m[2];
+    let tight = theory::slip_to_roll_with_lever(v0, w0, R, rho, mu, G);
+    assert_rel(
+        "transition time, lever R - u",
+        e.time_s,
+        tight.time_s,
+        0.0015,
+    );
+    assert_rel(
+        "rolling speed, lever R - u",
+        e.speed_m_s,
+        tight.speed_m_s.abs(),
+        0.0015,
+    );
+    assert_rel(
+        "slide distance, lever R - u",
+        e.slid_m,
+        tight.slide_distance_m,
+        0.005,
+    );
+    // The summary agrees with the event.
+    let s = r.transition_summary.as_ref().unwrap();
+    assert_eq!(s.apples[0].first_rolling_s, Some(e.time_s));
+    assert_eq!(s.apples[0].slip_episodes, 1);
+    assert_eq!(s.apples[0].final_state, Motion::Rolling);
+    assert_rel(
+        "summary slide distance",
+        s.apples[0].slide_distance_m,
+        e.slid_m,
+        0.01,
+    );
+}
+
+#[test]
+fn flat_plate_from_speed_only() {
+    for mu in [0.2, 0.3, 0.6] {
+        check_plate(0.5, 0.0, mu);
+    }
+}
+
+#[test]
+fn flat_plate_from_spin_only() {
+    for mu in [0.2, 0.3, 0.6] {
+        check_plate(0.0, 20.0, mu);
+    }
+}
+
+#[test]
+fn flat_plate_from_speed_and_backspin() {
+    for mu in [0.2, 0.3, 0.6] {
+        check_plate(0.5, -10.0, mu);
+    }
+}
+
+/// An apple at rest on a steel belt moving at `v_belt`: it slides until it rolls with the belt
+/// after 2 V / (7 mu g), at 2 V / 7.
+#[test]
+fn belt_from_rest() {
+    let v_belt = 1.0;
+    let mu = 0.3;
+    let t_cf = 2.0 * v_belt / (7.0 * mu * G);
+    let v = json!({
+        "duration_s": 1.5 * t_cf + 0.03, "time_step_s": 1e-5, "gravity_m_s2": [0, 0, -9.81],
+        "output": {"sample_interval_s": 0.01, "force_history": false},
+        "materials": {
+            "apple": {"shear_modulus_pa": 1.0e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
+            "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
+        "contact": {"friction": mu, "ke": 0.09, "lambda_s_m": 1000},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 0.08, "mass_kg": 0.107,
+            "position_m": [0, 0, 0.0397936]}],
+        "surfaces": [{"name": "belt", "type": "conveyor", "material": "steel",
+            "size_m": [2.0, 0.5, 0.02], "position_m": [0.5, 0, -0.01], "belt_velocity_m_s": v_belt}]
+    });
+    let sc = applesim::scenario::from_json(&v.to_string(), "belt").unwrap();
+    let (r, _) = run(&sc);
+    let e = only_transition(&r.transitions);
+    println!("{e:?}");
+    assert_eq!((e.from, e.to), (Motion::Sliding, Motion::Rolling));
+    assert_rel("belt transition time", e.time_s, t_cf, 0.01);
+    assert_rel("speed over ground", e.speed_m_s, 2.0 * v_belt / 7.0, 0.01);
+    assert_rel("slide distance", e.slid_m, v_belt * t_cf / 2.0, 0.02);
+    // With the lever arm R - u (the centre height over the belt top at z = 0): the slip falls at
+    // mu g (1 + 5/2 (rho/R)^2).
+    let rho = e.position_m[2];
+    let t_lever = v_belt / (mu * G * (1.0 + 2.5 * (rho / R).powi(2)));
+    assert_rel(
+        "belt transition time, lever R - u",
+        e.time_s,
+        t_lever,
+        0.0015,
+    );
+    // Along the belt from its upstream end (x = -0.5).
+    let along = e.along_m.unwrap();
+    assert!(
+        (along - (0.5 + e.position_m[0])).abs() < 1e-3,
+        "along {along}"
+    );
+}
+
+/// A belt carrying an apple onto a chute inclined at `incline_deg` (friction 0.5 everywhere).
+fn transfer(incline_deg: f64) -> Scenario {
+    let th = incline_deg.to_radians();
+    let len = 1.0;
+    // The chute's top edge sits just past and below the belt's end: apples roll over it.
+    let top = [0.005, 0.0, -0.004];
+    let centre = [
+        top[0] + 0.5 * len * th.cos(),
+        0.0,
+        top[2] - 0.5 * len * th.sin(),
+    ];
+    let v = json!({
+        "duration_s": 1.6, "time_step_s": 2e-5, "gravity_m_s2": [0, 0, -9.81],
+        "output": {"sample_interval_s": 0.005, "force_history": false},
+        "materials": {
+            "apple": {"shear_modulus_pa": 1.0e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
+            "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 0.08, "mass_kg": 0.107,
+            "position_m": [-0.1, 0, 0.0397936], "velocity_m_s": [0.1, 0, 0]}],
+        "surfaces": [
+            {"name": "belt", "type": "conveyor", "material": "steel",
+             "size_m": [0.6, 0.3, 0.02], "position_m": [-0.3, 0, -0.01], "belt_velocity_m_s": 0.1},
+            {"name": "chute", "type": "chute", "profile": "flat", "material": "steel",
+             "length_m": len, "width_m": 0.3, "incline_deg": incline_deg, "position_m": centre}]
+    });
+    applesim::scenario::from_json(&v.to_string(), "transfer").unwrap()
+}
+
+#[test]
+fn belt_onto_steep_chute_slides_and_onto_gentle_chute_keeps_rolling() {
+    let mu: f64 = 0.5;
+    // Steep: tan(65 deg) = 2.14 > 7/2 mu = 1.75: it cannot roll without slipping.
+    let steep = 65.0f64;
+    assert!(steep.to_radians().tan() > 3.5 * mu);
+    let (r, _) = run(&transfer(steep));
+    for e in &r.transitions {
+        println!("steep: {e:?}");
+    }
+    // Roll -> slide at the transfer: the first slip is where it leaves the belt, from rolling.
+    let slip = r
+        .transitions
+        .iter()
+        .position(|e| e.to == Motion::Sliding)
+        .expect("it slides on the steep chute");
+    let e = &r.transitions[slip];
+    assert_eq!(e.from, Motion::Rolling, "{e:?}");
+    assert!(
+        e.position_m[0] > -0.04 && e.position_m[0] < 0.1,
+        "at the transfer (belt end x = 0): {e:?}"
+    );
+    // Before: rolling with the belt all along (possibly handed over to the chute's edge).
+    assert!(r.transitions[..slip]
+        .iter()
+        .all(|e| e.to == Motion::Rolling && e.from == Motion::Rolling));
+    // After: it never rolls again, and ends sliding down the chute.
+    assert!(r.transitions[slip..]
+        .iter()
+        .all(|e| e.to != Motion::Rolling));
+    let last = r.transitions.last().unwrap();
+    assert_eq!(
+        (last.to, last.surface.as_deref()),
+        (Motion::Sliding, Some("chute"))
+    );
+    let s = r.transition_summary.as_ref().unwrap();
+    assert_eq!(s.apples[0].final_state, Motion::Sliding);
+
+    // Gentle: tan(10 deg) = 0.18 < 1.75: it rolls down; the mismatch at the transfer (the belt's
+    // 0.1 m/s) dies out within the dwell time, so no slip episode counts.
+    let gentle = 10.0f64;
+    assert!(gentle.to_radians().tan() < 3.5 * mu);
+    let (r, _) = run(&transfer(gentle));
+    for e in &r.transitions {
+        println!("gentle: {e:?}");
+    }
+    assert!(
+        r.transitions.iter().all(|e| e.to != Motion::Sliding),
+        "no slip on the gentle chute"
+    );
+    let s = r.transition_summary.as_ref().unwrap();
+    assert_eq!(s.apples[0].final_state, Motion::Rolling);
+    assert_eq!(s.apples[0].slip_episodes, 0);
+    assert!(
+        r.transitions
+            .iter()
+            .any(|e| e.surface.as_deref() == Some("chute") && e.to == Motion::Rolling),
+        "it ends up rolling on the chute"
+    );
+}
+
+/// No chatter: an apple that slides, then rolls on a flat plate records exactly one transition
+/// over 1 s; one launched rolling records none.
+#[test]
+fn rolling_apple_does_not_chatter() {
+    let (r, _) = run(&plate(0.5, 0.0, 0.3, 1.0));
+    only_transition(&r.transitions);
+    // Launched rolling: v = rho w with the lever arm of its resting sag.
+    let rho = 0.0397936;
+    let (r, _) = run(&plate(0.5, 0.5 / rho, 0.3, 1.0));
+    assert!(r.transitions.is_empty(), "{:#?}", r.transitions);
+    assert_eq!(
+        r.transition_summary.as_ref().unwrap().apples[0].final_state,
+        Motion::Rolling
+    );
+}
+
+/// The files: transitions.csv with its header and one row per transition, the summary section,
+/// the batch metrics and the slip column of bodies.csv.
+#[test]
+fn outputs_carry_the_transitions() {
+    let sc = plate(0.5, 0.0, 0.3, 0.1);
+    let dir = std::env::temp_dir().join(format!("applesim_transitions_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let csv = std::fs::read_to_string(dir.join("transitions.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        applesim::output::TRANSITION_HEADER.join(",")
+    );
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(&row[..5], &["a1", "sliding", "rolling", "plate", "plate"]);
+    let t: f64 = row[5].parse().unwrap();
+    assert_eq!(t, r.transitions[0].time_s);
+    assert!(lines.next().is_none());
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
+    let tr = &summary["transitions"];
+    assert_eq!(tr["transitions"], 1);
+    assert_eq!(tr["apples"][0]["first_rolling_s"].as_f64().unwrap(), t);
+    assert_eq!(tr["surfaces"][0]["surface"], "plate");
+    assert_eq!(tr["surfaces"][0]["rolling_starts"], 1);
+    let m = &summary["metrics"];
+    assert_eq!(m["mean_first_rolling_s"].as_f64().unwrap(), t);
+    assert!(m["mean_slide_distance_m"].as_f64().unwrap() > 0.0);
+    let bodies = std::fs::read_to_string(dir.join("bodies.csv")).unwrap();
+    assert!(bodies.lines().next().unwrap().ends_with(",slip_m_s"));
+    let first: Vec<&str> = bodies.lines().nth(1).unwrap().split(',').collect();
+    let slip0: f64 = first[14].parse().unwrap();
+    assert!((slip0 - 0.5).abs() < 1e-3, "slip at launch {slip0}");
+    // Off: no file, no section, an empty slip column.
+    let mut off = sc.clone();
+    off.output.transitions.enabled = false;
+    let dir2 = dir.join("off");
+    let r2 = applesim::output::run_to_dir(&off, &repo("scenarios"), &dir2, &mut |_| {}).unwrap();
+    assert!(r2.transitions.is_empty() && r2.transition_summary.is_none());
+    assert!(!dir2.join("transitions.csv").exists());
+    let bodies = std::fs::read_to_string(dir2.join("bodies.csv")).unwrap();
+    assert!(bodies.lines().nth(1).unwrap().ends_with(','));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bad settings name their field.
+#[test]
+fn bad_settings_are_refused_by_name() {
+    for (field, value) in [
+        ("slip_speed_m_s", json!(0.0)),
+        ("hysteresis", json!(0.5)),
+        ("min_dwell_s", json!(-1.0)),
+        ("relative_tolerance", json!(-0.1)),
+        ("histogram_bin_m", json!(0.0)),
+    ] {
+        let mut v: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(repo("scenarios/slip_to_roll.json")).unwrap(),
+        )
+        .unwrap();
+        v["output"]["transitions"] = json!({ field: value });
+        let err = applesim::scenario::from_json(&v.to_string(), "x")
+            .and_then(|sc| applesim::scenario::validate(&sc).map(|_| sc))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(&format!("output.transitions.{field}")),
+            "{field}: {err}"
+        );
+    }
+}
