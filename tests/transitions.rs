@@ -109,20 +109,7 @@ fn belt_from_rest() {
     let v_belt = 1.0;
     let mu = 0.3;
     let t_cf = 2.0 * v_belt / (7.0 * mu * G);
-    let v = json!({
-        "duration_s": 1.5 * t_cf + 0.03, "time_step_s": 1e-5, "gravity_m_s2": [0, 0, -9.81],
-        "output": {"sample_interval_s": 0.01, "force_history": false},
-        "materials": {
-            "apple": {"shear_modulus_pa": 1.0e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
-            "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
-        "contact": {"friction": mu, "ke": 0.09, "lambda_s_m": 1000},
-        "apples": [{"name": "a1", "material": "apple", "diameter_m": 0.08, "mass_kg": 0.107,
-            "position_m": [0, 0, 0.0397936]}],
-        "surfaces": [{"name": "belt", "type": "conveyor", "material": "steel",
-            "size_m": [2.0, 0.5, 0.02], "position_m": [0.5, 0, -0.01], "belt_velocity_m_s": v_belt}]
-    });
-    let sc = applesim::scenario::from_json(&v.to_string(), "belt").unwrap();
-    let (r, _) = run(&sc);
+    let (r, _) = run(&belt(v_belt, mu, 1.5 * t_cf + 0.03));
     let e = only_transition(&r.transitions);
     println!("{e:?}");
     assert_eq!((e.from, e.to), (Motion::Sliding, Motion::Rolling));
@@ -145,6 +132,23 @@ fn belt_from_rest() {
         (along - (0.5 + e.position_m[0])).abs() < 1e-3,
         "along {along}"
     );
+}
+
+/// The apple at rest on a 2 m steel belt (x from -0.5 to 1.5) running at `v_belt`.
+fn belt(v_belt: f64, mu: f64, duration: f64) -> Scenario {
+    let v = json!({
+        "duration_s": duration, "time_step_s": 1e-5, "gravity_m_s2": [0, 0, -9.81],
+        "output": {"sample_interval_s": 0.01, "force_history": false},
+        "materials": {
+            "apple": {"shear_modulus_pa": 1.0e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
+            "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
+        "contact": {"friction": mu, "ke": 0.09, "lambda_s_m": 1000},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 0.08, "mass_kg": 0.107,
+            "position_m": [0, 0, 0.0397936]}],
+        "surfaces": [{"name": "belt", "type": "conveyor", "material": "steel",
+            "size_m": [2.0, 0.5, 0.02], "position_m": [0.5, 0, -0.01], "belt_velocity_m_s": v_belt}]
+    });
+    applesim::scenario::from_json(&v.to_string(), "belt").unwrap()
 }
 
 /// A belt carrying an apple onto a chute inclined at `incline_deg` (friction 0.5 everywhere).
@@ -323,4 +327,52 @@ fn bad_settings_are_refused_by_name() {
             "{field}: {err}"
         );
     }
+}
+
+/// The charts: slip speed against time with the transition marked, and the histogram of where
+/// apples start rolling (SVG, well-formed, with the expected legend).
+#[test]
+fn plots_mark_the_transitions() {
+    use applesim::output::plot::{self, PlotOptions};
+    let root = std::env::temp_dir().join(format!("applesim_tr_plots_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    let run_dir = root.join("run");
+    let mut sc = belt(0.5, 0.3, 0.1);
+    sc.output.sample_interval_s = 1e-3;
+    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &run_dir, &mut |_| {}).unwrap();
+    let out = root.join("charts");
+    let s = plot::plot_runs(
+        std::slice::from_ref(&run_dir),
+        &out,
+        &PlotOptions::default(),
+    )
+    .unwrap();
+    assert!(s.written.contains(&out.join(plot::SLIP_CHART)));
+    assert!(s.written.contains(&out.join(plot::ROLLING_STARTS_CHART)));
+    let texts = |f: &str| -> Vec<String> {
+        let svg = std::fs::read_to_string(out.join(f)).unwrap();
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        doc.descendants()
+            .filter(|n| n.is_text())
+            .filter_map(|n| n.text().map(|t| t.trim().to_string()))
+            .filter(|t| !t.is_empty())
+            .collect()
+    };
+    let slip = texts(plot::SLIP_CHART);
+    assert!(slip.iter().any(|t| t == "a1"), "{slip:?}");
+    assert!(slip.iter().any(|t| t == "to rolling"), "{slip:?}");
+    let starts = texts(plot::ROLLING_STARTS_CHART);
+    assert!(
+        starts.iter().any(|t| t == "belt (1 rolling starts)"),
+        "{starts:?}"
+    );
+    // The curve read back: the slip falls from the belt's 0.5 m/s to about zero at the transition.
+    let curves = plot::read_run(&run_dir).unwrap();
+    let k = &curves.apples[0].1;
+    assert!((k.slip[0].1 - 0.5).abs() < 1e-3);
+    let t_roll = r.transitions[0].time_s;
+    let after = k.slip.iter().find(|p| p.0 > t_roll + 0.005).unwrap();
+    assert!(after.1 < 5e-3, "slip after rolling {after:?}");
+    assert_eq!(curves.transitions.len(), 1);
+    let _ = std::fs::remove_dir_all(&root);
 }

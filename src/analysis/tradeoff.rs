@@ -502,6 +502,7 @@ impl TradeoffTable {
             x_label: "log10 of wall time (s)".into(),
             y_label: "log10 of error".into(),
             series,
+            markers: Vec::new(),
         }
     }
 }

@@ -22,13 +22,20 @@ pub struct Args {
     /// impact pulse.
     #[arg(long)]
     window_ms: Option<f64>,
+    /// Bin width of the histogram of where apples start rolling (m).
+    #[arg(long, default_value_t = 0.05)]
+    bin_m: f64,
 }
 
 pub fn main(a: Args) -> Result<(), String> {
+    if !(a.bin_m.is_finite() && a.bin_m > 0.0) {
+        return Err(format!("--bin-m {}: give a width > 0", a.bin_m));
+    }
     let opts = PlotOptions {
         max_series: a.max_series,
         apples: a.apple,
         window_ms: a.window_ms,
+        histogram_bin_m: a.bin_m,
     };
     let s = plot::plot_runs(&a.runs, &a.out, &opts).map_err(|e| e.to_string())?;
     for n in &s.notes {

@@ -86,12 +86,29 @@ pub fn main(a: Args) -> Result<(), String> {
         if let Some(n) = r.metrics.get("bruised_apples") {
             println!("{n} apple(s) over a bruise threshold (bruise.csv)");
         }
+        if let Some(t) = &r.transition_summary {
+            let rolling = r
+                .metrics
+                .get("apples_rolling_at_end")
+                .copied()
+                .unwrap_or(0.0);
+            println!(
+                "{} slip/roll transitions; {rolling} of {} apple(s) rolling at the end (transitions.csv)",
+                t.transitions,
+                t.apples.len()
+            );
+        }
         for w in &r.warnings {
             println!("warning: {w}");
         }
         println!(
-            "wrote {}/{{summary.json, contacts.csv, bodies.csv, bruise.csv, scenario.json{}{}}}",
+            "wrote {}/{{summary.json, contacts.csv, bodies.csv, bruise.csv, scenario.json{}{}{}}}",
             a.out.display(),
+            if r.transition_summary.is_some() {
+                ", transitions.csv"
+            } else {
+                ""
+            },
             if sc.output.force_history {
                 ", forces.csv, pulse_fits.csv"
             } else {

@@ -1,6 +1,8 @@
 //! SVG charts of one or several run folders (`applesim run --plots`, `applesim plot`): the
 //! paper's Figs. 1-5 (normal force against time since first touch, one curve per contact, several
-//! runs on one chart) and Figs. 6-7 (speed and angular speed of the apples against time).
+//! runs on one chart) and Figs. 6-7 (speed and angular speed of the apples against time); with
+//! `transitions.csv`, the slip speed against time with the transitions marked and, per surface, a
+//! histogram of where apples start rolling.
 //!
 //! Charts are drawn from the files of the run folders (`contacts.csv`, `forces.csv`,
 //! `bodies.csv`), so saved runs can be compared at any time. plotters' SVG backend writes text
@@ -21,6 +23,10 @@ pub const FORCE_CHART: &str = "force_time.svg";
 pub const SPEED_CHART: &str = "linear_velocity.svg";
 /// Angular speed chart.
 pub const SPIN_CHART: &str = "angular_velocity.svg";
+/// Slip speed chart with the transitions marked.
+pub const SLIP_CHART: &str = "slip_speed.svg";
+/// Where apples start rolling, per surface.
+pub const ROLLING_STARTS_CHART: &str = "rolling_starts.svg";
 
 /// Most points drawn per curve; longer series are reduced keeping each bucket's min and max, so
 /// short impact spikes survive.
@@ -78,6 +84,8 @@ pub struct LineChart {
     pub y_label: String,
     /// Curves.
     pub series: Vec<Series>,
+    /// Marked points (drawn as circles, one legend entry per group), e.g. transitions.
+    pub markers: Vec<Series>,
 }
 
 /// Ten well-separated colours (the "tab10" palette), cycled.
@@ -114,7 +122,7 @@ impl LineChart {
             f64::INFINITY,
             f64::NEG_INFINITY,
         );
-        for s in &self.series {
+        for s in self.series.iter().chain(&self.markers) {
             for &(x, y) in &s.points {
                 if x.is_finite() && y.is_finite() {
                     x0 = x0.min(x);
@@ -161,6 +169,20 @@ impl LineChart {
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 22, y)], colour.stroke_width(2))
                     });
+            }
+            for (i, m) in self.markers.iter().enumerate() {
+                // Dark, distinct from the curves' colours.
+                let colour = [BLACK, RGBColor(200, 0, 0), RGBColor(0, 120, 0)][i % 3];
+                chart
+                    .draw_series(
+                        m.points
+                            .iter()
+                            .filter(|p| p.0.is_finite() && p.1.is_finite())
+                            .map(|&p| Circle::new(p, 5, colour.stroke_width(2))),
+                    )
+                    .map_err(|e| e.to_string())?
+                    .label(m.label.as_str())
+                    .legend(move |(x, y)| Circle::new((x + 11, y), 5, colour.stroke_width(2)));
             }
             if !self.series.is_empty() {
                 chart
@@ -241,6 +263,25 @@ pub struct Kinematics {
     pub speed: Vec<(f64, f64)>,
     /// (time s, angular speed rad/s).
     pub spin: Vec<(f64, f64)>,
+    /// (time s, slip speed m/s) when `bodies.csv` has the `slip_m_s` column filled.
+    pub slip: Vec<(f64, f64)>,
+}
+
+/// One row of `transitions.csv` as the charts need it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TransitionMark {
+    /// Apple.
+    pub apple: String,
+    /// New state (`sliding`, `rolling`, `airborne`).
+    pub to: String,
+    /// Surface it is on after (empty when airborne).
+    pub surface: String,
+    /// Time (s).
+    pub time_s: f64,
+    /// Slip speed then (m/s).
+    pub slip_m_s: f64,
+    /// Distance along the surface (m; NaN when none).
+    pub along_m: f64,
 }
 
 /// What the charts need from one run folder.
@@ -252,6 +293,8 @@ pub struct RunCurves {
     pub apples: Vec<(String, Kinematics)>,
     /// Whether `forces.csv` was there.
     pub has_forces: bool,
+    /// Rows of `transitions.csv` (empty without it).
+    pub transitions: Vec<TransitionMark>,
 }
 
 fn reader(path: &Path) -> Result<csv::Reader<std::fs::File>, PlotError> {
@@ -372,6 +415,10 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
             "time_s", "apple", "vx_m_s", "vy_m_s", "vz_m_s", "wx_rad_s", "wy_rad_s", "wz_rad_s",
         ],
     )?;
+    let slip_col = rd
+        .headers()
+        .ok()
+        .and_then(|h| h.iter().position(|c| c == "slip_m_s"));
     let mut order: BTreeMap<String, usize> = BTreeMap::new();
     for rec in rd.records() {
         let rec = rec.map_err(|e| PlotError::Parse {
@@ -393,8 +440,52 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
         };
         out.apples[k].1.speed.push((t, v));
         out.apples[k].1.spin.push((t, w));
+        if let Some(sc) = slip_col {
+            let x = num(&bodies_path, rec.get(sc).unwrap_or(""))?;
+            if x.is_finite() {
+                out.apples[k].1.slip.push((t, x));
+            }
+        }
+    }
+    let tr_path = dir.join("transitions.csv");
+    if tr_path.exists() {
+        let mut rd = reader(&tr_path)?;
+        let c = columns(
+            &tr_path,
+            &mut rd,
+            &["apple", "to", "surface", "time_s", "slip_m_s", "along_m"],
+        )?;
+        for rec in rd.records() {
+            let rec = rec.map_err(|e| PlotError::Parse {
+                path: tr_path.clone(),
+                message: e.to_string(),
+            })?;
+            out.transitions.push(TransitionMark {
+                apple: rec[c[0]].to_string(),
+                to: rec[c[1]].to_string(),
+                surface: rec[c[2]].to_string(),
+                time_s: num(&tr_path, &rec[c[3]])?,
+                slip_m_s: num(&tr_path, &rec[c[4]])?,
+                along_m: num(&tr_path, &rec[c[5]])?,
+            });
+        }
     }
     Ok(out)
+}
+
+/// The outline of a histogram as a staircase curve: (edges, counts) -> points.
+pub fn histogram_outline(edges: &[f64], counts: &[u32]) -> Vec<(f64, f64)> {
+    let mut pts = Vec::with_capacity(2 * counts.len() + 2);
+    if edges.len() != counts.len() + 1 || counts.is_empty() {
+        return pts;
+    }
+    pts.push((edges[0], 0.0));
+    for (k, &c) in counts.iter().enumerate() {
+        pts.push((edges[k], c as f64));
+        pts.push((edges[k + 1], c as f64));
+    }
+    pts.push((edges[counts.len()], 0.0));
+    pts
 }
 
 /// Choices of [`plot_runs`].
@@ -406,6 +497,8 @@ pub struct PlotOptions {
     pub apples: Vec<String>,
     /// Time window of the force chart (ms from first touch); `None`: [`force_window_ms`].
     pub window_ms: Option<f64>,
+    /// Bin width of the rolling-start histogram (m).
+    pub histogram_bin_m: f64,
 }
 
 impl Default for PlotOptions {
@@ -414,6 +507,7 @@ impl Default for PlotOptions {
             max_series: 10,
             apples: Vec::new(),
             window_ms: None,
+            histogram_bin_m: 0.05,
         }
     }
 }
@@ -594,6 +688,7 @@ pub fn plot_runs(
             x_label: "time since first touch (ms)".into(),
             y_label: "normal force P (N)".into(),
             series: force_series,
+            markers: Vec::new(),
         }
         .write_svg(&path)?;
         summary.written.push(path);
@@ -625,6 +720,71 @@ pub fn plot_runs(
             });
         }
     }
+    // Slip speed against time, transitions marked; where apples start rolling, per surface.
+    let mut slip = Vec::new();
+    let mut marks: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    let mut starts = Vec::new();
+    for (r, run) in runs.iter().enumerate() {
+        let apples: Vec<&(String, Kinematics)> = run
+            .apples
+            .iter()
+            .filter(|(n, k)| wanted(n) && !k.slip.is_empty())
+            .take(share)
+            .collect();
+        for (name, k) in &apples {
+            slip.push(Series {
+                label: format!("{}{}", prefix(r), name),
+                points: decimate(&k.slip, MAX_POINTS_PER_SERIES),
+            });
+            for t in run.transitions.iter().filter(|t| &t.apple == name) {
+                marks
+                    .entry(format!("to {}", t.to))
+                    .or_default()
+                    .push((t.time_s, t.slip_m_s));
+            }
+        }
+        let mut by_surface: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+        for t in &run.transitions {
+            if t.to == "rolling" && t.along_m.is_finite() {
+                by_surface.entry(&t.surface).or_default().push(t.along_m);
+            }
+        }
+        for (surface, x) in by_surface {
+            let bin = opts.histogram_bin_m;
+            let (edges, counts) = crate::record::transitions::histogram(&x, bin);
+            starts.push(Series {
+                label: format!("{}{} ({} rolling starts)", prefix(r), surface, x.len()),
+                points: histogram_outline(&edges, &counts),
+            });
+        }
+    }
+    if !slip.is_empty() {
+        let path = out_dir.join(SLIP_CHART);
+        LineChart {
+            title: "Slip speed at the contact the apple is on".into(),
+            x_label: "time (s)".into(),
+            y_label: "slip speed (m/s)".into(),
+            series: slip,
+            markers: marks
+                .into_iter()
+                .map(|(label, points)| Series { label, points })
+                .collect(),
+        }
+        .write_svg(&path)?;
+        summary.written.push(path);
+    }
+    if !starts.is_empty() {
+        let path = out_dir.join(ROLLING_STARTS_CHART);
+        LineChart {
+            title: "Where apples start rolling".into(),
+            x_label: "distance along the surface from its start (m)".into(),
+            y_label: "rolling starts".into(),
+            series: starts,
+            markers: Vec::new(),
+        }
+        .write_svg(&path)?;
+        summary.written.push(path);
+    }
     if !speed.is_empty() {
         for (file, title, y, series) in [
             (SPEED_CHART, "Centre speed", "speed |v| (m/s)", speed),
@@ -641,6 +801,7 @@ pub fn plot_runs(
                 x_label: "time (s)".into(),
                 y_label: y.into(),
                 series,
+                markers: Vec::new(),
             }
             .write_svg(&path)?;
             summary.written.push(path);

@@ -76,8 +76,9 @@ pub struct Transition {
     /// Centre of the apple then (m).
     pub position_m: [f64; 3],
     /// Contact point on `surface` then, as the distance along it (m) from its start (a belt's
-    /// upstream end, a chute's top end; see `SurfacePart::along`); `None` when airborne or on
-    /// another apple.
+    /// upstream end, a chute's top end, a box's -x end; see `SurfacePart::along`); `None` when
+    /// airborne, on another apple, or on a surface without a running direction (a plane, a bin
+    /// wall, a mesh).
     pub along_m: Option<f64>,
     /// Centre speed |v| (m/s).
     pub speed_m_s: f64,
@@ -236,7 +237,7 @@ pub struct TransitionSummary {
 pub struct Detector {
     spec: TransitionSpec,
     tracks: Vec<Track>,
-    frames: Vec<Pose>,
+    frames: Vec<Option<Pose>>,
     apple_names: Vec<Arc<str>>,
     surface_names: Vec<Arc<str>>,
     events: Vec<Transition>,
@@ -245,8 +246,9 @@ pub struct Detector {
 }
 
 impl Detector {
-    /// A detector with the given settings; `frames` are the surfaces' along-frames in layer order.
-    pub fn new(spec: TransitionSpec, frames: Vec<Pose>) -> Self {
+    /// A detector with the given settings; `frames` are the surfaces' along-frames in layer order
+    /// (`None` for surfaces without a running direction).
+    pub fn new(spec: TransitionSpec, frames: Vec<Option<Pose>>) -> Self {
         Self {
             spec,
             tracks: Vec::new(),
@@ -469,6 +471,8 @@ impl Detector {
                 Some(Party::Surface(s)) => self
                     .frames
                     .get(s as usize)
+                    .copied()
+                    .flatten()
                     .map(|f| f.inverse_transform_point(at.point).x),
                 _ => None,
             };

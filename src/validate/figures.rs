@@ -439,6 +439,7 @@ fn force_chart(
         x_label: "time since first touch (ms)".into(),
         y_label: "normal force P (N)".into(),
         series,
+        markers: Vec::new(),
     };
     write_chart(ctx, file, &chart)?;
     Ok(Chart {
@@ -1203,6 +1204,7 @@ fn roll_figure(
                 x_label: "time (s)".into(),
                 y_label: y.into(),
                 series,
+                markers: Vec::new(),
             },
         )?;
         charts.push(Chart { file, caption });

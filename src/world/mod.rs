@@ -51,9 +51,9 @@ pub struct World {
     pub apple_bodies: Vec<RigidBodyHandle>,
     /// Collider of each surface part, in layer order.
     pub surface_colliders: Vec<ColliderHandle>,
-    /// Frame of each surface part in which positions along it are measured
-    /// ([`surfaces::SurfacePart::along`]).
-    pub surface_frames: Vec<rapier3d_f64::math::Pose>,
+    /// Frame of each surface part in which positions along it are measured, if it has a running
+    /// direction ([`surfaces::SurfacePart::along`]).
+    pub surface_frames: Vec<Option<rapier3d_f64::math::Pose>>,
     materials: BTreeMap<String, (MaterialId, Material)>,
     /// Emissions still to come: (time, source index, apple), in order.
     pending: VecDeque<(f64, usize, AppleSpec)>,

@@ -33,8 +33,8 @@ pub struct SurfacePart {
     pub model: ContactModel,
     /// The frame in which positions along the part are measured (transitions' `along_m`): +x
     /// runs along it from its start (a belt's upstream end, a chute's top end, a box's -x
-    /// end); a plane's origin is its point, a bin wall's or a mesh's the collider's pose.
-    pub along: Pose,
+    /// end). `None` for parts without a running direction (planes, bin walls, meshes).
+    pub along: Option<Pose>,
 }
 
 fn part(name: &str, material: &str, collider: ColliderBuilder, model: ContactModel) -> SurfacePart {
@@ -43,7 +43,7 @@ fn part(name: &str, material: &str, collider: ColliderBuilder, model: ContactMod
         material: material.to_string(),
         shape: SurfaceShape::FromCollider,
         belt_local: Vec3::ZERO,
-        along: collider.position,
+        along: None,
         collider,
         model,
     }
@@ -75,7 +75,7 @@ pub fn parts(
                 cuboid(b.size_m, pose),
                 b.contact_model,
             );
-            p.along = pose * Pose::from_translation(Vec3::new(-b.size_m[0] / 2.0, 0.0, 0.0));
+            p.along = Some(pose * Pose::from_translation(Vec3::new(-b.size_m[0] / 2.0, 0.0, 0.0)));
             vec![p]
         }
         SurfaceSpec::Conveyor(b) => {
@@ -89,14 +89,14 @@ pub fn parts(
             p.belt_local = Vec3::new(b.belt_velocity_m_s, 0.0, 0.0);
             // Along the belt's travel from its upstream end.
             let half = b.size_m[0] / 2.0;
-            p.along = if b.belt_velocity_m_s < 0.0 {
+            p.along = Some(if b.belt_velocity_m_s < 0.0 {
                 pose * Pose::from_parts(
                     Vec3::new(half, 0.0, 0.0),
                     Rotation::from_rotation_z(std::f64::consts::PI),
                 )
             } else {
                 pose * Pose::from_translation(Vec3::new(-half, 0.0, 0.0))
-            };
+            });
             vec![p]
         }
         SurfaceSpec::Chute(c) => {
@@ -138,7 +138,7 @@ pub fn parts(
                     vec![p]
                 }
             };
-            parts[0].along = along;
+            parts[0].along = Some(along);
             parts
         }
         SurfaceSpec::Bin(b) => {
