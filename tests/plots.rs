@@ -73,7 +73,10 @@ fn several_runs_on_one_force_chart_and_velocity_charts() {
     drop_run(1.4, &runs[1]);
     let out = root.join("charts");
     let s = plot::plot_runs(&runs, &out, &PlotOptions::default()).unwrap();
-    assert_eq!(s.written.len(), 3);
+    // Force, speed, spin, and the slip chart (bodies.csv has slip_m_s); no rolling-start
+    // histogram: a plane has no running direction.
+    assert_eq!(s.written.len(), 4, "{:?}", s.written);
+    assert!(s.written.contains(&out.join(plot::SLIP_CHART)));
 
     let f = read_svg(&out.join(plot::FORCE_CHART));
     for t in [

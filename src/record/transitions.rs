@@ -12,9 +12,9 @@
 //! - **rolling**: in contact and no contact slides (rolling without slip, or resting, or carried
 //!   by a belt); the apple rolls on the contact with the largest normal force.
 //!
-//! A contact slides when its slip exceeds `hysteresis` x the threshold
-//! `max(slip_speed_m_s, relative_tolerance |v|)` (|v| the apple's centre speed) and stops sliding
-//! when its slip falls below the threshold: between the two it keeps its state (hysteresis). A new
+//! A rolling apple starts sliding when a contact's slip exceeds `hysteresis` x the threshold
+//! `max(slip_speed_m_s, relative_tolerance |v|)` (|v| the apple's centre speed); a sliding one
+//! stops when every slip is below the threshold: between the two it keeps its state (hysteresis). A new
 //! apple state, or a new surface under it, counts only once it has lasted `min_dwell_s`: slips,
 //! bounces and rolls shorter than that are not transitions (no chatter). A transition that counts is
 //! dated back to where it began: where the slip reached zero, extrapolated linearly from the last
@@ -150,8 +150,6 @@ struct Track {
     prev_state: Motion,
     prev_slip: f64,
     prev: Option<Snap>,
-    /// Sliding flag per contact at the previous step (hysteresis).
-    flags: Vec<(Party, bool)>,
     pending: Option<Pending>,
     /// Summary figures.
     first_seen_s: f64,
@@ -172,7 +170,6 @@ impl Default for Track {
             prev_state: Motion::Airborne,
             prev_slip: 0.0,
             prev: None,
-            flags: Vec::new(),
             pending: None,
             first_seen_s: 0.0,
             first_rolling_s: None,
@@ -242,6 +239,8 @@ pub struct Detector {
     surface_names: Vec<Arc<str>>,
     events: Vec<Transition>,
     order: Vec<u32>,
+    start: Vec<u32>,
+    fill: Vec<u32>,
     contacts: Vec<SlipSample>,
 }
 
@@ -257,6 +256,8 @@ impl Detector {
             surface_names: Vec::new(),
             events: Vec::new(),
             order: Vec::new(),
+            start: Vec::new(),
+            fill: Vec::new(),
             contacts: Vec::new(),
         }
     }
@@ -292,19 +293,32 @@ impl Detector {
                 .push(layer.surface_name(SurfaceId(s as u32)).into());
         }
         self.tracks.resize_with(n, Track::default);
-        // The samples grouped by apple, in the layer's order within each apple.
+        // The samples grouped by apple (a counting sort: the layer's order within each apple).
         let slips = layer.slips();
+        self.start.clear();
+        self.start.resize(n + 1, 0);
+        for s in slips {
+            self.start[s.apple as usize + 1] += 1;
+        }
+        for k in 0..n {
+            self.start[k + 1] += self.start[k];
+        }
         self.order.clear();
-        self.order.extend(0..slips.len() as u32);
-        self.order.sort_by_key(|&i| (slips[i as usize].apple, i));
-        let mut cursor = 0;
+        self.order.resize(slips.len(), 0);
+        let mut fill = std::mem::take(&mut self.fill);
+        fill.clear();
+        fill.extend_from_slice(&self.start[..n]);
+        for (i, s) in slips.iter().enumerate() {
+            let k = s.apple as usize;
+            self.order[fill[k] as usize] = i as u32;
+            fill[k] += 1;
+        }
+        self.fill = fill;
         for k in 0..n {
             self.contacts.clear();
-            while cursor < self.order.len()
-                && slips[self.order[cursor] as usize].apple as usize == k
-            {
-                self.contacts.push(slips[self.order[cursor] as usize]);
-                cursor += 1;
+            let (lo, hi) = (self.start[k] as usize, self.start[k + 1] as usize);
+            for &i in &self.order[lo..hi] {
+                self.contacts.push(slips[i as usize]);
             }
             if layer.is_asleep(AppleId(k as u32)) {
                 // Asleep: at rest, nothing evaluated; the state stands.
@@ -325,16 +339,16 @@ impl Detector {
             .max(spec.relative_tolerance * vel.length());
         let th_hi = spec.hysteresis * th;
         let tr = &mut self.tracks[k];
-        // Contact states with hysteresis.
-        let mut flags = Vec::with_capacity(self.contacts.len());
+        // Contact states with hysteresis: after a rolling step a contact must exceed the upper
+        // threshold to slide; after a sliding step (or a landing) the threshold itself.
+        let limit = if tr.prev_state == Motion::Rolling {
+            th_hi
+        } else {
+            th
+        };
         let mut best: Option<(bool, f64, usize)> = None;
         for (c_idx, c) in self.contacts.iter().enumerate() {
-            let before = tr.flags.iter().find(|f| f.0 == c.other).map(|f| f.1);
-            let sliding = match before {
-                Some(false) => c.slip_m_s > th_hi,
-                _ => c.slip_m_s > th,
-            };
-            flags.push((c.other, sliding));
+            let sliding = c.slip_m_s > limit;
             // The contact the apple is on: sliding ones first, then the largest normal force.
             let cand = (sliding, c.normal_force_n, c_idx);
             best = match best {
@@ -342,7 +356,6 @@ impl Detector {
                 _ => Some(cand),
             };
         }
-        tr.flags = flags;
         let (state, support, slip, point) = match best {
             None => (Motion::Airborne, None, 0.0, pos),
             Some((sliding, _, c_idx)) => {

@@ -169,10 +169,11 @@ pub struct OutputSpec {
     pub transitions: TransitionSpec,
 }
 
-/// Settings of the slip/roll detector (docs/transitions.md). A contact slides when its slip speed
-/// exceeds `hysteresis` times the threshold max(`slip_speed_m_s`, `relative_tolerance` |v|), |v|
-/// the apple's speed, and rolls again once it falls below the threshold; a new state counts only
-/// once it has lasted `min_dwell_s` (it is then dated back to where it began).
+/// Settings of the slip/roll detector (docs/transitions.md). A rolling apple starts sliding when
+/// a contact's slip speed exceeds `hysteresis` times the threshold max(`slip_speed_m_s`,
+/// `relative_tolerance` |v|), |v| the apple's speed, and rolls again once every slip is below the
+/// threshold; a new state counts only once it has lasted `min_dwell_s` (it is then dated back to
+/// where it began).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TransitionSpec {
@@ -185,7 +186,7 @@ pub struct TransitionSpec {
     /// Threshold relative to the apple's centre speed.
     #[serde(default = "default_relative_tolerance")]
     pub relative_tolerance: f64,
-    /// A rolling contact starts sliding only above this multiple of the threshold (>= 1).
+    /// A rolling apple starts sliding only above this multiple of the threshold (>= 1).
     #[serde(default = "default_hysteresis")]
     pub hysteresis: f64,
     /// Shortest state that counts (s): briefer slips, bounces and rolls are not transitions.
