@@ -376,3 +376,56 @@ fn plots_mark_the_transitions() {
     assert_eq!(curves.transitions.len(), 1);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// The shipped friction sweep: `applesim batch` then `applesim merge` put the first rolling time
+/// and the slide distance in merged.csv, matching the closed form per row.
+#[test]
+fn batch_merge_has_the_transition_columns() {
+    let bin = env!("CARGO_BIN_EXE_applesim");
+    let out = std::env::temp_dir().join(format!("applesim_tr_batch_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let st = std::process::Command::new(bin)
+        .args([
+            "batch",
+            "scenarios/batches/slip_sweep.json",
+            "-q",
+            "-j",
+            "2",
+            "--out",
+        ])
+        .arg(&out)
+        .current_dir(repo(""))
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let st = std::process::Command::new(bin)
+        .arg("merge")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let mut rd = csv::Reader::from_path(out.join("merged.csv")).unwrap();
+    let h = rd.headers().unwrap().clone();
+    let col = |n: &str| {
+        h.iter()
+            .position(|c| c == n)
+            .unwrap_or_else(|| panic!("{n}"))
+    };
+    let (mu, v0, t, d) = (
+        col("friction"),
+        col("vx_m_s"),
+        col("mean_first_rolling_s"),
+        col("mean_slide_distance_m"),
+    );
+    let mut rows = 0;
+    for rec in rd.records() {
+        let rec = rec.unwrap();
+        let f = |i: usize| rec[i].parse::<f64>().unwrap();
+        let cf = theory::slip_to_roll(f(v0), 0.0, R, f(mu), G);
+        assert_rel("merged first rolling time", f(t), cf.time_s, 0.01);
+        assert_rel("merged slide distance", f(d), cf.slide_distance_m, 0.02);
+        rows += 1;
+    }
+    assert_eq!(rows, 9);
+    let _ = std::fs::remove_dir_all(&out);
+}
