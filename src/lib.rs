@@ -9,9 +9,9 @@
 //! The modules follow the data flow:
 //! [`scenario`] (serde types, validation) -> [`world`] (rapier bodies and colliders) ->
 //! [`contact`] (the law, pure functions) -> [`layer`] (pair finding, hooks, forces) ->
-//! [`sim`] (stepping, stability guard) -> [`record`] (contact events, time series) ->
-//! [`output`] (summary, CSV, charts, ParaView) -> [`analysis`] (pulse fit, bruise assessment,
-//! ke calibration); [`validate`] runs the paper's figures against it.
+//! [`sim`] (stepping, stability guard) -> [`record`] (contact events, time series, slip/roll
+//! transitions) -> [`output`] (summary, CSV, charts, ParaView) -> [`analysis`] (pulse fit,
+//! bruise assessment, ke calibration); [`validate`] runs the paper's figures against it.
 #![warn(missing_docs)]
 
 pub mod analysis;
