@@ -56,15 +56,18 @@ pub fn mindlin_stiffness(g_star_pa: f64, a_m: f64) -> f64 {
 
 /// Keeps the stored displacement in the current tangent plane with its length (LAMMPS's
 /// history rotation): the contact frame turns as the bodies roll.
+#[inline]
 pub fn project_history(xi: Vec3, n: Vec3) -> Vec3 {
-    let len = xi.length();
-    if len == 0.0 {
+    let len2 = xi.length_squared();
+    if len2 == 0.0 {
         return xi;
     }
     let t = xi - n * xi.dot(n);
-    let tl = t.length();
-    if tl > 1e-300 {
-        t * (len / tl)
+    let tl2 = t.length_squared();
+    // One square root instead of two. A history (nearly) along the normal has no tangential part
+    // left: the contact frame turned by a right angle; it is dropped.
+    if tl2 > 1e-30 * len2 {
+        t * (len2 / tl2).sqrt()
     } else {
         Vec3::ZERO
     }
@@ -73,6 +76,7 @@ pub fn project_history(xi: Vec3, n: Vec3) -> Vec3 {
 /// Evaluates the tangential law. `slip_t` is the tangential slip of body 1's surface point
 /// relative to body 2's (m/s), `normal_force_n` the normal force P >= 0 and `xi` the stored
 /// tangential displacement (already projected on the tangent plane), updated in place.
+#[inline]
 pub fn tangential_force(
     p: &TangentialParams,
     normal_force_n: f64,
@@ -92,24 +96,25 @@ pub fn tangential_force(
     let mut spring = Vec3::ZERO;
     if k > 0.0 {
         *xi += slip_t * dt_s;
-        let stretch = xi.length() * k;
-        if stretch > cap {
-            *xi *= cap / stretch;
+        // |xi| k > cap, compared as squares: the root only when the spring is capped.
+        let stretch2 = xi.length_squared() * k * k;
+        if stretch2 > cap * cap {
+            *xi *= cap / stretch2.sqrt();
         }
         spring = -(*xi * k);
     } else {
         *xi = Vec3::ZERO;
     }
     let trial = spring - slip_t * p.damping_n_s_m;
-    let mag = trial.length();
-    if mag <= cap {
+    let mag2 = trial.length_squared();
+    if mag2 <= cap * cap {
         return TangentialForce {
             force: trial,
             sliding: false,
         };
     }
     TangentialForce {
-        force: trial * (cap / mag),
+        force: trial * (cap / mag2.sqrt()),
         sliding: true,
     }
 }

@@ -73,6 +73,39 @@ impl PairLaw {
     }
 }
 
+/// Constants of one contact: they depend only on the two bodies, so the layer computes them once
+/// when the contact starts (a square root and a few divisions per contact and step saved).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactConstants {
+    /// Effective radius R* (m).
+    pub r_star_m: f64,
+    /// sqrt(R*): the contact radius is a = sqrt(R*) sqrt(u).
+    pub sqrt_r_star: f64,
+    /// Hertz stiffness k = 4/3 E* sqrt(R*) (N/m^(3/2)).
+    pub stiffness: f64,
+    /// Normal effective mass of the contact (kg), for the bound on eq. 12's rate part.
+    pub normal_mass_kg: f64,
+    /// 1 / `normal_mass_kg`.
+    pub inv_normal_mass: f64,
+    /// Tangential effective mass of the contact (kg), for the friction dashpot.
+    pub tangential_mass_kg: f64,
+}
+
+impl ContactConstants {
+    /// The constants of a contact with effective radius `r_star_m` and effective masses.
+    pub fn new(law: &PairLaw, r_star_m: f64, normal_mass_kg: f64, tangential_mass_kg: f64) -> Self {
+        let sqrt_r_star = r_star_m.sqrt();
+        Self {
+            r_star_m,
+            sqrt_r_star,
+            stiffness: 4.0 / 3.0 * law.e_star_pa * sqrt_r_star,
+            normal_mass_kg,
+            inv_normal_mass: 1.0 / normal_mass_kg,
+            tangential_mass_kg,
+        }
+    }
+}
+
 /// Kinematics of one contact at the current poses.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactKinematics {
@@ -80,14 +113,8 @@ pub struct ContactKinematics {
     pub normal: Vec3,
     /// Overlap u > 0 (m).
     pub overlap_m: f64,
-    /// Effective radius R* (m).
-    pub r_star_m: f64,
     /// Velocity of body 1's surface point at the contact point minus body 2's (belt included), m/s.
     pub rel_velocity: Vec3,
-    /// Tangential effective mass of the contact (kg), for the dashpot.
-    pub tangential_mass_kg: f64,
-    /// Normal effective mass of the contact (kg), for the bound on eq. 12's rate part.
-    pub normal_mass_kg: f64,
     /// Whether the contact is resting: its impact is over (it is older than 1.2 times eq. 12's
     /// contact time at its approach speed). Only a resting contact gets the bound on eq. 12's rate part
     /// (see [`damping::hysteresis_force`]): an impact passes its turn once and keeps the paper's law.
@@ -111,47 +138,55 @@ pub struct ContactResponse {
     pub mean_pressure_pa: f64,
     /// Overlap rate du/dt (m/s), > 0 while approaching.
     pub overlap_rate_m_s: f64,
-    /// Tangential slip speed |s_t| (m/s).
-    pub slip_speed_m_s: f64,
+    /// Tangential slip velocity s_t of body 1's surface point over body 2's (m/s); its length is
+    /// the slip speed of physics.md section 5.
+    pub slip_velocity: Vec3,
     /// Whether friction is at the Coulomb limit.
     pub sliding: bool,
+    /// Elastic energy 2/5 k u^(5/2) of the overlap (J).
+    pub elastic_energy_j: f64,
 }
 
 /// Evaluates the full law for one contact. `xi` is the contact's stored tangential displacement;
 /// `relaxation` is the fraction of the "velocity-kill" rate m / dt that bounds the rate-dependent
 /// forces of this contact: the tangential dashpot (see [`friction`]) and the rate part of eq. 12
 /// (see [`damping::hysteresis_force`]).
+#[inline]
 pub fn evaluate(
     law: &PairLaw,
     parts: LawParts,
+    k: &ContactConstants,
     kin: &ContactKinematics,
     xi: &mut Vec3,
     relaxation: f64,
     dt_s: f64,
 ) -> ContactResponse {
     let n = kin.normal;
-    let u = kin.overlap_m;
-    let k = normal::stiffness(law.e_star_pa, kin.r_star_m);
+    let u = kin.overlap_m.max(0.0);
     let v_n = kin.rel_velocity.dot(n);
     let du_dt = -v_n;
-    let elastic = normal::hertz_force(k, u);
+    // sqrt(u) serves the Hertz force k u^(3/2), the contact radius sqrt(R*) sqrt(u) and the energy.
+    let sqrt_u = u.sqrt();
+    let elastic = k.stiffness * u * sqrt_u;
+    // The velocity-kill rate per unit mass (1/s), shared by both bounds.
+    let kill_per_kg = relaxation / dt_s;
     let p = if parts.energy_loss {
         // The normal bound uses twice the tangential share: it stops the relative normal motion
         // within one step (the friction dashpot within two), still stable shared among contacts.
         let kill = if kin.resting {
-            2.0 * relaxation * kin.normal_mass_kg / dt_s
+            2.0 * kill_per_kg * k.normal_mass_kg
         } else {
             f64::INFINITY
         };
         // The rate at the end of the step, from the contact's own mean force (the static part of
         // eq. 12) decelerating the approach: the factor is averaged over the step.
-        let decel = 0.5 * (1.0 + law.ke) * elastic / kin.normal_mass_kg;
+        let decel = 0.5 * (1.0 + law.ke) * elastic * k.inv_normal_mass;
         let du_dt_next = du_dt - decel * dt_s;
         damping::hysteresis_force(elastic, law.ke, law.lambda_s_m, du_dt, du_dt_next, kill)
     } else {
         elastic
     };
-    let a = normal::contact_radius(kin.r_star_m, u);
+    let a = k.sqrt_r_star * sqrt_u;
     let slip_t = kin.rel_velocity - n * v_n;
     let mut friction_force = Vec3::ZERO;
     let mut sliding = false;
@@ -161,7 +196,7 @@ pub fn evaluate(
         let params = friction::TangentialParams {
             mu: law.friction,
             stiffness_n_m: friction::mindlin_stiffness(law.g_star_pa, a),
-            damping_n_s_m: relaxation * kin.tangential_mass_kg / dt_s,
+            damping_n_s_m: kill_per_kg * k.tangential_mass_kg,
         };
         let t = friction::tangential_force(&params, p, slip_t, xi, dt_s);
         friction_force = t.force;
@@ -181,8 +216,9 @@ pub fn evaluate(
         contact_radius_m: a,
         mean_pressure_pa: normal::mean_pressure(p, a),
         overlap_rate_m_s: du_dt,
-        slip_speed_m_s: slip_t.length(),
+        slip_velocity: slip_t,
         sliding,
+        elastic_energy_j: 0.4 * elastic * u,
     }
 }
 
@@ -200,12 +236,13 @@ mod tests {
         ContactKinematics {
             normal: Vec3::Z,
             overlap_m: u,
-            r_star_m: 0.04,
             rel_velocity: vel,
-            tangential_mass_kg: 0.03,
-            normal_mass_kg: 0.107,
             resting: false,
         }
+    }
+
+    fn consts(law: &PairLaw) -> ContactConstants {
+        ContactConstants::new(law, 0.04, 0.107, 0.03)
     }
 
     #[test]
@@ -215,6 +252,7 @@ mod tests {
         let load = evaluate(
             &law,
             LawParts::default(),
+            &consts(&law),
             &kin(1e-3, Vec3::new(0.0, 0.0, -1.0)),
             &mut xi,
             0.5,
@@ -225,6 +263,7 @@ mod tests {
         let unload = evaluate(
             &law,
             LawParts::default(),
+            &consts(&law),
             &kin(1e-3, Vec3::new(0.0, 0.0, 1.0)),
             &mut xi,
             0.5,
@@ -241,6 +280,7 @@ mod tests {
         let r = evaluate(
             &law,
             LawParts::default(),
+            &consts(&law),
             &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
             &mut xi,
             0.5,
@@ -255,6 +295,7 @@ mod tests {
                 friction: false,
                 ..LawParts::default()
             },
+            &consts(&law),
             &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
             &mut xi,
             0.5,
@@ -274,6 +315,7 @@ mod tests {
         let r = evaluate(
             &law,
             parts,
+            &consts(&law),
             &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
             &mut xi,
             0.5,

@@ -2,50 +2,55 @@
 //!
 //! rapier-notes.md measured that rapier's narrow phase costs 8-32x more per apple-step than a
 //! plain cell grid for apple piles (73 candidates per apple instead of 9, and cache misses in
-//! `process_pair`), so apple-apple pairs are kept out of rapier (collision groups) and found here.
+//! `process_pair`), so apple-apple pairs never reach rapier and are found here.
 //!
 //! The list holds every pair closer than R_i + R_j + skin; it is rebuilt only when some apple has
-//! moved more than skin / 2 since the last build, so no contact can be missed in between. Pairs are
-//! sorted by (i, j): the order of force accumulation is fixed, and results are bit-identical
-//! whatever the history of rebuilds. Each pair carries its contact state, carried over rebuilds.
+//! moved more than skin / 2 since the last build (or the caller forces it), so no contact can be
+//! missed in between. A build bins the apples into a dense grid of cells of edge 2 R_max + skin by
+//! a counting sort (O(n); a sparse, sorted grid when the apples are spread so thinly that a dense
+//! one would be mostly empty) and scans the 27 cells around each apple. Pairs are sorted by
+//! (i, j): the order of force accumulation is fixed, and results are bit-identical whatever the
+//! history of rebuilds. Each pair carries the index of its open contact (or [`NONE`]) across
+//! rebuilds.
 
 use crate::math::Vec3;
-use rustc_hash::FxHashMap;
 
-/// A candidate pair with the state the law needs across steps.
-#[derive(Debug, Clone)]
-pub struct NeighborPair<S> {
+/// No index: a pair without an open contact.
+pub const NONE: u32 = u32::MAX;
+
+/// A candidate pair of apples, closer than R_i + R_j + skin at the last build.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Pair {
     /// First apple (i < j).
     pub i: u32,
     /// Second apple.
     pub j: u32,
-    /// Per-pair state (tangential history, open contact record).
-    pub state: S,
+    /// The pair's open contact in the layer's contact store, or [`NONE`].
+    pub contact: u32,
 }
 
 /// Verlet list over a uniform cell grid.
-#[derive(Debug, Clone)]
-pub struct NeighborList<S> {
+#[derive(Debug, Clone, Default)]
+pub struct NeighborList {
     skin_m: f64,
-    pairs: Vec<NeighborPair<S>>,
+    pairs: Vec<Pair>,
     reference: Vec<Vec3>,
     rebuilds: u64,
-    cells: FxHashMap<(i64, i64, i64), (u32, u32)>,
-    order: Vec<((i64, i64, i64), u32)>,
-    keys: Vec<(i64, i64, i64)>,
+    // Build scratch, kept to avoid allocating at every build.
+    coords: Vec<[i64; 3]>,
+    cell_of: Vec<usize>,
+    start: Vec<u32>,
+    sorted: Vec<u32>,
+    keyed: Vec<([i64; 3], u32)>,
+    fresh: Vec<(u32, u32)>,
 }
 
-impl<S: Default> NeighborList<S> {
+impl NeighborList {
     /// An empty list with the given skin (m).
     pub fn new(skin_m: f64) -> Self {
         Self {
             skin_m,
-            pairs: Vec::new(),
-            reference: Vec::new(),
-            rebuilds: 0,
-            cells: FxHashMap::default(),
-            order: Vec::new(),
-            keys: Vec::new(),
+            ..Self::default()
         }
     }
 
@@ -60,16 +65,17 @@ impl<S: Default> NeighborList<S> {
     }
 
     /// The candidate pairs, sorted by (i, j).
-    pub fn pairs(&self) -> &[NeighborPair<S>] {
+    pub fn pairs(&self) -> &[Pair] {
         &self.pairs
     }
 
-    /// Mutable access to the pairs (states).
-    pub fn pairs_mut(&mut self) -> &mut [NeighborPair<S>] {
+    /// Mutable access to the pairs (their contact indices).
+    pub fn pairs_mut(&mut self) -> &mut [Pair] {
         &mut self.pairs
     }
 
-    /// Whether some apple moved more than skin / 2 since the last build (or the count changed).
+    /// Whether some awake apple moved more than skin / 2 since the last build (or the number of
+    /// apples changed).
     pub fn needs_rebuild(&self, pos: &[Vec3], active: &[bool]) -> bool {
         if self.reference.len() != pos.len() {
             return true;
@@ -81,39 +87,46 @@ impl<S: Default> NeighborList<S> {
             .any(|((p, r), &a)| a && (*p - *r).length_squared() > lim)
     }
 
-    /// Rebuilds if needed; returns whether it did. `active[i] == false` apples (asleep) are still
-    /// listed, so their pairs keep their state; the caller skips pairs of two sleeping apples.
-    /// Pairs dropped by a rebuild are handed to `dropped` (they may hold an open contact).
+    /// Rebuilds if needed (or if `force`); returns whether it did. Sleeping apples are still
+    /// listed, so their pairs keep their contacts; the caller skips pairs of two sleepers. Pairs
+    /// dropped by a rebuild that hold an open contact are handed to `dropped` (they are farther
+    /// apart than the skin: the contact has ended).
     pub fn update(
         &mut self,
         pos: &[Vec3],
         radius: &[f64],
         active: &[bool],
-        mut dropped: impl FnMut(NeighborPair<S>),
+        force: bool,
+        mut dropped: impl FnMut(Pair),
     ) -> bool {
-        if !self.needs_rebuild(pos, active) {
+        if !force && !self.needs_rebuild(pos, active) {
             return false;
         }
-        let new_pairs = self.build(pos, radius);
-        // Merge: carry states of pairs present in both lists (both sorted by (i, j)).
+        self.build(pos, radius);
+        // Merge: carry the contacts of pairs present in both lists (both sorted by (i, j)).
         let old = std::mem::take(&mut self.pairs);
-        let mut merged = Vec::with_capacity(new_pairs.len());
-        let mut old_iter = old.into_iter().peekable();
-        for (i, j) in new_pairs {
-            while let Some(o) = old_iter.peek() {
-                if (o.i, o.j) < (i, j) {
-                    dropped(old_iter.next().unwrap());
-                } else {
-                    break;
+        let mut merged = Vec::with_capacity(self.fresh.len());
+        let mut o = 0;
+        for &(i, j) in &self.fresh {
+            while o < old.len() && (old[o].i, old[o].j) < (i, j) {
+                if old[o].contact != NONE {
+                    dropped(old[o]);
                 }
+                o += 1;
             }
-            let state = match old_iter.peek() {
-                Some(o) if (o.i, o.j) == (i, j) => old_iter.next().unwrap().state,
-                _ => S::default(),
+            let contact = if o < old.len() && (old[o].i, old[o].j) == (i, j) {
+                o += 1;
+                old[o - 1].contact
+            } else {
+                NONE
             };
-            merged.push(NeighborPair { i, j, state });
+            merged.push(Pair { i, j, contact });
         }
-        old_iter.for_each(&mut dropped);
+        for p in &old[o..] {
+            if p.contact != NONE {
+                dropped(*p);
+            }
+        }
         self.pairs = merged;
         self.reference.clear();
         self.reference.extend_from_slice(pos);
@@ -121,60 +134,118 @@ impl<S: Default> NeighborList<S> {
         true
     }
 
-    fn build(&mut self, pos: &[Vec3], radius: &[f64]) -> Vec<(u32, u32)> {
+    /// Lists every pair closer than R_i + R_j + skin into `fresh`, sorted by (i, j).
+    fn build(&mut self, pos: &[Vec3], radius: &[f64]) {
+        self.fresh.clear();
+        let n = pos.len();
+        if n < 2 {
+            return;
+        }
         let r_max = radius.iter().cloned().fold(0.0, f64::max);
         let cell = (2.0 * r_max + self.skin_m).max(1e-9);
         let inv = 1.0 / cell;
-        self.keys.clear();
-        self.keys.extend(pos.iter().map(|p| {
-            (
-                (p.x * inv).floor() as i64,
-                (p.y * inv).floor() as i64,
-                (p.z * inv).floor() as i64,
-            )
-        }));
-        // Sort apples by cell key (exactly, never a hash: colliding hashes interleave cells) so
-        // each cell is one contiguous run; ties by index keep it deterministic.
-        self.order.clear();
-        for (n, k) in self.keys.iter().enumerate() {
-            self.order.push((*k, n as u32));
+        let mut lo = Vec3::splat(f64::INFINITY);
+        for p in pos {
+            lo = lo.min(*p);
         }
-        self.order.sort_unstable();
-        self.cells.clear();
-        let mut start = 0usize;
-        while start < self.order.len() {
-            let key = self.order[start].0;
-            let mut end = start + 1;
-            while end < self.order.len() && self.order[end].0 == key {
-                end += 1;
+        self.coords.clear();
+        let mut hi = [0i64; 3];
+        for p in pos {
+            let q = (*p - lo) * inv;
+            let c = [q.x as i64, q.y as i64, q.z as i64];
+            for d in 0..3 {
+                hi[d] = hi[d].max(c[d]);
             }
-            self.cells.insert(key, (start as u32, end as u32));
-            start = end;
+            self.coords.push(c);
         }
-        let mut out = Vec::new();
-        for (n, &(kx, ky, kz)) in self.keys.iter().enumerate() {
-            let pi = pos[n];
-            for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let Some(&(s, e)) = self.cells.get(&(kx + dx, ky + dy, kz + dz)) else {
-                            continue;
-                        };
-                        for &(_, m) in &self.order[s as usize..e as usize] {
-                            if (m as usize) <= n {
+        let dims = [hi[0] + 1, hi[1] + 1, hi[2] + 1];
+        let cells = dims[0].saturating_mul(dims[1]).saturating_mul(dims[2]);
+        if cells <= (8 * n as i64).max(1 << 16) {
+            self.build_dense(pos, radius, dims, cells as usize);
+        } else {
+            self.build_sparse(pos, radius);
+        }
+    }
+
+    fn build_dense(&mut self, pos: &[Vec3], radius: &[f64], dims: [i64; 3], cells: usize) {
+        let id = |c: [i64; 3]| ((c[0] * dims[1] + c[1]) * dims[2] + c[2]) as usize;
+        // Counting sort of the apples by cell: cell c holds sorted[start[c]..start[c + 1]],
+        // in increasing apple index.
+        self.start.clear();
+        self.start.resize(cells + 1, 0);
+        self.cell_of.clear();
+        for c in &self.coords {
+            let k = id(*c);
+            self.cell_of.push(k);
+            self.start[k + 1] += 1;
+        }
+        for k in 0..cells {
+            self.start[k + 1] += self.start[k];
+        }
+        self.sorted.clear();
+        self.sorted.resize(pos.len(), 0);
+        let mut fill: Vec<u32> = self.start[..cells].to_vec();
+        for (m, &k) in self.cell_of.iter().enumerate() {
+            self.sorted[fill[k] as usize] = m as u32;
+            fill[k] += 1;
+        }
+        for (i, c) in self.coords.iter().enumerate() {
+            let first = self.fresh.len();
+            for x in (c[0] - 1).max(0)..=(c[0] + 1).min(dims[0] - 1) {
+                for y in (c[1] - 1).max(0)..=(c[1] + 1).min(dims[1] - 1) {
+                    for z in (c[2] - 1).max(0)..=(c[2] + 1).min(dims[2] - 1) {
+                        let k = id([x, y, z]);
+                        let (s, e) = (self.start[k] as usize, self.start[k + 1] as usize);
+                        for &m in &self.sorted[s..e] {
+                            let m = m as usize;
+                            if m <= i {
                                 continue;
                             }
-                            let reach = radius[n] + radius[m as usize] + self.skin_m;
-                            if (pos[m as usize] - pi).length_squared() < reach * reach {
-                                out.push((n as u32, m));
+                            let reach = radius[i] + radius[m] + self.skin_m;
+                            if (pos[m] - pos[i]).length_squared() < reach * reach {
+                                self.fresh.push((i as u32, m as u32));
                             }
                         }
                     }
                 }
             }
+            self.fresh[first..].sort_unstable();
         }
-        out.sort_unstable();
-        out
+    }
+
+    /// For apples spread over a region whose dense grid would be mostly empty: cells sorted by
+    /// their key (exactly, never a hash: colliding hashes interleave cells), found by binary search.
+    fn build_sparse(&mut self, pos: &[Vec3], radius: &[f64]) {
+        self.keyed.clear();
+        for (m, c) in self.coords.iter().enumerate() {
+            self.keyed.push((*c, m as u32));
+        }
+        self.keyed.sort_unstable();
+        for (i, c) in self.coords.iter().enumerate() {
+            let first = self.fresh.len();
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                        let s = self.keyed.partition_point(|e| e.0 < key);
+                        for &(k, m) in &self.keyed[s..] {
+                            if k != key {
+                                break;
+                            }
+                            let m = m as usize;
+                            if m <= i {
+                                continue;
+                            }
+                            let reach = radius[i] + radius[m] + self.skin_m;
+                            if (pos[m] - pos[i]).length_squared() < reach * reach {
+                                self.fresh.push((i as u32, m as u32));
+                            }
+                        }
+                    }
+                }
+            }
+            self.fresh[first..].sort_unstable();
+        }
     }
 }
 
@@ -194,8 +265,11 @@ mod tests {
         v
     }
 
-    #[test]
-    fn finds_the_same_pairs_as_brute_force() {
+    fn listed(list: &NeighborList) -> Vec<(u32, u32)> {
+        list.pairs().iter().map(|p| (p.i, p.j)).collect()
+    }
+
+    fn random_cloud(n: usize, spread: f64) -> (Vec<Vec3>, Vec<f64>) {
         let mut pos = Vec::new();
         let mut r = Vec::new();
         let mut seed = 12345u64;
@@ -205,19 +279,41 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        for _ in 0..400 {
-            pos.push(Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() * 0.6));
+        for _ in 0..n {
+            pos.push(Vec3::new(
+                spread * (rnd() - 0.5),
+                spread * (rnd() - 0.5),
+                spread * 0.6 * rnd(),
+            ));
             r.push(0.036 + 0.008 * rnd());
         }
+        (pos, r)
+    }
+
+    #[test]
+    fn finds_the_same_pairs_as_brute_force() {
+        let (pos, r) = random_cloud(400, 1.0);
         let active = vec![true; pos.len()];
-        let mut list: NeighborList<()> = NeighborList::new(0.01);
-        assert!(list.update(&pos, &r, &active, |_| {}));
-        let got: Vec<_> = list.pairs().iter().map(|p| (p.i, p.j)).collect();
-        assert_eq!(got, brute(&pos, &r, 0.01));
+        let mut list = NeighborList::new(0.01);
+        assert!(list.update(&pos, &r, &active, false, |_| {}));
+        assert_eq!(listed(&list), brute(&pos, &r, 0.01));
         assert!(
-            !list.update(&pos, &r, &active, |_| {}),
+            !list.update(&pos, &r, &active, false, |_| {}),
             "no motion, no rebuild"
         );
+        assert!(list.update(&pos, &r, &active, true, |_| {}), "forced");
+    }
+
+    #[test]
+    fn sparse_grid_finds_the_same_pairs() {
+        // Two clusters 1 km apart: a dense grid would have 1e10 cells, the sparse one is used.
+        let (mut pos, mut r) = random_cloud(200, 0.6);
+        let (far, rf) = random_cloud(200, 0.6);
+        pos.extend(far.iter().map(|p| *p + Vec3::new(1000.0, 1000.0, 0.0)));
+        r.extend(rf);
+        let mut list = NeighborList::new(0.01);
+        list.update(&pos, &r, &vec![true; pos.len()], false, |_| {});
+        assert_eq!(listed(&list), brute(&pos, &r, 0.01));
     }
 
     #[test]
@@ -237,8 +333,8 @@ mod tests {
             ),
         ];
         let r = vec![0.0392, 0.0392];
-        let mut list: NeighborList<()> = NeighborList::new(0.011);
-        list.update(&pos, &r, &[true, true], |_| {});
+        let mut list = NeighborList::new(0.011);
+        list.update(&pos, &r, &[true, true], false, |_| {});
         assert_eq!(list.pairs().len(), 1);
         // A full column of cells on both sides of zero.
         let mut pos = Vec::new();
@@ -250,14 +346,13 @@ mod tests {
             }
         }
         let r = vec![0.04; pos.len()];
-        let mut list: NeighborList<()> = NeighborList::new(0.01);
-        list.update(&pos, &r, &vec![true; pos.len()], |_| {});
-        let got: Vec<_> = list.pairs().iter().map(|p| (p.i, p.j)).collect();
-        assert_eq!(got, brute(&pos, &r, 0.01));
+        let mut list = NeighborList::new(0.01);
+        list.update(&pos, &r, &vec![true; pos.len()], false, |_| {});
+        assert_eq!(listed(&list), brute(&pos, &r, 0.01));
     }
 
     #[test]
-    fn carries_state_over_rebuilds() {
+    fn carries_contacts_over_rebuilds() {
         let pos = vec![
             Vec3::ZERO,
             Vec3::new(0.08, 0.0, 0.0),
@@ -265,19 +360,22 @@ mod tests {
         ];
         let r = vec![0.04; 3];
         let active = vec![true; 3];
-        let mut list: NeighborList<u32> = NeighborList::new(0.01);
-        list.update(&pos, &r, &active, |_| {});
-        list.pairs_mut()[0].state = 7;
+        let mut list = NeighborList::new(0.01);
+        list.update(&pos, &r, &active, false, |_| {});
+        list.pairs_mut()[0].contact = 7;
         let mut moved = pos.clone();
         moved[2] = Vec3::new(0.16, 0.0, 0.0);
-        let mut dropped = 0;
-        list.update(&moved, &r, &active, |_| dropped += 1);
-        assert_eq!(dropped, 0);
-        assert_eq!(list.pairs().len(), 2);
-        assert_eq!(
-            (list.pairs()[0].i, list.pairs()[0].j, list.pairs()[0].state),
-            (0, 1, 7)
-        );
-        assert_eq!(list.pairs()[1].state, 0);
+        let mut dropped = Vec::new();
+        list.update(&moved, &r, &active, false, |p| dropped.push(p));
+        assert!(dropped.is_empty());
+        assert_eq!(listed(&list), vec![(0, 1), (1, 2)]);
+        assert_eq!(list.pairs()[0].contact, 7);
+        assert_eq!(list.pairs()[1].contact, NONE);
+        // Apple 1 leaves: its pair with 0 (holding contact 7) is handed back.
+        let mut gone = moved.clone();
+        gone[1] = Vec3::new(0.0, 5.0, 0.0);
+        list.update(&gone, &r, &active, false, |p| dropped.push(p));
+        assert_eq!(dropped.len(), 1);
+        assert_eq!((dropped[0].i, dropped[0].j, dropped[0].contact), (0, 1, 7));
     }
 }

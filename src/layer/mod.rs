@@ -1,8 +1,9 @@
 //! The rapier layer: pair finding, our contact law applied as forces, contact records.
 //!
-//! A rapier user keeps their own pipeline and sets. They register which colliders are apples and
-//! which are surfaces (with a material each), pass [`ContactLayer::hooks`] to the pipeline's
-//! `step`, and call [`ContactLayer::apply_forces`] right before every step:
+//! A rapier user keeps their own pipeline and sets. They register which rigid bodies are apples
+//! (a collider-less body with its radius, or a ball collider) and which colliders are surfaces
+//! (with a material each), pass [`ContactLayer::hooks`] to the pipeline's `step`, and call
+//! [`ContactLayer::apply_forces`] right before every step:
 //!
 //! ```
 //! use applesim::layer::{ContactLayer, LayerConfig, SurfaceOptions};
@@ -16,28 +17,28 @@
 //! world.integration_parameters.dt = 1e-5;
 //!
 //! let floor = world.colliders.insert(ColliderBuilder::new(SharedShape::halfspace(Vector::Z)));
-//! let (_, apple) = world.insert(
+//! // An apple: a rigid body with the mass properties of a 0.107 kg ball of radius 40 mm. It needs
+//! // no collider: the layer finds its contacts (a ball collider works too, see `add_apple`).
+//! let apple = world.bodies.insert(
 //!     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.0401))
-//!         .linvel(Vector::new(0.0, 0.0, -1.0)).can_sleep(false),
-//!     ColliderBuilder::ball(0.04).mass(0.107),
+//!         .linvel(Vector::new(0.0, 0.0, -1.0))
+//!         .additional_mass_properties(MassProperties::new(
+//!             Vector::ZERO, 0.107, Vector::splat(0.4 * 0.107 * 0.04 * 0.04)))
+//!         .gyroscopic_forces_enabled(false) // zero for a sphere: skip the work
+//!         .can_sleep(false),
 //! );
 //!
 //! let mut layer = ContactLayer::new(LayerConfig::default());
 //! let fruit = layer.add_material("apple", Material::from_shear(1.1e6, 0.18, Some(800.0)).unwrap());
 //! let steel = layer.add_material("steel", Material::from_youngs(2.0736e11, 0.28, None).unwrap());
 //! layer.set_default_coefficients(0.3, 1.0, 100.0);
-//! layer.add_apple(&mut world.colliders, apple, fruit, "a1").unwrap();
+//! layer.add_apple_body(&world.bodies, apple, 0.04, fruit, "a1").unwrap();
 //! layer.add_surface(&mut world.colliders, floor, SurfaceOptions::hertz("floor", steel)).unwrap();
 //!
-//! // One step with dt = 0 lets rapier list the pairs touching at the start.
 //! let dt = world.integration_parameters.dt;
-//! world.integration_parameters.dt = 0.0;
-//! world.step_with_events(layer.hooks(), &());
-//! world.integration_parameters.dt = dt;
-//!
 //! for step in 0..1500 {
 //!     let t = step as f64 * dt;
-//!     layer.apply_forces(&mut world.bodies, &world.colliders, &world.narrow_phase, t, dt).unwrap();
+//!     layer.apply_forces(&mut world.bodies, &world.colliders, t, dt).unwrap();
 //!     world.step_with_events(layer.hooks(), &());
 //! }
 //! let bounce = &layer.finished_events()[0];
@@ -46,24 +47,37 @@
 //! assert!(bounce.absorbed_energy_j.abs() < 1e-6, "elastic: no loss");
 //! ```
 //!
-//! Why it is built this way (rapier-notes.md): forces are computed from the overlap at the
-//! current poses (rapier's manifolds lag one step, which costs 4-6 % of the peak force at
-//! dt = 1e-4); apple-apple pairs come from our own cell grid ([`grid`]) and never enter rapier's
-//! narrow phase (collision groups), 8-32x cheaper; apple-surface pairs come from rapier's
-//! broad phase, the surface geometry from the collider shapes ([`surface`]).
+//! Why it is built this way (rapier-notes.md, docs/performance.md):
+//!
+//! - forces come from the overlap at the current poses (rapier's manifolds lag one step, which
+//!   costs 4-6 % of the peak force at dt = 1e-4);
+//! - apple-apple pairs come from our own cell grid ([`grid`]) and never reach rapier, 8-32x
+//!   cheaper than its narrow phase;
+//! - apples need no collider: when its Verlet list is rebuilt, the layer lists the surfaces within
+//!   the skin of each apple from the colliders' bounding boxes and shapes ([`surface`] computes
+//!   the geometry at the current poses), so rapier keeps no per-apple collider up to date;
+//! - contacts live in a slab ([`contacts`]) that the force pass walks in a fixed order, in
+//!   parallel when there are enough of them, with bit-identical sums for any thread count.
 
+mod adaptive;
+pub mod contacts;
+mod detect;
 pub mod grid;
 pub mod hooks;
+mod kernel;
+mod sleep;
 pub mod surface;
 
-use crate::contact::{self, theory, ContactKinematics, LawParts, Material, PairLaw};
+use crate::contact::{self, LawParts, Material, PairLaw};
 use crate::math::{is_finite, Vec3};
-use crate::record::events::{ContactEvent, ContactSample, Names, OpenContact, Party};
+use crate::record::events::{ContactEvent, Names, OpenContact, Party};
+use contacts::ContactStore;
 pub use hooks::{ContactHooks, Role};
 use rapier3d_f64::dynamics::{RigidBodyHandle, RigidBodySet};
-use rapier3d_f64::geometry::{ColliderHandle, ColliderSet, Group, InteractionGroups, NarrowPhase};
+use rapier3d_f64::geometry::{ColliderHandle, ColliderSet, Group, InteractionGroups};
+use rapier3d_f64::math::Pose;
 use rapier3d_f64::pipeline::ActiveHooks;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::sync::Arc;
 pub use surface::{SurfaceHit, SurfaceShape};
 use thiserror::Error;
@@ -89,7 +103,10 @@ pub enum LayerError {
     /// An apple collider must be a ball attached to a dynamic body.
     #[error("apple '{0}': its collider must be a ball attached to a dynamic rigid body")]
     NotABall(String),
-    /// The collider is registered twice.
+    /// A collider-less apple body must be dynamic, with a mass, an inertia and a positive radius.
+    #[error("apple '{0}': its rigid body must be dynamic, with a positive mass and inertia (set them with additional_mass_properties), and its radius positive")]
+    NoMass(String),
+    /// The collider (or body) is registered twice.
     #[error("collider of '{0}' is already registered with the layer")]
     Duplicate(String),
     /// A concave surface tighter than the apple: Hertz theory has no answer (K1 + K2 <= 0).
@@ -295,97 +312,6 @@ pub struct Coefficients {
     pub lambda_s_m: f64,
 }
 
-#[derive(Debug, Clone)]
-struct AppleEntry {
-    name: Arc<str>,
-    collider: ColliderHandle,
-    body: RigidBodyHandle,
-    offset: Vec3,
-    radius: f64,
-    material: MaterialId,
-    mass: f64,
-    /// 1/m + r^2/I: inverse mass of the surface point in a tangential direction.
-    inv_tangential_mass: f64,
-}
-
-#[derive(Debug, Clone)]
-struct SurfaceEntry {
-    name: Arc<str>,
-    collider: ColliderHandle,
-    material: MaterialId,
-    shape: SurfaceShape,
-    belt_local: Vec3,
-    rigid: bool,
-}
-
-/// State carried by a contact pair across steps.
-#[derive(Debug, Clone)]
-pub struct PairState {
-    xi: Vec3,
-    open: Option<Box<OpenContact>>,
-    /// Force on body 1 at the last evaluation (reported for sleepers' frozen contacts).
-    last_force: Vec3,
-    /// Overlap at the last evaluation.
-    last_u: f64,
-    /// Overlap when one of the two fell asleep (NaN while both are awake).
-    ref_u: f64,
-}
-
-impl Default for PairState {
-    fn default() -> Self {
-        Self {
-            xi: Vec3::ZERO,
-            open: None,
-            last_force: Vec3::ZERO,
-            last_u: 0.0,
-            ref_u: f64::NAN,
-        }
-    }
-}
-
-#[derive(Debug, Clone)]
-struct Slot {
-    normal: Vec3,
-    seen: bool,
-    state: PairState,
-}
-
-#[derive(Debug, Clone, Copy)]
-enum Other {
-    /// Index into the neighbour list.
-    Apple(usize),
-    /// (apple, surface) key and slot index.
-    Surface(u32, u32, usize),
-}
-
-/// Contacts per step from which the force pass runs in parallel (below that, rayon's overhead
-/// outweighs the work). The results do not depend on it.
-const PARALLEL_MIN_HITS: usize = 256;
-
-/// One evaluated contact, ready to be added to the loads.
-#[derive(Debug, Clone, Copy)]
-struct HitOut {
-    i: usize,
-    j: Option<usize>,
-    body2: Option<RigidBodyHandle>,
-    /// Force on apple i (N).
-    force: Vec3,
-    point: Vec3,
-    /// The leapfrog kick factor with adaptive steps.
-    kick: Option<f64>,
-    /// On a belt or a moving part: keeps the apple awake.
-    moving_surface: bool,
-    elastic_energy_j: f64,
-    overlap_ratio: f64,
-    /// The other party (for the slip samples).
-    party: Party,
-    /// Tangential slip speed at the contact point (m/s).
-    slip_m_s: f64,
-    /// Normal force (N).
-    normal_force_n: f64,
-}
-
-/// The slip of one contact at the current poses, seen from one apple (an apple-apple contact
 /// gives one sample for each of its apples).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SlipSample {
@@ -400,15 +326,6 @@ pub struct SlipSample {
     pub normal_force_n: f64,
     /// Contact point (m, world).
     pub point: Vec3,
-}
-
-#[derive(Debug, Clone, Copy)]
-struct Hit {
-    i: u32,
-    other: Other,
-    normal: Vec3,
-    overlap: f64,
-    curvature2: f64,
 }
 
 /// What limited an adaptive step.
@@ -456,6 +373,98 @@ impl StepStats {
     }
 }
 
+/// An apple as the layer knows it.
+#[derive(Debug, Clone)]
+struct AppleEntry {
+    name: Arc<str>,
+    /// The apple's ball collider, if it has one (rapier needs it only for rigid surfaces).
+    collider: Option<ColliderHandle>,
+    body: RigidBodyHandle,
+    /// Centre of the ball in the body's frame.
+    offset: Vec3,
+    radius: f64,
+    material: MaterialId,
+    mass: f64,
+    /// 1/m + r^2/I: inverse mass of the surface point in a tangential direction.
+    inv_tangential_mass: f64,
+}
+
+#[derive(Debug, Clone)]
+struct SurfaceEntry {
+    name: Arc<str>,
+    collider: ColliderHandle,
+    material: MaterialId,
+    shape: SurfaceShape,
+    belt_local: Vec3,
+    rigid: bool,
+}
+
+/// What the layer reads of a surface once per step (the few surfaces, not every contact, go to
+/// rapier's sets).
+#[derive(Debug, Clone)]
+struct SurfaceNow {
+    /// The collider still exists.
+    exists: bool,
+    /// Its pose at the last step (change detection).
+    pose: Pose,
+    /// Its pose at the last rebuild of the candidate lists (how far it may have moved since).
+    pose_at_build: Pose,
+    /// Radius of a sphere around the collider's origin containing its shape (m; infinite for a
+    /// half-space): bounds how far a rotation moves its points.
+    extent_m: f64,
+    /// Moved or removed since the last step: wakes the sleepers near it.
+    changed: bool,
+    /// The parent body is not fixed, or the surface is a running belt: apples on it stay awake.
+    moving: bool,
+    /// Velocity field of the parent body: linear velocity, angular velocity, centre of mass.
+    lin: Vec3,
+    ang: Vec3,
+    com: Vec3,
+    /// Inverse mass of a dynamic parent (0 for fixed or kinematic ones).
+    inv_mass: f64,
+    /// A dynamic parent receives the reaction forces.
+    dynamic_body: Option<RigidBodyHandle>,
+    /// Belt velocity in world axes (m/s).
+    belt: Vec3,
+}
+
+impl SurfaceNow {
+    fn new() -> Self {
+        Self {
+            exists: false,
+            pose: Pose::IDENTITY,
+            pose_at_build: Pose::IDENTITY,
+            extent_m: f64::INFINITY,
+            changed: false,
+            moving: false,
+            lin: Vec3::ZERO,
+            ang: Vec3::ZERO,
+            com: Vec3::ZERO,
+            inv_mass: 0.0,
+            dynamic_body: None,
+            belt: Vec3::ZERO,
+        }
+    }
+
+    /// Velocity of the surface's material point at `p` (belt excluded).
+    fn velocity_at(&self, p: Vec3) -> Vec3 {
+        self.lin + self.ang.cross(p - self.com)
+    }
+}
+
+/// A surface near an apple: listed at the last rebuild (closer than the skin), with the chain of
+/// its open contacts (see [`Contact::next`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct SurfaceCandidate {
+    apple: u32,
+    surface: u32,
+    first: u32,
+}
+
+/// Contacts per step from which the force pass runs in parallel (below that, rayon's overhead
+/// outweighs the work). The results do not depend on it.
+const PARALLEL_MIN_CONTACTS: usize = 256;
+
 /// The Hertz contact layer. See the module documentation for how to attach it to a world.
 #[derive(Debug)]
 pub struct ContactLayer {
@@ -468,12 +477,17 @@ pub struct ContactLayer {
     laws_dirty: bool,
     apples: Vec<AppleEntry>,
     surfaces: Vec<SurfaceEntry>,
-    /// Role and index of registered colliders, indexed by the collider's arena index (a plain
-    /// table: the candidate scan does two lookups per rapier pair every step).
+    /// Role and index of registered colliders, indexed by the collider's arena index.
     by_collider: Vec<Option<(ColliderHandle, Role, u32)>>,
-    grid: grid::NeighborList<PairState>,
-    surface_slots: BTreeMap<(u32, u32), Vec<Slot>>,
-    // Per-step buffers.
+    grid: grid::NeighborList,
+    /// Surfaces near each apple, sorted by (apple, surface).
+    candidates: Vec<SurfaceCandidate>,
+    rebuild_candidates: bool,
+    contacts: ContactStore,
+    surf_now: Vec<SurfaceNow>,
+    /// The detection pass counter (see [`Contact::epoch`]).
+    epoch: u64,
+    // Per apple, per step.
     pos: Vec<Vec3>,
     vel: Vec<Vec3>,
     angvel: Vec<Vec3>,
@@ -487,13 +501,15 @@ pub struct ContactLayer {
     still_time: Vec<f64>,
     asleep: Vec<bool>,
     sleep_force: Vec<Vec3>,
+    /// The layer left a non-zero force or torque on the body at the last step (so a zero one now
+    /// must be written: rapier keeps user forces).
+    loaded: Vec<bool>,
     to_wake: Vec<u32>,
     stats_sleeps: u64,
     stats_wakeups: u64,
-    hits: Vec<Hit>,
     slips: Vec<SlipSample>,
     scratch: Vec<SurfaceHit>,
-    candidates: Vec<(u32, u32)>,
+    chain: Vec<u32>,
     finished: Vec<ContactEvent>,
     body_loads: Vec<(RigidBodyHandle, Vec3, Vec3)>,
     /// Adaptive steps only: contact force and torque per apple with each contact's leapfrog kick
@@ -502,9 +518,8 @@ pub struct ContactLayer {
     kicked_torque: Vec<Vec3>,
     /// Adaptive steps only: apples not yet stepped, whose first kick spans half a step.
     fresh: Vec<bool>,
-    /// Force pass buffers (reused every step).
-    states_buf: Vec<PairState>,
-    outs_buf: Vec<Result<HitOut, LayerError>>,
+    /// Output of the force pass, one per contact slot.
+    outs: Vec<kernel::ContactOut>,
     stats: StepStats,
     time_s: f64,
     last_dt: Option<f64>,
@@ -532,7 +547,11 @@ impl ContactLayer {
             apples: Vec::new(),
             surfaces: Vec::new(),
             by_collider: Vec::new(),
-            surface_slots: BTreeMap::new(),
+            candidates: Vec::new(),
+            rebuild_candidates: true,
+            contacts: ContactStore::default(),
+            surf_now: Vec::new(),
+            epoch: 0,
             pos: Vec::new(),
             vel: Vec::new(),
             angvel: Vec::new(),
@@ -546,20 +565,19 @@ impl ContactLayer {
             still_time: Vec::new(),
             asleep: Vec::new(),
             sleep_force: Vec::new(),
+            loaded: Vec::new(),
             to_wake: Vec::new(),
             stats_sleeps: 0,
             stats_wakeups: 0,
-            hits: Vec::new(),
             slips: Vec::new(),
             scratch: Vec::new(),
-            candidates: Vec::new(),
+            chain: Vec::new(),
             finished: Vec::new(),
             body_loads: Vec::new(),
             kicked_force: Vec::new(),
             kicked_torque: Vec::new(),
             fresh: Vec::new(),
-            states_buf: Vec::new(),
-            outs_buf: Vec::new(),
+            outs: Vec::new(),
             stats: StepStats::default(),
             time_s: 0.0,
             last_dt: None,
@@ -649,7 +667,11 @@ impl ContactLayer {
 
     /// Registers a ball collider on a dynamic body as an apple. Sets its collision groups so
     /// that apple-apple pairs never enter rapier's narrow phase (the layer finds them), and
-    /// enables the pair-filter hook.
+    /// enables the pair-filter hook (rapier's response to Hertz surfaces is switched off).
+    ///
+    /// An apple needs a collider only when rapier itself must touch it (a surface with rapier's
+    /// own `rigid` contact); otherwise [`add_apple_body`](Self::add_apple_body) is cheaper:
+    /// rapier then keeps no collider of it up to date.
     pub fn add_apple(
         &mut self,
         colliders: &mut ColliderSet,
@@ -676,8 +698,7 @@ impl ContactLayer {
             .map(|p| p.translation)
             .unwrap_or(Vec3::ZERO);
         let mp = co.mass_properties();
-        let mass = mp.mass();
-        let inertia = mp.principal_inertia().x;
+        let (mass, inertia) = (mp.mass(), mp.principal_inertia().x);
         if !(mass > 0.0 && inertia > 0.0) {
             return Err(LayerError::NotABall(name.to_string()));
         }
@@ -686,11 +707,11 @@ impl ContactLayer {
             let old = co.collision_groups();
             co.set_collision_groups(InteractionGroups::new(g, old.filter & !g, old.test_mode));
             co.set_active_hooks(co.active_hooks() | ActiveHooks::FILTER_CONTACT_PAIRS);
+            self.hooks.set(collider, Role::Apple);
         }
-        let id = self.apples.len() as u32;
-        self.apples.push(AppleEntry {
+        let id = self.push_apple(AppleEntry {
             name: name.into(),
-            collider,
+            collider: Some(collider),
             body,
             offset,
             radius,
@@ -698,21 +719,68 @@ impl ContactLayer {
             mass,
             inv_tangential_mass: 1.0 / mass + radius * radius / inertia,
         });
-        if !self.config.passive {
-            self.hooks.set(collider, Role::Apple);
+        self.register(collider, Role::Apple, id.0);
+        Ok(id)
+    }
+
+    /// Registers a dynamic rigid body without a collider as an apple: a ball of `radius_m`
+    /// centred on the body's centre of mass, with the body's mass and (isotropic) inertia, from
+    /// its mass properties as built (`additional_mass_properties`) or as rapier computed them.
+    pub fn add_apple_body(
+        &mut self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+        radius_m: f64,
+        material: MaterialId,
+        name: &str,
+    ) -> Result<AppleId, LayerError> {
+        if self.apples.iter().any(|a| a.body == body) {
+            return Err(LayerError::Duplicate(name.to_string()));
         }
-        self.register(collider, Role::Apple, id);
+        let rb = bodies
+            .get(body)
+            .ok_or_else(|| LayerError::NoMass(name.to_string()))?;
+        let mprops = rb.mass_properties();
+        let mut mp = mprops.local_mprops;
+        if mp.mass() <= 0.0 {
+            if let Some(add) = mprops.additional_local_mprops.as_deref() {
+                if let rapier3d_f64::dynamics::RigidBodyAdditionalMassProps::MassProps(m) = add {
+                    mp = *m;
+                }
+            }
+        }
+        let (mass, inertia) = (mp.mass(), mp.principal_inertia().x);
+        if !(rb.is_dynamic() && mass > 0.0 && inertia > 0.0 && radius_m > 0.0) {
+            return Err(LayerError::NoMass(name.to_string()));
+        }
+        Ok(self.push_apple(AppleEntry {
+            name: name.into(),
+            collider: None,
+            body,
+            offset: mp.local_com,
+            radius: radius_m,
+            material,
+            mass,
+            inv_tangential_mass: 1.0 / mass + radius_m * radius_m / inertia,
+        }))
+    }
+
+    fn push_apple(&mut self, entry: AppleEntry) -> AppleId {
+        let id = self.apples.len() as u32;
+        let radius = entry.radius;
+        self.apples.push(entry);
         self.radius.push(radius);
         self.fresh.push(true);
         if self.apples.len() == 1 {
             // The skin is set by the first apple; the grid's cells follow the largest radius.
             self.grid = grid::NeighborList::new(self.config.grid_skin_ratio * radius);
         }
-        Ok(AppleId(id))
+        AppleId(id)
     }
 
     /// Registers a surface collider (any body type). A Hertz surface gets the pair-filter hook so
-    /// rapier leaves its apple contacts to the layer; a rigid one keeps rapier's response.
+    /// rapier leaves its contacts with apple colliders to the layer; a rigid one keeps rapier's
+    /// response (apples that must touch it need a ball collider, see [`add_apple`](Self::add_apple)).
     pub fn add_surface(
         &mut self,
         colliders: &mut ColliderSet,
@@ -742,6 +810,8 @@ impl ContactLayer {
             belt_local: options.belt_velocity_local,
             rigid: options.rigid,
         });
+        self.surf_now.push(SurfaceNow::new());
+        self.rebuild_candidates = true;
         self.hooks.set(collider, role);
         self.register(collider, role, id);
         Ok(SurfaceId(id))
@@ -792,8 +862,8 @@ impl ContactLayer {
         &self.apples[id.0 as usize].name
     }
 
-    /// The collider of an apple.
-    pub fn apple_collider(&self, id: AppleId) -> ColliderHandle {
+    /// The ball collider of an apple, if it has one.
+    pub fn apple_collider(&self, id: AppleId) -> Option<ColliderHandle> {
         self.apples[id.0 as usize].collider
     }
 
@@ -822,7 +892,7 @@ impl ContactLayer {
         self.surfaces.len()
     }
 
-    /// The Verlet skin of the apple-apple list (m).
+    /// The Verlet skin of the pair lists (m).
     pub fn grid_skin_m(&self) -> f64 {
         self.grid.skin_m()
     }
@@ -881,19 +951,14 @@ impl ContactLayer {
 
     /// The contacts still open, as events with no end (sorted by apple, then other party).
     pub fn open_events(&self) -> Vec<ContactEvent> {
-        let mut out = Vec::new();
-        for p in self.grid.pairs() {
-            if let Some(o) = &p.state.open {
-                out.push(o.snapshot(self.names_apple(p.i, p.j)));
-            }
-        }
-        for (&(a, s), slots) in &self.surface_slots {
-            for sl in slots {
-                if let Some(o) = &sl.state.open {
-                    out.push(o.snapshot(self.names_surface(a, s)));
-                }
-            }
-        }
+        let mut out: Vec<ContactEvent> = self
+            .contacts
+            .iter()
+            .filter_map(|c| {
+                let o = c.record.as_ref()?;
+                Some(o.snapshot(self.names(c.i, c.other)))
+            })
+            .collect();
         out.sort_by(|x, y| {
             (x.a_index, party_key(x.b_party), x.t_start_s.to_bits()).cmp(&(
                 y.a_index,
@@ -904,477 +969,27 @@ impl ContactLayer {
         out
     }
 
-    fn names_apple(&self, i: u32, j: u32) -> Names {
+    /// Who a contact is about (for its event).
+    fn names(&self, i: u32, other: Party) -> Names {
         Names {
             a: self.apples[i as usize].name.clone(),
-            b: self.apples[j as usize].name.clone(),
+            b: match other {
+                Party::Apple(j) => self.apples[j as usize].name.clone(),
+                Party::Surface(s) => self.surfaces[s as usize].name.clone(),
+            },
             a_index: i,
-            b_party: Party::Apple(j),
-        }
-    }
-
-    fn names_surface(&self, a: u32, s: u32) -> Names {
-        Names {
-            a: self.apples[a as usize].name.clone(),
-            b: self.surfaces[s as usize].name.clone(),
-            a_index: a,
-            b_party: Party::Surface(s),
-        }
-    }
-
-    fn gather(&mut self, bodies: &RigidBodySet) -> Result<(), LayerError> {
-        let n = self.apples.len();
-        self.pos.resize(n, Vec3::ZERO);
-        self.vel.resize(n, Vec3::ZERO);
-        self.angvel.resize(n, Vec3::ZERO);
-        self.active.resize(n, true);
-        self.force.clear();
-        self.force.resize(n, Vec3::ZERO);
-        self.torque.clear();
-        self.torque.resize(n, Vec3::ZERO);
-        if self.config.step_control.is_some() {
-            self.kicked_force.clear();
-            self.kicked_force.resize(n, Vec3::ZERO);
-            self.kicked_torque.clear();
-            self.kicked_torque.resize(n, Vec3::ZERO);
-        }
-        self.count.clear();
-        self.count.resize(n, 0);
-        self.still.resize(n, false);
-        self.busy.clear();
-        self.busy.resize(n, false);
-        self.still_time.resize(n, 0.0);
-        self.asleep.resize(n, false);
-        self.sleep_force.resize(n, Vec3::ZERO);
-        let still_speed = self.config.sleep.speed_m_s;
-        for (k, a) in self.apples.iter().enumerate() {
-            if self.asleep[k] {
-                match bodies.get(a.body) {
-                    // Still asleep in rapier: nothing moved, velocities are zero.
-                    Some(rb) if rb.is_sleeping() => {
-                        self.active[k] = false;
-                        continue;
-                    }
-                    // Woken from outside (the user moved it): treat it as awake again.
-                    _ => {
-                        self.asleep[k] = false;
-                        self.still_time[k] = 0.0;
-                    }
-                }
-            }
-            let Some(rb) = bodies.get(a.body) else {
-                return Err(LayerError::NonFinite {
-                    body: a.name.to_string(),
-                    time_s: self.time_s,
-                });
-            };
-            let c = rb.position().transform_point(a.offset);
-            let v = rb.velocity_at_point(c);
-            let w = rb.angvel();
-            if !(is_finite(c) && is_finite(v) && is_finite(w)) {
-                return Err(LayerError::NonFinite {
-                    body: a.name.to_string(),
-                    time_s: self.time_s,
-                });
-            }
-            self.pos[k] = c;
-            self.vel[k] = v;
-            self.angvel[k] = w;
-            self.active[k] = !self.asleep[k];
-            self.still[k] = v.length() < still_speed && w.length() * a.radius < still_speed;
-        }
-        Ok(())
-    }
-
-    /// Computes every modelled contact at the current poses and sets the apples' forces and
-    /// torques for the coming step (replacing whatever the layer set before). Call it right
-    /// before each `step`, with the time of the current poses and the step about to be taken.
-    ///
-    /// Sleeping apples (see [`SleepConfig`]) are not touched; contacts between two sleepers or
-    /// between a sleeper and a fixed surface are not evaluated. Wake-ups are decided from the
-    /// geometry before any force is computed, so a woken apple gets all its contacts this step.
-    pub fn apply_forces(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        time_s: f64,
-        dt_s: f64,
-    ) -> Result<(), LayerError> {
-        let control = self.config.step_control.take();
-        let r = self.step_forces(bodies, colliders, narrow_phase, time_s, dt_s);
-        self.config.step_control = control;
-        r.map(|_| ())
-    }
-
-    /// Like [`apply_forces`](Self::apply_forces) for an adaptive driver (with
-    /// [`LayerConfig::step_control`] set): finds the contacts at the current poses, chooses the
-    /// coming step, at most `dt_cap_s`, that resolves them (see [`StepControl`]), applies the
-    /// forces for it and returns it. Pass the returned step to rapier. `land_in_s`, if positive,
-    /// is the time left to a point the driver must land on exactly (an output sample, the end):
-    /// the step is then shortened to divide it evenly, never leaving a sliver.
-    pub fn apply_forces_adaptive(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        time_s: f64,
-        dt_cap_s: f64,
-        land_in_s: f64,
-    ) -> Result<f64, LayerError> {
-        self.land_in_s = land_in_s;
-        let r = self.step_forces(bodies, colliders, narrow_phase, time_s, dt_cap_s);
-        self.land_in_s = 0.0;
-        r
-    }
-
-    fn step_forces(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        time_s: f64,
-        dt_cap_s: f64,
-    ) -> Result<f64, LayerError> {
-        self.time_s = time_s;
-        self.ensure_laws();
-        self.gather(bodies)?;
-        if self.config.passive {
-            self.stats = StepStats {
-                dt_limit_s: f64::INFINITY,
-                ..StepStats::default()
-            };
-            return Ok(dt_cap_s);
-        }
-        // Touch and parting instants are interpolated within the step that led here.
-        self.dt_back = self.last_dt.unwrap_or(dt_cap_s);
-        let mut redone = false;
-        loop {
-            self.geometry_pass(bodies, colliders, narrow_phase, time_s, dt_cap_s);
-            if self.to_wake.is_empty() || redone {
-                break;
-            }
-            let woken = std::mem::take(&mut self.to_wake);
-            for k in woken {
-                self.wake(bodies, k as usize);
-            }
-            redone = true;
-        }
-        self.to_wake.clear();
-        self.motion_limit();
-        let dt_s = if self.config.step_control.is_some() {
-            let dt = dt_cap_s.min(self.stats.dt_limit_s);
-            if self.land_in_s > 0.0 {
-                self.land_in_s / (self.land_in_s / dt).ceil()
-            } else {
-                dt
-            }
-        } else {
-            dt_cap_s
-        };
-        self.last_dt = Some(dt_s);
-
-        // Force pass, in the fixed order of `hits`.
-        let hits = std::mem::take(&mut self.hits);
-        let result = self.force_pass(&hits, bodies, colliders, time_s, dt_s);
-        self.stats.contacts = hits.len();
-        self.hits = hits;
-        result?;
-        self.add_frozen_forces();
-        self.sleep_decisions(bodies, dt_s);
-
-        // Hand the forces to rapier. `user_force` persists across steps, so reset every time.
-        // With variable steps, the leapfrog kick (see `StepControl::gravity`).
-        let (kick, gravity) = match self.config.step_control {
-            Some(c) => ((self.dt_back + dt_s) / (2.0 * dt_s), c.gravity),
-            None => (1.0, Vec3::ZERO),
-        };
-        for (k, a) in self.apples.iter().enumerate() {
-            if !self.active[k] {
-                continue;
-            }
-            if let Some(rb) = bodies.get_mut(a.body) {
-                rb.reset_forces(false);
-                rb.reset_torques(false);
-                if self.config.step_control.is_none() {
-                    rb.add_force(self.force[k], false);
-                    rb.add_torque(self.torque[k], false);
-                } else {
-                    // Each contact carries its own kick (see `contact_force`); gravity's share.
-                    // An apple's first step starts the leapfrog from its initial velocity: half
-                    // a kick (measured: without it, a 6 mm drop on a belt in adaptive steps
-                    // landed 4.6 % slow).
-                    let kick = if std::mem::take(&mut self.fresh[k]) {
-                        0.5
-                    } else {
-                        kick
-                    };
-                    rb.add_force(
-                        self.kicked_force[k] + gravity * (a.mass * (kick - 1.0)),
-                        false,
-                    );
-                    rb.add_torque(self.kicked_torque[k], false);
-                }
-            }
-        }
-        for (h, f, p) in self.body_loads.drain(..) {
-            if let Some(rb) = bodies.get_mut(h) {
-                if rb.is_dynamic() {
-                    rb.add_force_at_point(f, p, true);
-                }
-            }
-        }
-        Ok(dt_s)
-    }
-
-    /// Finds every contact at the current poses (into `hits`), closes contacts that parted, and
-    /// lists sleepers that must wake (into `to_wake`).
-    fn geometry_pass(
-        &mut self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        time_s: f64,
-        dt_s: f64,
-    ) {
-        self.stats = StepStats {
-            dt_limit_s: f64::INFINITY,
-            ..StepStats::default()
-        };
-        let dt_back = self.dt_back;
-        self.hits.clear();
-        self.count.iter_mut().for_each(|c| *c = 0);
-        // Apple-apple candidates from our grid; contacts dropped by a rebuild cannot have
-        // overlapped (they are farther apart than the skin), close them where they are.
-        let mut dropped_open = Vec::new();
-        self.grid
-            .update(&self.pos, &self.radius, &self.active, |p| {
-                if p.state.open.is_some() {
-                    dropped_open.push(p);
-                }
-            });
-        for p in dropped_open {
-            let (n, u) = self.apple_apple_geometry(p.i as usize, p.j as usize);
-            let sep = (self.vel[p.i as usize] - self.vel[p.j as usize]).dot(n);
-            let names = self.names_apple(p.i, p.j);
-            let open = p.state.open.unwrap();
-            self.finished
-                .push(open.finish(time_s, dt_back, u, sep, names));
-        }
-        self.stats.apple_candidates = self.grid.pairs().len();
-        let wake_ratio = self.config.sleep.wake_overlap_ratio;
-        for k in 0..self.grid.pairs().len() {
-            let (i, j) = {
-                let p = &self.grid.pairs()[k];
-                (p.i as usize, p.j as usize)
-            };
-            let (ai, aj) = (self.active[i], self.active[j]);
-            if !ai && !aj {
-                continue;
-            }
-            let (n, u) = self.apple_apple_geometry(i, j);
-            let state = &mut self.grid.pairs_mut()[k].state;
-            if ai != aj {
-                // One sleeper: wake it if this contact starts, ends, or its overlap drifts.
-                let sleeper = if ai { j } else { i };
-                let starts = u > 0.0 && state.open.is_none();
-                let ends = u <= 0.0 && state.open.is_some();
-                if state.ref_u.is_nan() {
-                    state.ref_u = state.last_u;
-                }
-                let drifts =
-                    u > 0.0 && (u - state.ref_u).abs() > wake_ratio * state.ref_u.max(0.0) + 1e-9;
-                if starts || ends || drifts {
-                    self.to_wake.push(sleeper as u32);
-                }
-            } else {
-                state.ref_u = f64::NAN;
-            }
-            state.last_u = u;
-            if u <= 0.0 {
-                if let Some(c) = self.config.step_control {
-                    let closing = (self.vel[j] - self.vel[i]).dot(n);
-                    // Relative acceleration of two apples: bounded by g (one supported, one
-                    // falling); contact forces are not known yet at this point.
-                    let accel = c.gravity.length();
-                    if let Some(t_touch) = time_to_touch(-u, closing, accel, self.lookahead(&c)) {
-                        // About to touch: resolve the impact (see `StepControl`).
-                        let closing = closing + accel * t_touch;
-                        let law = self.laws[self.apples[i].material.0 as usize
-                            * self.materials.len()
-                            + self.apples[j].material.0 as usize];
-                        let (ri, rj) = (self.radius[i], self.radius[j]);
-                        let r_star = ri * rj / (ri + rj);
-                        let k = contact::normal::stiffness(law.e_star_pa, r_star);
-                        let m_n = theory::reduced_mass(self.apples[i].mass, self.apples[j].mass);
-                        let t_h = theory::elastic_impact(m_n, closing, k, r_star).contact_time_s;
-                        let lim = t_touch + t_h / c.steps_per_contact;
-                        self.stats.limit(lim, StepLimit::Approaching);
-                    }
-                }
-            }
-            let state = &mut self.grid.pairs_mut()[k].state;
-            if u > 0.0 {
-                if let Some(c) = self.config.step_control {
-                    let rate = (self.vel[j] - self.vel[i]).dot(n);
-                    let law = self.laws[self.apples[i].material.0 as usize * self.materials.len()
-                        + self.apples[j].material.0 as usize];
-                    let (ri, rj) = (self.radius[i], self.radius[j]);
-                    let m_n = theory::reduced_mass(self.apples[i].mass, self.apples[j].mass);
-                    let k = contact::normal::stiffness(law.e_star_pa, ri * rj / (ri + rj));
-                    let (scale, start) = match state.open.as_mut() {
-                        Some(o) => (
-                            o.impact_scale(|v| impact_scale(m_n, k, v)),
-                            o.start_time_s(),
-                        ),
-                        None => (impact_scale(m_n, k, rate), time_s),
-                    };
-                    let ke = if self.config.parts.energy_loss {
-                        law.ke
-                    } else {
-                        1.0
-                    };
-                    let lim = contact_step_limit(&c, m_n, k, u, scale, rate, ke, time_s - start);
-                    self.stats.limit(lim.0, lim.1);
-                }
-                self.hits.push(Hit {
-                    i: i as u32,
-                    other: Other::Apple(k),
-                    normal: n,
-                    overlap: u,
-                    curvature2: 1.0 / self.radius[j],
-                });
-                self.count[i] += 1;
-                self.count[j] += 1;
-                continue;
-            }
-            let state = &mut self.grid.pairs_mut()[k].state;
-            if state.open.is_some() {
-                let sep = (self.vel[i] - self.vel[j]).dot(n);
-                let open = state.open.take().unwrap();
-                state.xi = Vec3::ZERO;
-                state.last_force = Vec3::ZERO;
-                let names = self.names_apple(i as u32, j as u32);
-                self.finished
-                    .push(open.finish(time_s, dt_back, u, sep, names));
-            } else {
-                state.xi = Vec3::ZERO;
-                state.last_force = Vec3::ZERO;
-            }
-        }
-        self.stats.apple_apple_contacts = self.hits.len();
-        self.collect_surface_hits(bodies, colliders, narrow_phase, time_s, dt_s);
-    }
-
-    fn wake(&mut self, bodies: &mut RigidBodySet, k: usize) {
-        if self.active[k] {
-            return;
-        }
-        self.active[k] = true;
-        self.asleep[k] = false;
-        self.still_time[k] = 0.0;
-        self.stats_wakeups += 1;
-        if let Some(rb) = bodies.get_mut(self.apples[k].body) {
-            rb.wake_up(true);
-        }
-    }
-
-    /// A sleeper reports the contact force it carried when it fell asleep (its contacts are frozen;
-    /// a change large enough to matter wakes it).
-    fn add_frozen_forces(&mut self) {
-        for k in 0..self.apples.len() {
-            if self.asleep[k] {
-                self.force[k] = self.sleep_force[k];
-            }
-        }
-    }
-
-    /// Puts to sleep the apples that have been still long enough (see [`SleepConfig`]).
-    fn sleep_decisions(&mut self, bodies: &mut RigidBodySet, dt_s: f64) {
-        let cfg = self.config.sleep;
-        if !cfg.enabled {
-            return;
-        }
-        for k in 0..self.apples.len() {
-            if !self.active[k] {
-                continue;
-            }
-            // Still, supported (touching something) and not accelerating: the net force would not
-            // change its speed by the stillness threshold within the stillness time.
-            let net = self.force[k] + self.gravity * self.apples[k].mass;
-            let resting = self.count[k] > 0
-                && net.length() * cfg.time_s < cfg.speed_m_s * self.apples[k].mass;
-            if self.still[k] && !self.busy[k] && resting {
-                self.still_time[k] += dt_s;
-            } else {
-                self.still_time[k] = 0.0;
-            }
-            if self.still_time[k] >= cfg.time_s {
-                self.active[k] = false;
-                self.asleep[k] = true;
-                self.sleep_force[k] = self.force[k];
-                self.vel[k] = Vec3::ZERO;
-                self.angvel[k] = Vec3::ZERO;
-                self.still[k] = true;
-                self.stats_sleeps += 1;
-                self.force[k] = Vec3::ZERO;
-                self.torque[k] = Vec3::ZERO;
-                if let Some(rb) = bodies.get_mut(self.apples[k].body) {
-                    rb.reset_forces(false);
-                    rb.reset_torques(false);
-                    rb.sleep();
-                }
-            }
-        }
-    }
-
-    /// How far ahead to look for contacts about to start: the coming step is at most the
-    /// driver's largest and at most twice the last (the driver's growth limit).
-    fn lookahead(&self, c: &StepControl) -> f64 {
-        match self.last_dt {
-            Some(dt) => c.lookahead_s.min(2.0 * dt),
-            None => c.lookahead_s,
-        }
-    }
-
-    /// With step control: no awake apple may move more than the pair-finding margins in one step.
-    fn motion_limit(&mut self) {
-        let Some(c) = self.config.step_control else {
-            return;
-        };
-        let mut v_max: f64 = 0.0;
-        for k in 0..self.apples.len() {
-            if self.active[k] {
-                // Centres only: spin moves no centre, and the margins are about centres.
-                v_max = v_max.max(self.vel[k].length());
-            }
-        }
-        // The grid's skin is known once apples exist (sources may add the first ones late).
-        // Two apples closing at up to 2 v_max must not cross the skin of the list unseen in one
-        // step: each may move half the skin.
-        let reach = c.max_displacement_m.min(0.5 * self.grid.skin_m());
-        if v_max > 0.0 && reach > 0.0 {
-            self.stats.limit(reach / v_max, StepLimit::Motion);
+            b_party: other,
         }
     }
 
     /// Work done so far by the normal forces of the contacts still open (J): the energy the
     /// contacts hold or have lost so far (see `OpenContact::work_so_far_j`).
     pub fn open_contact_work_j(&self) -> f64 {
-        let mut w = 0.0;
-        for p in self.grid.pairs() {
-            if let Some(o) = &p.state.open {
-                w += o.work_so_far_j();
-            }
-        }
-        for slots in self.surface_slots.values() {
-            for sl in slots {
-                if let Some(o) = &sl.state.open {
-                    w += o.work_so_far_j();
-                }
-            }
-        }
-        w
+        self.contacts
+            .iter()
+            .filter_map(|c| c.record.as_ref())
+            .map(OpenContact::work_so_far_j)
+            .sum()
     }
 
     /// Number of apples asleep now.
@@ -1419,687 +1034,260 @@ impl ContactLayer {
         }
     }
 
-    fn apple_apple_geometry(&self, i: usize, j: usize) -> (Vec3, f64) {
-        let d = self.pos[i] - self.pos[j];
-        let dist = d.length();
-        let u = self.radius[i] + self.radius[j] - dist;
-        let n = if dist > 0.0 { d / dist } else { Vec3::Z };
-        (n, u)
-    }
-
-    fn collect_surface_hits(
-        &mut self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        time_s: f64,
-        dt_s: f64,
-    ) {
-        let dt_back = self.dt_back;
-        let control = self.config.step_control;
-        let horizon = control.map_or(0.0, |c| self.lookahead(&c));
-        self.candidates.clear();
-        for pair in narrow_phase.contact_pairs() {
-            match (self.lookup(pair.collider1), self.lookup(pair.collider2)) {
-                (Some((Role::Apple, a)), Some((Role::HertzSurface, s)))
-                | (Some((Role::HertzSurface, s)), Some((Role::Apple, a)))
-                    // A sleeper's surface contacts are frozen: no need to look at them.
-                    if self.active[a as usize] =>
-                {
-                    self.candidates.push((a, s))
-                }
-                _ => {}
-            }
+    /// Reads the apples' current state from rapier (sleepers only for whether rapier still
+    /// holds them asleep).
+    #[inline(never)]
+    fn gather(&mut self, bodies: &RigidBodySet) -> Result<(), LayerError> {
+        let n = self.apples.len();
+        self.pos.resize(n, Vec3::ZERO);
+        self.vel.resize(n, Vec3::ZERO);
+        self.angvel.resize(n, Vec3::ZERO);
+        self.active.resize(n, true);
+        self.force.clear();
+        self.force.resize(n, Vec3::ZERO);
+        self.torque.clear();
+        self.torque.resize(n, Vec3::ZERO);
+        if self.config.step_control.is_some() {
+            self.kicked_force.clear();
+            self.kicked_force.resize(n, Vec3::ZERO);
+            self.kicked_torque.clear();
+            self.kicked_torque.resize(n, Vec3::ZERO);
         }
-        self.candidates.sort_unstable();
-        self.candidates.dedup();
-        for (&(a, _), slots) in self.surface_slots.iter_mut() {
-            // Slots of sleepers stay as they are (frozen); the others must be seen again.
-            let keep = !self.active[a as usize];
-            for s in slots.iter_mut() {
-                s.seen = keep;
-            }
-        }
-        let candidates = std::mem::take(&mut self.candidates);
-        for &(a, s) in &candidates {
-            let ai = a as usize;
-            let surf = &self.surfaces[s as usize];
-            let Some(co) = colliders.get(surf.collider) else {
-                continue;
-            };
-            let ahead = control.map_or(dt_s, |c| self.lookahead(&c).max(dt_s));
-            let margin = 2.0 * self.vel[ai].length() * ahead + 1e-9;
-            self.scratch.clear();
-            surface::surface_hits(
-                &surf.shape,
-                co,
-                self.pos[ai],
-                self.radius[ai],
-                margin,
-                &mut self.scratch,
-            );
-            if self.scratch.is_empty() {
-                continue;
-            }
-            let slots = self.surface_slots.entry((a, s)).or_default();
-            for hit in &self.scratch {
-                // Match the hit to the slot with the closest normal (one per smooth region).
-                let mut best: Option<(usize, f64)> = None;
-                for (k, sl) in slots.iter().enumerate() {
-                    if sl.seen {
+        self.count.clear();
+        self.count.resize(n, 0);
+        self.still.resize(n, false);
+        self.busy.clear();
+        self.busy.resize(n, false);
+        self.still_time.resize(n, 0.0);
+        self.asleep.resize(n, false);
+        self.sleep_force.resize(n, Vec3::ZERO);
+        self.loaded.resize(n, false);
+        let still2 = self.config.sleep.speed_m_s * self.config.sleep.speed_m_s;
+        for (k, a) in self.apples.iter().enumerate() {
+            let rb = bodies.get(a.body);
+            if self.asleep[k] {
+                match rb {
+                    // Still asleep in rapier: nothing moved, velocities are zero.
+                    Some(rb) if rb.is_sleeping() => {
+                        self.active[k] = false;
                         continue;
                     }
-                    let c = sl.normal.dot(hit.normal);
-                    if c > surface::MESH_MERGE_COS && best.is_none_or(|b| c > b.1) {
-                        best = Some((k, c));
+                    // Woken from outside (the user moved it): treat it as awake again.
+                    _ => {
+                        self.asleep[k] = false;
+                        self.still_time[k] = 0.0;
                     }
-                }
-                if hit.overlap_m <= 0.0 {
-                    if let Some(c) = control {
-                        // About to touch: resolve the impact (see `StepControl`).
-                        let v_s =
-                            surface_point_velocity(bodies, colliders, surf.collider, self.pos[ai]);
-                        let closing = (v_s - self.vel[ai]).dot(hit.normal);
-                        // Gravity towards the surface closes the gap within the step too.
-                        let accel = (-c.gravity.dot(hit.normal)).max(0.0);
-                        if let Some(t_touch) =
-                            time_to_touch(-hit.overlap_m, closing, accel, horizon)
-                        {
-                            let closing = closing + accel * t_touch;
-                            let r_star = contact::normal::effective_radius(
-                                1.0 / self.radius[ai],
-                                hit.curvature_1_m,
-                            );
-                            if let Some(r_star) = r_star {
-                                let law = self.laws[self.apples[ai].material.0 as usize
-                                    * self.materials.len()
-                                    + surf.material.0 as usize];
-                                let k = contact::normal::stiffness(law.e_star_pa, r_star);
-                                let t_h = theory::elastic_impact(
-                                    self.apples[ai].mass,
-                                    closing,
-                                    k,
-                                    r_star,
-                                )
-                                .contact_time_s;
-                                let lim = t_touch + t_h / c.steps_per_contact;
-                                self.stats.limit(lim, StepLimit::Approaching);
-                            }
-                        }
-                    }
-                }
-                let k = match best {
-                    Some((k, _)) => k,
-                    None => {
-                        if hit.overlap_m <= 0.0 {
-                            continue;
-                        }
-                        slots.push(Slot {
-                            normal: hit.normal,
-                            seen: false,
-                            state: PairState::default(),
-                        });
-                        slots.len() - 1
-                    }
-                };
-                let sl = &mut slots[k];
-                sl.seen = true;
-                sl.normal = hit.normal;
-                if hit.overlap_m > 0.0 {
-                    if let Some(c) = control {
-                        let v_s =
-                            surface_point_velocity(bodies, colliders, surf.collider, self.pos[ai]);
-                        let rate = (v_s - self.vel[ai]).dot(hit.normal);
-                        if let Some(r_star) = contact::normal::effective_radius(
-                            1.0 / self.radius[ai],
-                            hit.curvature_1_m,
-                        ) {
-                            let law = self.laws[self.apples[ai].material.0 as usize
-                                * self.materials.len()
-                                + surf.material.0 as usize];
-                            let kk = contact::normal::stiffness(law.e_star_pa, r_star);
-                            let m_n = self.apples[ai].mass;
-                            let (scale, start) = match sl.state.open.as_mut() {
-                                Some(o) => (
-                                    o.impact_scale(|v| impact_scale(m_n, kk, v)),
-                                    o.start_time_s(),
-                                ),
-                                None => (impact_scale(m_n, kk, rate), time_s),
-                            };
-                            let ke = if self.config.parts.energy_loss {
-                                law.ke
-                            } else {
-                                1.0
-                            };
-                            let lim = contact_step_limit(
-                                &c,
-                                m_n,
-                                kk,
-                                hit.overlap_m,
-                                scale,
-                                rate,
-                                ke,
-                                time_s - start,
-                            );
-                            self.stats.limit(lim.0, lim.1);
-                        }
-                    }
-                    self.hits.push(Hit {
-                        i: a,
-                        other: Other::Surface(a, s, k),
-                        normal: hit.normal,
-                        overlap: hit.overlap_m,
-                        curvature2: hit.curvature_1_m,
-                    });
-                    self.count[ai] += 1;
-                } else if let Some(open) = sl.state.open.take() {
-                    let v_surf =
-                        surface_point_velocity(bodies, colliders, surf.collider, self.pos[ai]);
-                    let sep = (self.vel[ai] - v_surf).dot(hit.normal);
-                    let names = Names {
-                        a: self.apples[ai].name.clone(),
-                        b: surf.name.clone(),
-                        a_index: a,
-                        b_party: Party::Surface(s),
-                    };
-                    self.finished
-                        .push(open.finish(time_s, dt_back, hit.overlap_m, sep, names));
-                    sl.state.xi = Vec3::ZERO;
                 }
             }
-        }
-        self.candidates = candidates;
-        // Slots not seen this step: the apple left the surface's neighbourhood.
-        let mut closed = Vec::new();
-        self.surface_slots.retain(|&(a, s), slots| {
-            slots.retain_mut(|sl| {
-                if sl.seen {
-                    return true;
-                }
-                if let Some(open) = sl.state.open.take() {
-                    closed.push((a, s, open));
-                }
-                false
-            });
-            !slots.is_empty()
-        });
-        for (a, s, open) in closed {
-            let names = self.names_surface(a, s);
-            let ai = a as usize;
-            let sep = self.vel[ai].length();
-            self.finished
-                .push(open.finish(time_s, dt_back, 0.0, sep, names));
-        }
-    }
-
-    /// Evaluates one contact at the current poses: the contact law, the guards and the contact
-    /// record. Reads the layer and writes only the contact's own `state`, so contacts can be
-    /// evaluated in parallel; [`apply_hit`](Self::apply_hit) then adds the results in a fixed
-    /// order (bit-identical sums whatever the thread count).
-    #[allow(clippy::too_many_arguments)]
-    fn evaluate_hit(
-        &self,
-        h: &Hit,
-        state: &mut PairState,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        time_s: f64,
-        dt_s: f64,
-    ) -> Result<HitOut, LayerError> {
-        let mut moving_surface = false;
-        let i = h.i as usize;
-        let ai = &self.apples[i];
-        let n_mat = self.materials.len();
-        let (law, j_apple, other_mat, surf_idx) = match h.other {
-            Other::Apple(k) => {
-                let j = self.grid.pairs()[k].j as usize;
-                let m2 = self.apples[j].material;
-                (
-                    self.laws[ai.material.0 as usize * n_mat + m2.0 as usize],
-                    Some(j),
-                    m2,
-                    None,
-                )
-            }
-            Other::Surface(_, s, _) => {
-                let m2 = self.surfaces[s as usize].material;
-                (
-                    self.laws[ai.material.0 as usize * n_mat + m2.0 as usize],
-                    None,
-                    m2,
-                    Some(s as usize),
-                )
-            }
-        };
-        let _ = other_mat;
-        let n = h.normal;
-        let u = h.overlap;
-        let Some(r_star) = contact::normal::effective_radius(1.0 / self.radius[i], h.curvature2)
-        else {
-            let other = match (j_apple, surf_idx) {
-                (Some(j), _) => self.apples[j].name.to_string(),
-                (_, Some(s)) => self.surfaces[s].name.to_string(),
-                _ => String::new(),
+            let Some(rb) = rb else {
+                return Err(LayerError::NonFinite {
+                    body: a.name.to_string(),
+                    time_s: self.time_s,
+                });
             };
-            return Err(LayerError::Conforming {
-                apple: ai.name.to_string(),
-                surface: other,
-                apple_radius_m: self.radius[i],
-                surface_radius_m: if h.curvature2 != 0.0 {
-                    -1.0 / h.curvature2
-                } else {
-                    f64::INFINITY
-                },
-            });
-        };
-        let c = contact::geometry::contact_point(self.pos[i], self.radius[i], n, u, law.share1);
-        let v1 = self.vel[i] + self.angvel[i].cross(c - self.pos[i]);
-        let (v2, inv_t2, inv_n2, body2) = match (j_apple, surf_idx) {
-            (Some(j), _) => (
-                self.vel[j] + self.angvel[j].cross(c - self.pos[j]),
-                self.apples[j].inv_tangential_mass,
-                1.0 / self.apples[j].mass,
-                None,
-            ),
-            (_, Some(s)) => {
-                let surf = &self.surfaces[s];
-                let co = colliders.get(surf.collider);
-                let parent = co.and_then(|c| c.parent());
-                let moving_parent = parent
-                    .and_then(|p| bodies.get(p))
-                    .is_some_and(|rb| !rb.is_fixed());
-                if moving_parent || surf.belt_local != Vec3::ZERO {
-                    // An apple on a belt or a moving part must stay awake.
-                    moving_surface = true;
-                }
-                let (vb, inv_m, dyn_body) = match parent.and_then(|p| bodies.get(p).map(|b| (p, b)))
-                {
-                    Some((p, rb)) if !rb.is_fixed() => {
-                        let inv = if rb.is_dynamic() && rb.mass() > 0.0 {
-                            1.0 / rb.mass()
-                        } else {
-                            0.0
-                        };
-                        (rb.velocity_at_point(c), inv, rb.is_dynamic().then_some(p))
-                    }
-                    _ => (Vec3::ZERO, 0.0, None),
-                };
-                let mut belt = Vec3::ZERO;
-                if surf.belt_local != Vec3::ZERO {
-                    if let Some(co) = co {
-                        let b = co.position().rotation * surf.belt_local;
-                        belt = b - n * b.dot(n);
-                    }
-                }
-                (vb + belt, inv_m, inv_m, dyn_body)
-            }
-            _ => unreachable!(),
-        };
-        let rel = v1 - v2;
-        let inv_t = ai.inv_tangential_mass + inv_t2;
-        let share_count = match j_apple {
-            Some(j) => self.count[i].max(self.count[j]),
-            None => self.count[i],
-        }
-        .max(1) as f64;
-        let m_n = 1.0 / (1.0 / ai.mass + inv_n2);
-        let kin = ContactKinematics {
-            normal: n,
-            overlap_m: u,
-            r_star_m: r_star,
-            rel_velocity: rel,
-            tangential_mass_kg: 1.0 / inv_t,
-            normal_mass_kg: m_n,
-            resting: false,
-        };
-        let relax = self.config.tangential_relaxation / share_count;
-        let parts = self.config.parts;
-        let hist_cap = self.config.force_history_cap;
-        let guard = self.config.guard;
-        let r_min = match j_apple {
-            Some(j) => self.radius[i].min(self.radius[j]),
-            None => self.radius[i],
-        };
-        let names = match h.other {
-            Other::Apple(k) => {
-                let p = &self.grid.pairs()[k];
-                self.names_apple(p.i, p.j)
-            }
-            Other::Surface(a, s, _) => self.names_surface(a, s),
-        };
-        // Resting once its impact is over: older than 1.2 times eq. 12's contact time at its
-        // approach speed, (1 + 1/sqrt(ke)) / 2 elastic contact times (physics.md section 3).
-        let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
-        let resting = state.open.as_mut().is_some_and(|o| {
-            let (t_h, _) = o.impact_scale(|v| impact_scale(m_n, k_n, v));
-            let ke = if parts.energy_loss { law.ke } else { 1.0 };
-            time_s - o.start_time_s() > 1.2 * t_h * 0.5 * (1.0 + 1.0 / ke.max(1e-4).sqrt())
-        });
-        let kin = ContactKinematics { resting, ..kin };
-        let resp = contact::evaluate(&law, parts, &kin, &mut state.xi, relax, dt_s);
-        state.last_force = resp.force_on_1;
-        if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
-            return Err(LayerError::NonFinite {
-                body: names.a.to_string(),
-                time_s,
-            });
-        }
-        let ratio = u / r_min;
-        if ratio > guard.max_overlap_ratio {
-            return Err(LayerError::Unstable {
-                a: names.a.to_string(),
-                b: names.b.to_string(),
-                time_s,
-                what: format!(
-                    "overlap {:.4} mm is {:.1} % of the radius, beyond the {:.0} % limit (Hertz needs u << R): the bodies pass through each other or the step is far too large",
-                    u * 1e3,
-                    100.0 * ratio,
-                    100.0 * guard.max_overlap_ratio
-                ),
-                suggested_dt_s: None,
-            });
-        }
-        if state.open.is_none() {
-            // Stability guard: the elastic contact time at this approach speed must span enough
-            // steps (physics.md section 10).
-            let v_app = resp.overlap_rate_m_s;
-            if v_app > 0.0 && guard.min_steps_per_impact > 0.0 {
-                let m_n = 1.0 / (1.0 / ai.mass + inv_n2);
-                let k = contact::normal::stiffness(law.e_star_pa, r_star);
-                let t_h = theory::elastic_impact(m_n, v_app, k, r_star).contact_time_s;
-                let steps = t_h / dt_s;
-                if steps < guard.min_steps_per_impact * (1.0 - 1e-6) {
-                    let dt_ok = t_h / guard.min_steps_per_impact;
-                    return Err(LayerError::Unstable {
-                        a: names.a.to_string(),
-                        b: names.b.to_string(),
-                        time_s,
-                        what: format!(
-                            "impact at {v_app:.4} m/s lasts {:.4} ms, only {steps:.1} steps of {dt_s:e} s (need >= {}); use time_step_s <= {dt_ok:.3e}",
-                            t_h * 1e3,
-                            guard.min_steps_per_impact
-                        ),
-                        suggested_dt_s: Some(dt_ok),
-                    });
-                }
-            }
-            let mut open =
-                OpenContact::begin(time_s, self.dt_back, u, resp.overlap_rate_m_s, hist_cap);
-            if let (Some(c), None) = (self.config.step_control, j_apple) {
-                // Rapier's velocities are staggered half a step behind the poses: at long steps
-                // the velocity that carried the apple in is the one of mid-step, not of the touch.
-                // Add gravity's share from mid-step to touch (two apples fall alike: no share).
-                let since_touch = time_s - open.start_time_s();
-                let a_n = -c.gravity.dot(n);
-                let v = resp.overlap_rate_m_s + a_n * (0.5 * self.dt_back - since_touch);
-                open.set_approach_speed(v.max(0.0));
-            }
-            state.open = Some(Box::new(open));
-        }
-        // The backward span of this force's kick (see the leapfrog kick below).
-        let kick_back = match (self.config.step_control, state.open.as_ref()) {
-            (Some(_), Some(o)) => self.dt_back.min((time_s - o.start_time_s()).max(0.0)),
-            _ => self.dt_back,
-        };
-        let point = c + resp.patch_shift;
-        if let Some(open) = state.open.as_mut() {
-            open.observe(&ContactSample {
-                time_s,
-                dt_s,
-                dt_back_s: self.dt_back,
-                kick_back_s: kick_back,
-                overlap_m: u,
-                force_n: resp.normal_force_n,
-                contact_radius_m: resp.contact_radius_m,
-                pressure_pa: resp.mean_pressure_pa,
-                point,
-            });
-        }
-        let f = resp.force_on_1;
-        // Leapfrog kick with variable steps (see `StepControl::gravity`): the force at this pose
-        // stands for the impulse from h_back/2 before to h/2 after it. A contact that began within
-        // the last step has pushed only since its touch, so its backward share is its age, not
-        // h_back (measured: a 6.8 ms step before a belt landing kicked the first contact force
-        // 7.3 times, peak 14 N instead of 22 N).
-        let kick = self
-            .config
-            .step_control
-            .map(|_| (kick_back + dt_s) / (2.0 * dt_s));
-        let k = contact::normal::stiffness(law.e_star_pa, r_star);
-        let party = match (j_apple, surf_idx) {
-            (Some(j), _) => Party::Apple(j as u32),
-            (_, Some(s)) => Party::Surface(s as u32),
-            _ => unreachable!(),
-        };
-        Ok(HitOut {
-            i,
-            j: j_apple,
-            body2,
-            force: f,
-            point,
-            kick,
-            moving_surface,
-            elastic_energy_j: contact::normal::elastic_energy(k, u),
-            overlap_ratio: ratio,
-            party,
-            slip_m_s: (rel - n * rel.dot(n)).length(),
-            normal_force_n: resp.normal_force_n,
-        })
-    }
-
-    /// Adds one evaluated contact to the apples' loads (see [`evaluate_hit`](Self::evaluate_hit)).
-    fn apply_hit(&mut self, o: &HitOut) {
-        let HitOut {
-            i,
-            j: j_apple,
-            body2,
-            force: f,
-            point,
-            kick,
-            ..
-        } = *o;
-        if o.moving_surface {
-            self.busy[i] = true;
-        }
-        if let Some(j) = j_apple {
-            // A neighbour that is not still keeps an apple awake.
-            if !self.still[j] {
-                self.busy[i] = true;
-            }
-            if !self.still[i] {
-                self.busy[j] = true;
-            }
-        }
-        self.force[i] += f;
-        self.torque[i] += (point - self.pos[i]).cross(f);
-        if let Some(j) = j_apple {
-            self.force[j] -= f;
-            self.torque[j] += (point - self.pos[j]).cross(-f);
-        }
-        let load = match kick {
-            Some(kick) => {
-                let fk = f * kick;
-                self.kicked_force[i] += fk;
-                self.kicked_torque[i] += (point - self.pos[i]).cross(fk);
-                if let Some(j) = j_apple {
-                    self.kicked_force[j] -= fk;
-                    self.kicked_torque[j] += (point - self.pos[j]).cross(-fk);
-                }
-                -fk
-            }
-            None => -f,
-        };
-        if let Some(b) = body2 {
-            self.body_loads.push((b, load, point));
-        }
-        self.stats.elastic_energy_j += o.elastic_energy_j;
-        self.stats.max_overlap_ratio = self.stats.max_overlap_ratio.max(o.overlap_ratio);
-        if self.config.record_slips {
-            let sample = SlipSample {
-                apple: i as u32,
-                other: o.party,
-                slip_m_s: o.slip_m_s,
-                normal_force_n: o.normal_force_n,
-                point,
+            let pose = rb.position();
+            let c = if a.offset == Vec3::ZERO {
+                pose.translation
+            } else {
+                pose.transform_point(a.offset)
             };
-            self.slips.push(sample);
-            if let Some(j) = j_apple {
-                self.slips.push(SlipSample {
-                    apple: j as u32,
-                    other: Party::Apple(i as u32),
-                    ..sample
+            let w = rb.angvel();
+            let v = rb.linvel() + w.cross(c - rb.center_of_mass());
+            if !(is_finite(c) && is_finite(v) && is_finite(w)) {
+                return Err(LayerError::NonFinite {
+                    body: a.name.to_string(),
+                    time_s: self.time_s,
                 });
             }
+            self.pos[k] = c;
+            self.vel[k] = v;
+            self.angvel[k] = w;
+            self.active[k] = true;
+            self.still[k] =
+                v.length_squared() < still2 && w.length_squared() * a.radius * a.radius < still2;
         }
+        Ok(())
     }
 
-    /// The state of the contact a hit belongs to.
-    fn state_of(&mut self, h: &Hit) -> &mut PairState {
-        match h.other {
-            Other::Apple(k) => &mut self.grid.pairs_mut()[k].state,
-            Other::Surface(a, s, slot) => {
-                &mut self
-                    .surface_slots
-                    .get_mut(&(a, s))
-                    .expect("slot exists for a surface hit")[slot]
-                    .state
-            }
-        }
-    }
-
-    /// The force pass: every hit evaluated (in parallel on rayon's current pool when there are
-    /// enough of them), then applied in the order of `hits`.
-    fn force_pass(
+    /// Computes every modelled contact at the current poses and sets the apples' forces and
+    /// torques for the coming step (replacing whatever the layer set before). Call it right
+    /// before each `step`, with the time of the current poses and the step about to be taken.
+    ///
+    /// Sleeping apples (see [`SleepConfig`]) are not touched; contacts between two sleepers or
+    /// between a sleeper and a fixed surface are not evaluated. Wake-ups are decided from the
+    /// geometry before any force is computed, so a woken apple gets all its contacts this step.
+    pub fn apply_forces(
         &mut self,
-        hits: &[Hit],
-        bodies: &RigidBodySet,
+        bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
         time_s: f64,
         dt_s: f64,
     ) -> Result<(), LayerError> {
-        self.slips.clear();
-        // Each contact's state is moved out for the evaluation, so the layer itself is only read.
-        let mut states = std::mem::take(&mut self.states_buf);
-        states.clear();
-        for h in hits {
-            states.push(std::mem::take(self.state_of(h)));
-        }
-        let mut outs = std::mem::take(&mut self.outs_buf);
-        outs.clear();
-        let parallel = hits.len() >= PARALLEL_MIN_HITS && rayon::current_num_threads() > 1;
-        {
-            let this = &*self;
-            let eval = |(h, st): (&Hit, &mut PairState)| {
-                this.evaluate_hit(h, st, bodies, colliders, time_s, dt_s)
+        let control = self.config.step_control.take();
+        let r = self.step_forces(bodies, colliders, time_s, dt_s);
+        self.config.step_control = control;
+        r.map(|_| ())
+    }
+
+    /// Like [`apply_forces`](Self::apply_forces) for an adaptive driver (with
+    /// [`LayerConfig::step_control`] set): finds the contacts at the current poses, chooses the
+    /// coming step, at most `dt_cap_s`, that resolves them (see [`StepControl`]), applies the
+    /// forces for it and returns it. Pass the returned step to rapier. `land_in_s`, if positive,
+    /// is the time left to a point the driver must land on exactly (an output sample, the end):
+    /// the step is then shortened to divide it evenly, never leaving a sliver.
+    pub fn apply_forces_adaptive(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        time_s: f64,
+        dt_cap_s: f64,
+        land_in_s: f64,
+    ) -> Result<f64, LayerError> {
+        self.land_in_s = land_in_s;
+        let r = self.step_forces(bodies, colliders, time_s, dt_cap_s);
+        self.land_in_s = 0.0;
+        r
+    }
+
+    fn step_forces(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        time_s: f64,
+        dt_cap_s: f64,
+    ) -> Result<f64, LayerError> {
+        self.time_s = time_s;
+        self.ensure_laws();
+        self.gather(bodies)?;
+        if self.config.passive {
+            self.stats = StepStats {
+                dt_limit_s: f64::INFINITY,
+                ..StepStats::default()
             };
-            if parallel {
-                use rayon::prelude::*;
-                hits.par_iter()
-                    .zip(states.par_iter_mut())
-                    .with_min_len(64)
-                    .map(eval)
-                    .collect_into_vec(&mut outs);
+            return Ok(dt_cap_s);
+        }
+        // Touch and parting instants are interpolated within the step that led here.
+        self.dt_back = self.last_dt.unwrap_or(dt_cap_s);
+        self.observe_surfaces(bodies, colliders);
+        for k in std::mem::take(&mut self.to_wake) {
+            self.wake(bodies, k as usize);
+        }
+        let mut redone = false;
+        loop {
+            self.detect(colliders, time_s, dt_cap_s);
+            if self.to_wake.is_empty() || redone {
+                break;
+            }
+            for k in std::mem::take(&mut self.to_wake) {
+                self.wake(bodies, k as usize);
+            }
+            redone = true;
+        }
+        self.to_wake.clear();
+        self.motion_limit();
+        let dt_s = if self.config.step_control.is_some() {
+            let dt = dt_cap_s.min(self.stats.dt_limit_s);
+            if self.land_in_s > 0.0 {
+                self.land_in_s / (self.land_in_s / dt).ceil()
             } else {
-                outs.extend(hits.iter().zip(states.iter_mut()).map(eval));
+                dt
+            }
+        } else {
+            dt_cap_s
+        };
+        self.last_dt = Some(dt_s);
+
+        self.force_pass(time_s, dt_s)?;
+        self.add_frozen_forces();
+        self.sleep_decisions(bodies, dt_s);
+        self.hand_to_rapier(bodies, dt_s);
+        Ok(dt_s)
+    }
+
+    /// Hands the forces to rapier. `user_force` persists across steps, so whatever the layer left
+    /// on a body is replaced; a body that had no load and gets none is not touched (rapier then
+    /// has no change of it to process). With variable steps, the leapfrog kick (see
+    /// [`StepControl::gravity`]).
+    #[inline(never)]
+    fn hand_to_rapier(&mut self, bodies: &mut RigidBodySet, dt_s: f64) {
+        let control = self.config.step_control;
+        let (kick, gravity) = match control {
+            Some(c) => ((self.dt_back + dt_s) / (2.0 * dt_s), c.gravity),
+            None => (1.0, Vec3::ZERO),
+        };
+        for (k, a) in self.apples.iter().enumerate() {
+            if !self.active[k] {
+                continue;
+            }
+            let (f, t) = match control {
+                None => (self.force[k], self.torque[k]),
+                Some(_) => {
+                    // Each contact carries its own kick (see `kernel`); gravity's share. An
+                    // apple's first step starts the leapfrog from its initial velocity: half a
+                    // kick (measured: without it, a 6 mm drop on a belt in adaptive steps landed
+                    // 4.6 % slow).
+                    let kick = if std::mem::take(&mut self.fresh[k]) {
+                        0.5
+                    } else {
+                        kick
+                    };
+                    (
+                        self.kicked_force[k] + gravity * (a.mass * (kick - 1.0)),
+                        self.kicked_torque[k],
+                    )
+                }
+            };
+            let load = f != Vec3::ZERO || t != Vec3::ZERO;
+            if !load && !self.loaded[k] {
+                continue;
+            }
+            self.loaded[k] = load;
+            if let Some(rb) = bodies.get_mut(a.body) {
+                rb.reset_forces(false);
+                rb.reset_torques(false);
+                rb.add_force(f, false);
+                rb.add_torque(t, false);
             }
         }
-        for (h, st) in hits.iter().zip(states.drain(..)) {
-            *self.state_of(h) = st;
-        }
-        self.states_buf = states;
-        let mut result = Ok(());
-        for o in outs.drain(..) {
-            match o {
-                Ok(o) => self.apply_hit(&o),
-                Err(e) => {
-                    result = Err(e);
-                    break;
+        for (h, f, p) in self.body_loads.drain(..) {
+            if let Some(rb) = bodies.get_mut(h) {
+                if rb.is_dynamic() {
+                    rb.add_force_at_point(f, p, true);
                 }
             }
         }
-        self.outs_buf = outs;
-        result
     }
-}
 
-/// Time until a gap closes, if within `horizon` (s): the smallest h > 0 with
-/// (closing + accel h) h >= gap. Rapier's symplectic Euler moves a body by its kicked velocity
-/// v + a h over the whole step, so a step planned from the current closing speed alone overshoots
-/// the touch (measured: a 6.9 ms step onto a belt started the contact at half its peak overlap).
-fn time_to_touch(gap: f64, closing: f64, accel: f64, horizon: f64) -> Option<f64> {
-    let gap = gap.max(0.0);
-    if (closing + accel * horizon) * horizon < gap {
-        return None;
-    }
-    // Stable root of accel h^2 + closing h - gap = 0 (accel >= 0; the test above guarantees a
-    // root in (0, horizon]).
-    let disc = (closing * closing + 4.0 * accel * gap).sqrt();
-    let h = if closing >= 0.0 {
-        2.0 * gap / (closing + disc)
-    } else {
-        (disc - closing) / (2.0 * accel)
-    };
-    (h.is_finite() && closing + accel * h > 0.0).then_some(h)
-}
-
-/// Elastic contact time and maximum overlap of an impact at approach speed `v` (zeros for v <= 0).
-fn impact_scale(m_n: f64, k: f64, v: f64) -> (f64, f64) {
-    if v > 0.0 {
-        let u = (5.0 * m_n * v * v / (4.0 * k)).powf(0.4);
-        (2.0 * theory::HERTZ_TIME_INTEGRAL * u / v, u)
-    } else {
-        (0.0, 0.0)
-    }
-}
-
-/// With step control: the longest step that resolves a contact in progress (see
-/// [`StepControl`]). `u` overlap, `impact` = (contact time, max overlap) of its impact at the
-/// approach speed (see [`impact_scale`]), `rate` current du/dt (> 0 approaching), `unloading_ke`
-/// the eq. 12 ke of the pair (1 when elastic), `age` time since first touch. An impact (younger
-/// than 1.2 times eq. 12's contact time, (1 + 1/sqrt(ke)) / 2 elastic ones) gets N steps per
-/// contact time of an impact reaching max(u, u_max), and while it separates N steps per contact
-/// time of its softer unloading curve (ke k); a resting contact after that gets
-/// N/4 (at least 4) per contact time at max(u, u_max(s)): its normal oscillation, which needs
-/// resolving only for stability (omega dt = 4 / steps; explicit stepping is stable below 2).
-#[allow(clippy::too_many_arguments)]
-fn contact_step_limit(
-    c: &StepControl,
-    m_n: f64,
-    k: f64,
-    u: f64,
-    impact: (f64, f64),
-    rate: f64,
-    unloading_ke: f64,
-    age: f64,
-) -> (f64, StepLimit) {
-    let (t_a, u_a) = impact;
-    let s = rate.abs();
-    // An impact lasts (1 + 1/sqrt(ke)) / 2 elastic contact times with eq. 12 (physics.md section
-    // 3); 20 % more covers the lower speeds' longer contacts.
-    let window = 1.2 * t_a * 0.5 * (1.0 + 1.0 / unloading_ke.max(1e-4).sqrt());
-    if age < window {
-        let mut t = if u > u_a {
-            theory::contact_time_at_overlap(m_n, k, u)
-        } else {
-            t_a
+    /// With step control: no awake apple may move more than the pair-finding margins in one step.
+    #[inline(never)]
+    fn motion_limit(&mut self) {
+        let Some(c) = self.config.step_control else {
+            return;
         };
-        if rate < 0.0 && unloading_ke < 1.0 {
-            // Separating: eq. 12 unloads along ke times the Hertz curve, a contact of stiffness
-            // ke k, whose time scale is 1 / sqrt(ke) longer; N steps of that scale resolve it.
-            t /= unloading_ke.max(1e-4).sqrt();
+        let mut v_max: f64 = 0.0;
+        for k in 0..self.apples.len() {
+            if self.active[k] {
+                // Centres only: spin moves no centre, and the margins are about centres.
+                v_max = v_max.max(self.vel[k].length());
+            }
         }
-        return (t / c.steps_per_contact, StepLimit::Impact);
+        // The grid's skin is known once apples exist (sources may add the first ones late).
+        // Two apples closing at up to 2 v_max must not cross the skin of the list unseen in one
+        // step: each may move half the skin.
+        let reach = c.max_displacement_m.min(0.5 * self.grid.skin_m());
+        if v_max > 0.0 && reach > 0.0 {
+            self.stats.limit(reach / v_max, StepLimit::Motion);
+        }
     }
-    // u_max(s) > u  <=>  5 m s^2 / (4 k) > u^(5/2): compared without powers.
-    let u_eff = if 1.25 * m_n * s * s / k > u * u * u.sqrt() {
-        impact_scale(m_n, k, s).1
-    } else {
-        u
-    };
-    (
-        theory::contact_time_at_overlap(m_n, k, u_eff) / (0.25 * c.steps_per_contact).max(4.0),
-        StepLimit::Resting,
-    )
+}
+
+/// How far ahead to look for contacts about to start: the coming step is at most the driver's
+/// largest and at most twice the last (the driver's growth limit).
+fn lookahead(last_dt: Option<f64>, c: &StepControl) -> f64 {
+    match last_dt {
+        Some(dt) => c.lookahead_s.min(2.0 * dt),
+        None => c.lookahead_s,
+    }
 }
 
 fn party_key(p: Party) -> (u8, u32) {
@@ -2107,18 +1295,4 @@ fn party_key(p: Party) -> (u8, u32) {
         Party::Apple(j) => (0, j),
         Party::Surface(s) => (1, s),
     }
-}
-
-fn surface_point_velocity(
-    bodies: &RigidBodySet,
-    colliders: &ColliderSet,
-    collider: ColliderHandle,
-    point: Vec3,
-) -> Vec3 {
-    colliders
-        .get(collider)
-        .and_then(|c| c.parent())
-        .and_then(|p| bodies.get(p))
-        .map(|rb| rb.velocity_at_point(point))
-        .unwrap_or(Vec3::ZERO)
 }

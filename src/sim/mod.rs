@@ -339,19 +339,13 @@ impl Simulation {
             w.layer.apply_forces_adaptive(
                 &mut w.physics.bodies,
                 &w.physics.colliders,
-                &w.physics.narrow_phase,
                 t,
                 cap,
                 land,
             )?
         } else {
-            w.layer.apply_forces(
-                &mut w.physics.bodies,
-                &w.physics.colliders,
-                &w.physics.narrow_phase,
-                t,
-                cap,
-            )?;
+            w.layer
+                .apply_forces(&mut w.physics.bodies, &w.physics.colliders, t, cap)?;
             cap
         };
         self.events.extend(w.layer.take_finished_events());

@@ -4,7 +4,14 @@
 //! Integration settings follow rapier-notes.md: `num_solver_iterations = 1` makes rapier's step
 //! exact symplectic Euler (the default 4 weights the force term by (N+1)/(2N) and gains energy);
 //! CCD is off (contacts are resolved by the force law over many steps, never by CCD clamping);
-//! apples never sleep in rapier's sense (forces are reset and re-added every step).
+//! apples never sleep by rapier's own rule (the layer puts them to sleep, see `layer::sleep`).
+//!
+//! An apple is a rigid body with the mass properties of a solid ball and no collider: the layer
+//! finds all its contacts, so a collider would only cost rapier an update per apple per step
+//! (docs/performance.md). Apples get a ball collider only when rapier itself must touch them: a
+//! surface with rapier's own contact (`"contact_model": "rigid"`) or the `rigid` fidelity.
+//! Gyroscopic forces are off: for a ball's isotropic inertia the term w x (I w) is zero, and
+//! rapier would spend a sixth of its step computing it.
 
 pub mod mesh;
 pub mod surfaces;
@@ -26,6 +33,12 @@ use thiserror::Error;
 /// Largest initial overlap of an apple with a surface, as a fraction of its radius: an apple may
 /// be placed at its resting sag (about 0.3 % of R for the paper's apple), not deeper.
 pub const MAX_INITIAL_SURFACE_OVERLAP_RATIO: f64 = 0.01;
+
+/// Collision group of apple colliders (when a scene needs them).
+const APPLE_GROUP: Group = Group::GROUP_32;
+
+/// Collision group of the surfaces whose contacts the layer computes.
+const HERTZ_SURFACE_GROUP: Group = Group::GROUP_31;
 
 /// Samples of force history kept per contact when the scenario asks for histories.
 pub const FORCE_HISTORY_CAP: usize = 4096;
@@ -54,6 +67,8 @@ pub struct World {
     /// Frame of each surface part in which positions along it are measured, if it has a running
     /// direction ([`surfaces::SurfacePart::along`]).
     pub surface_frames: Vec<Option<rapier3d_f64::math::Pose>>,
+    /// Whether apples carry ball colliders (only when rapier itself must touch them).
+    apple_colliders: bool,
     materials: BTreeMap<String, (MaterialId, Material)>,
     /// Emissions still to come: (time, source index, apple), in order.
     pending: VecDeque<(f64, usize, AppleSpec)>,
@@ -142,6 +157,11 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         materials,
         pending: VecDeque::new(),
         postponed: 0,
+        apple_colliders: rigid
+            || sc
+                .surfaces
+                .iter()
+                .any(|s| s.contact_model() == ContactModel::Rigid),
     };
 
     // An apple material for rigid surfaces' coefficients: the first apple's, or any source's.
@@ -206,6 +226,15 @@ impl World {
                 .friction_combine_rule(CoefficientCombineRule::Max)
                 .restitution_combine_rule(CoefficientCombineRule::Max);
         }
+        if !rigid {
+            // Out of the way of the apple colliders of scenes that have them (the layer owns
+            // these contacts).
+            collider = collider.collision_groups(InteractionGroups::new(
+                HERTZ_SURFACE_GROUP,
+                Group::ALL,
+                InteractionTestMode::And,
+            ));
+        }
         let ch = self.physics.colliders.insert(collider);
         self.layer.add_surface(
             &mut self.physics.colliders,
@@ -229,31 +258,44 @@ impl World {
         let mass = a
             .mass_kg
             .unwrap_or_else(|| sphere_mass(a.diameter_m, m.density_kg_m3.unwrap_or(0.0)));
-        let (bh, ch) = self.physics.insert(
-            RigidBodyBuilder::dynamic()
-                .translation(vec3(a.position_m))
-                .linvel(vec3(a.velocity_m_s))
-                .angvel(vec3(a.angular_velocity_rad_s))
-                // The layer decides when an apple sleeps (rapier's own rule is too coarse).
-                .can_sleep(false),
-            if self.layer.config().passive {
-                // rapier's own contacts between apples (the `rigid` fidelity).
+        let radius = a.diameter_m / 2.0;
+        let body = RigidBodyBuilder::dynamic()
+            .translation(vec3(a.position_m))
+            .linvel(vec3(a.velocity_m_s))
+            .angvel(vec3(a.angular_velocity_rad_s))
+            .gyroscopic_forces_enabled(false)
+            // The layer decides when an apple sleeps (rapier's own rule is too coarse).
+            .can_sleep(false);
+        let id =
+            if self.apple_colliders {
                 let c = self.layer.coefficients(mid, mid);
-                ColliderBuilder::ball(a.diameter_m / 2.0)
-                    .mass(mass)
-                    .friction(c.friction)
-                    .restitution(c.ke.sqrt())
+                let ball = ColliderBuilder::ball(radius).mass(mass);
+                let ball = if self.layer.config().passive {
+                    // rapier's own contacts between apples (the `rigid` fidelity).
+                    ball.friction(c.friction).restitution(c.ke.sqrt())
+                } else {
+                    // Touches only the rigid surfaces; the layer handles the rest.
+                    ball.friction(0.0)
+                        .restitution(0.0)
+                        .collision_groups(InteractionGroups::new(
+                            APPLE_GROUP,
+                            Group::ALL & !APPLE_GROUP & !HERTZ_SURFACE_GROUP,
+                            InteractionTestMode::And,
+                        ))
+                };
+                let (bh, ch) = self.physics.insert(body, ball);
+                self.apple_bodies.push(bh);
+                self.layer
+                    .add_apple(&mut self.physics.colliders, ch, mid, &a.name)?
             } else {
-                ColliderBuilder::ball(a.diameter_m / 2.0)
-                    .mass(mass)
-                    .friction(0.0)
-                    .restitution(0.0)
-            },
-        );
-        let id = self
-            .layer
-            .add_apple(&mut self.physics.colliders, ch, mid, &a.name)?;
-        self.apple_bodies.push(bh);
+                let inertia = 0.4 * mass * radius * radius;
+                let bh = self.physics.bodies.insert(body.additional_mass_properties(
+                    MassProperties::new(Vector::ZERO, mass, Vector::splat(inertia)),
+                ));
+                self.apple_bodies.push(bh);
+                self.layer
+                    .add_apple_body(&self.physics.bodies, bh, radius, mid, &a.name)?
+            };
         Ok(id)
     }
 

@@ -1,0 +1,85 @@
+//! Adaptive step control: the longest next step that resolves the contacts in progress and those
+//! about to start (see [`super::StepControl`]). Pure functions of one contact's figures.
+
+use super::{StepControl, StepLimit};
+use crate::contact::theory;
+
+/// Time until a gap closes, if within `horizon` (s): the smallest h > 0 with
+/// (closing + accel h) h >= gap. Rapier's symplectic Euler moves a body by its kicked velocity
+/// v + a h over the whole step, so a step planned from the current closing speed alone overshoots
+/// the touch (measured: a 6.9 ms step onto a belt started the contact at half its peak overlap).
+pub(super) fn time_to_touch(gap: f64, closing: f64, accel: f64, horizon: f64) -> Option<f64> {
+    let gap = gap.max(0.0);
+    if (closing + accel * horizon) * horizon < gap {
+        return None;
+    }
+    // Stable root of accel h^2 + closing h - gap = 0 (accel >= 0; the test above guarantees a
+    // root in (0, horizon]).
+    let disc = (closing * closing + 4.0 * accel * gap).sqrt();
+    let h = if closing >= 0.0 {
+        2.0 * gap / (closing + disc)
+    } else {
+        (disc - closing) / (2.0 * accel)
+    };
+    (h.is_finite() && closing + accel * h > 0.0).then_some(h)
+}
+
+/// Elastic contact time and maximum overlap of an impact at approach speed `v` (zeros for v <= 0).
+pub(super) fn impact_scale(m_n: f64, k: f64, v: f64) -> (f64, f64) {
+    if v > 0.0 {
+        let u = (5.0 * m_n * v * v / (4.0 * k)).powf(0.4);
+        (2.0 * theory::HERTZ_TIME_INTEGRAL * u / v, u)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// With step control: the longest step that resolves a contact in progress (see
+/// [`StepControl`]). `u` overlap, `impact` = (contact time, max overlap) of its impact at the
+/// approach speed (see [`impact_scale`]), `rate` current du/dt (> 0 approaching), `unloading_ke`
+/// the eq. 12 ke of the pair (1 when elastic), `age` time since first touch. An impact (younger
+/// than 1.2 times eq. 12's contact time, (1 + 1/sqrt(ke)) / 2 elastic ones) gets N steps per
+/// contact time of an impact reaching max(u, u_max), and while it separates N steps per contact
+/// time of its softer unloading curve (ke k); a resting contact after that gets
+/// N/4 (at least 4) per contact time at max(u, u_max(s)): its normal oscillation, which needs
+/// resolving only for stability (omega dt = 4 / steps; explicit stepping is stable below 2).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn contact_step_limit(
+    c: &StepControl,
+    m_n: f64,
+    k: f64,
+    u: f64,
+    impact: (f64, f64),
+    rate: f64,
+    unloading_ke: f64,
+    age: f64,
+) -> (f64, StepLimit) {
+    let (t_a, u_a) = impact;
+    let s = rate.abs();
+    // An impact lasts (1 + 1/sqrt(ke)) / 2 elastic contact times with eq. 12 (physics.md section
+    // 3); 20 % more covers the lower speeds' longer contacts.
+    let window = 1.2 * t_a * 0.5 * (1.0 + 1.0 / unloading_ke.max(1e-4).sqrt());
+    if age < window {
+        let mut t = if u > u_a {
+            theory::contact_time_at_overlap(m_n, k, u)
+        } else {
+            t_a
+        };
+        if rate < 0.0 && unloading_ke < 1.0 {
+            // Separating: eq. 12 unloads along ke times the Hertz curve, a contact of stiffness
+            // ke k, whose time scale is 1 / sqrt(ke) longer; N steps of that scale resolve it.
+            t /= unloading_ke.max(1e-4).sqrt();
+        }
+        return (t / c.steps_per_contact, StepLimit::Impact);
+    }
+    // u_max(s) > u  <=>  5 m s^2 / (4 k) > u^(5/2): compared without powers.
+    let u_eff = if 1.25 * m_n * s * s / k > u * u * u.sqrt() {
+        impact_scale(m_n, k, s).1
+    } else {
+        u
+    };
+    (
+        theory::contact_time_at_overlap(m_n, k, u_eff) / (0.25 * c.steps_per_contact).max(4.0),
+        StepLimit::Resting,
+    )
+}

@@ -1,0 +1,164 @@
+//! The open contacts: a slab of contact states with a free list.
+//!
+//! A contact exists from the step its two bodies are first seen overlapping until they part. Its
+//! slot never moves while it lives, so the pair lists point at it by index, the force pass runs
+//! over the slab itself (in parallel, each contact writing only its own state and output slot)
+//! and the forces are summed in slab order. Freed slots are reused last-freed-first: the order
+//! depends only on the run's history, never on the thread count, which keeps runs bit-identical.
+
+use super::grid::NONE;
+use crate::contact::ContactConstants;
+use crate::math::Vec3;
+use crate::record::events::{OpenContact, Party};
+
+/// One contact of an apple with another apple or with a surface.
+#[derive(Debug, Clone)]
+pub struct Contact {
+    /// The apple (for an apple-apple contact, the one of lower index).
+    pub i: u32,
+    /// The other party.
+    pub other: Party,
+    /// Next contact of the same (apple, surface) candidate (a mesh can touch an apple at several
+    /// places), or [`NONE`].
+    pub next: u32,
+    /// The detection pass that last saw this contact overlapping: the force pass evaluates the
+    /// contacts seen by the current pass only (a sleeper's frozen contacts keep an older one).
+    pub epoch: u64,
+    /// Unit normal from the other body towards apple `i`, at the current poses.
+    pub normal: Vec3,
+    /// Overlap at the current poses (m).
+    pub overlap_m: f64,
+    /// Curvature of the other body at the contact (1/m).
+    pub curvature2: f64,
+    /// Stored tangential displacement of the Mindlin stick spring (see `contact::friction`).
+    pub xi: Vec3,
+    /// Overlap at the last detection (for the wake rule of a sleeper's contacts).
+    pub last_u: f64,
+    /// Overlap when one of the two fell asleep (NaN while both are awake).
+    pub ref_u: f64,
+    /// The contact's record; `None` until its first evaluation.
+    pub record: Option<OpenContact>,
+    /// Constants of the law for this contact, valid for the curvature `consts_curvature` (NaN:
+    /// not computed yet).
+    pub consts: ContactConstants,
+    /// See `consts`.
+    pub consts_curvature: f64,
+    /// When the contact's impact is over and it counts as resting (s; NaN: not known yet).
+    pub resting_from_s: f64,
+    /// Index of the pair's law in the layer's table (set with `consts`).
+    pub law: u32,
+    /// 1 / the smaller radius (set with `consts`), for the overlap guard.
+    pub inv_r_min: f64,
+    /// Whether the slot holds a contact.
+    pub live: bool,
+}
+
+impl Contact {
+    /// A contact first seen now.
+    pub fn new(i: u32, other: Party) -> Self {
+        Self {
+            i,
+            other,
+            next: NONE,
+            epoch: 0,
+            normal: Vec3::Z,
+            overlap_m: 0.0,
+            curvature2: 0.0,
+            xi: Vec3::ZERO,
+            last_u: 0.0,
+            ref_u: f64::NAN,
+            record: None,
+            consts: ContactConstants {
+                r_star_m: 0.0,
+                sqrt_r_star: 0.0,
+                stiffness: 0.0,
+                normal_mass_kg: 0.0,
+                inv_normal_mass: 0.0,
+                tangential_mass_kg: 0.0,
+            },
+            consts_curvature: f64::NAN,
+            resting_from_s: f64::NAN,
+            law: 0,
+            inv_r_min: 0.0,
+            live: true,
+        }
+    }
+}
+
+/// The slab of contacts.
+#[derive(Debug, Clone, Default)]
+pub struct ContactStore {
+    slots: Vec<Contact>,
+    free: Vec<u32>,
+}
+
+impl ContactStore {
+    /// Stores a new contact and returns its slot.
+    pub fn insert(&mut self, c: Contact) -> u32 {
+        match self.free.pop() {
+            Some(k) => {
+                self.slots[k as usize] = c;
+                k
+            }
+            None => {
+                self.slots.push(c);
+                (self.slots.len() - 1) as u32
+            }
+        }
+    }
+
+    /// Removes the contact in slot `k` and returns its record.
+    pub fn remove(&mut self, k: u32) -> Option<OpenContact> {
+        let c = &mut self.slots[k as usize];
+        debug_assert!(c.live);
+        c.live = false;
+        c.next = NONE;
+        self.free.push(k);
+        c.record.take()
+    }
+
+    /// The slots (dead ones included, with `live == false`).
+    pub fn slots(&self) -> &[Contact] {
+        &self.slots
+    }
+
+    /// Mutable slots.
+    pub fn slots_mut(&mut self) -> &mut [Contact] {
+        &mut self.slots
+    }
+
+    /// The contact in slot `k`.
+    pub fn get(&self, k: u32) -> &Contact {
+        &self.slots[k as usize]
+    }
+
+    /// The contact in slot `k`, mutable.
+    pub fn get_mut(&mut self, k: u32) -> &mut Contact {
+        &mut self.slots[k as usize]
+    }
+
+    /// Live contacts.
+    pub fn iter(&self) -> impl Iterator<Item = &Contact> {
+        self.slots.iter().filter(|c| c.live)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slots_are_reused_last_freed_first() {
+        let mut s = ContactStore::default();
+        let a = s.insert(Contact::new(0, Party::Apple(1)));
+        let b = s.insert(Contact::new(0, Party::Apple(2)));
+        let c = s.insert(Contact::new(1, Party::Surface(0)));
+        assert_eq!((a, b, c), (0, 1, 2));
+        s.remove(a);
+        s.remove(c);
+        assert_eq!(s.iter().count(), 1);
+        assert_eq!(s.insert(Contact::new(3, Party::Apple(4))), 2);
+        assert_eq!(s.insert(Contact::new(3, Party::Apple(5))), 0);
+        assert_eq!(s.get(0).other, Party::Apple(5));
+    }
+}

@@ -1,0 +1,79 @@
+//! Sleeping: apples at rest stop costing anything (see [`super::SleepConfig`] for the rule).
+//!
+//! The layer decides, rapier executes: a sleeper is put to sleep in rapier (`RigidBody::sleep`,
+//! so rapier does not integrate it) and woken with `wake_up`. Its contacts with other sleepers
+//! and with fixed surfaces are frozen (not evaluated); it reports the contact force it carried
+//! when it fell asleep. What wakes it is decided from the geometry in [`super::detect`].
+
+use super::ContactLayer;
+use crate::math::Vec3;
+use rapier3d_f64::dynamics::RigidBodySet;
+
+impl ContactLayer {
+    /// Wakes apple `k` (in the layer and in rapier).
+    pub(super) fn wake(&mut self, bodies: &mut RigidBodySet, k: usize) {
+        if self.active[k] {
+            return;
+        }
+        self.active[k] = true;
+        self.asleep[k] = false;
+        self.still_time[k] = 0.0;
+        self.stats_wakeups += 1;
+        if let Some(rb) = bodies.get_mut(self.apples[k].body) {
+            rb.wake_up(true);
+        }
+    }
+
+    /// A sleeper reports the contact force it carried when it fell asleep (its contacts are
+    /// frozen; a change large enough to matter wakes it).
+    #[inline(never)]
+    pub(super) fn add_frozen_forces(&mut self) {
+        for k in 0..self.apples.len() {
+            if self.asleep[k] {
+                self.force[k] = self.sleep_force[k];
+            }
+        }
+    }
+
+    /// Puts to sleep the apples that have been still long enough.
+    #[inline(never)]
+    pub(super) fn sleep_decisions(&mut self, bodies: &mut RigidBodySet, dt_s: f64) {
+        let cfg = self.config.sleep;
+        if !cfg.enabled {
+            return;
+        }
+        for k in 0..self.apples.len() {
+            if !self.active[k] {
+                continue;
+            }
+            // Still, supported (touching something) and not accelerating: the net force would not
+            // change its speed by the stillness threshold within the stillness time.
+            let m = self.apples[k].mass;
+            let net = self.force[k] + self.gravity * m;
+            let limit = cfg.speed_m_s * m / cfg.time_s;
+            let resting = self.count[k] > 0 && net.length_squared() < limit * limit;
+            if self.still[k] && !self.busy[k] && resting {
+                self.still_time[k] += dt_s;
+            } else {
+                self.still_time[k] = 0.0;
+            }
+            if self.still_time[k] >= cfg.time_s {
+                self.active[k] = false;
+                self.asleep[k] = true;
+                self.sleep_force[k] = self.force[k];
+                self.vel[k] = Vec3::ZERO;
+                self.angvel[k] = Vec3::ZERO;
+                self.still[k] = true;
+                self.stats_sleeps += 1;
+                self.force[k] = Vec3::ZERO;
+                self.torque[k] = Vec3::ZERO;
+                self.loaded[k] = false;
+                if let Some(rb) = bodies.get_mut(self.apples[k].body) {
+                    rb.reset_forces(false);
+                    rb.reset_torques(false);
+                    rb.sleep();
+                }
+            }
+        }
+    }
+}
