@@ -11,11 +11,13 @@
 //! [`contact`] (the law, pure functions) -> [`layer`] (pair finding, hooks, forces) ->
 //! [`sim`] (stepping, stability guard) -> [`record`] (contact events, time series, slip/roll
 //! transitions) -> [`output`] (summary, CSV, charts, ParaView) -> [`analysis`] (pulse fit,
-//! bruise assessment, ke calibration); [`validate`] runs the paper's figures against it.
+//! bruise assessment, ke calibration); [`validate`] runs the paper's figures against it;
+//! [`bench`] measures the cost of a run.
 #![warn(missing_docs)]
 
 pub mod analysis;
 pub mod batch;
+pub mod bench;
 pub mod contact;
 pub mod layer;
 pub mod math;

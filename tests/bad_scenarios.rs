@@ -531,3 +531,121 @@ fn generated_name_clash() {
         &["generators", "'g-1'", "already used"],
     );
 }
+
+// Apples read from a file (issue 11): the file is user input too; every mistake in it names
+// `generators[0].file` and, where it is about one entry, the entry.
+
+/// The base scenario with a `file` generator reading `pile.json` (written beside it with
+/// `content`, unless `None`).
+fn file_generator(name: &str, content: Option<&str>, needles: &[&str]) {
+    let mut v = base();
+    v["generators"] =
+        json!([{"type": "file", "name": "p", "material": "apple", "file": "pile.json"}]);
+    let files: Vec<(&str, &str)> = content.map(|c| ("pile.json", c)).into_iter().collect();
+    refused_with_files(name, &v.to_string(), &files, needles);
+}
+
+#[test]
+fn file_generator_missing_file() {
+    file_generator(
+        "file-missing",
+        None,
+        &["generators[0].file", "pile.json", "cannot read"],
+    );
+}
+
+#[test]
+fn file_generator_unreadable_json() {
+    file_generator(
+        "file-syntax",
+        Some("[{\"name\": \"a\", \"diameter_m\": 0.08,"),
+        &["generators[0].file", "pile.json", "line 1"],
+    );
+}
+
+#[test]
+fn file_generator_not_a_list() {
+    file_generator(
+        "file-object",
+        Some("{\"name\": \"a\"}"),
+        &["generators[0].file", "expected a sequence"],
+    );
+}
+
+#[test]
+fn file_generator_entry_missing_a_field() {
+    file_generator(
+        "file-field",
+        Some(
+            r#"[{"name": "a", "diameter_m": 0.08, "position_m": [1, 1, 0.5]}, {"name": "b", "position_m": [2, 1, 0.5]}]"#,
+        ),
+        &["generators[0].file", "[1]", "missing field `diameter_m`"],
+    );
+}
+
+#[test]
+fn file_generator_entry_with_unknown_field() {
+    file_generator(
+        "file-unknown",
+        Some(r#"[{"name": "a", "diameter_m": 0.08, "position_m": [1, 1, 0.5], "mass_kg": 0.2}]"#),
+        &["generators[0].file", "[0]", "unknown field `mass_kg`"],
+    );
+}
+
+#[test]
+fn file_generator_zero_diameter() {
+    file_generator(
+        "file-diameter",
+        Some(
+            r#"[{"name": "a", "diameter_m": 0.08, "position_m": [1, 1, 0.5]}, {"name": "b", "diameter_m": 0, "position_m": [2, 1, 0.5]}]"#,
+        ),
+        &[
+            "generators[0].file",
+            "pile.json[1].diameter_m",
+            "> 0",
+            "'b'",
+        ],
+    );
+}
+
+#[test]
+fn file_generator_position_out_of_range() {
+    // JSON has no NaN or infinity: a number too large for f64 is the way a file holds one.
+    file_generator(
+        "file-position",
+        Some(r#"[{"name": "a", "diameter_m": 0.08, "position_m": [1, 1e999, 0.5]}]"#),
+        &["generators[0].file", "[0].position_m", "out of range"],
+    );
+}
+
+#[test]
+fn file_generator_empty_list() {
+    file_generator(
+        "file-empty",
+        Some("[]"),
+        &["generators[0].file", "lists no apple"],
+    );
+}
+
+#[test]
+fn file_generator_duplicate_names() {
+    file_generator(
+        "file-dup",
+        Some(
+            r#"[{"name": "a", "diameter_m": 0.08, "position_m": [1, 1, 0.5]}, {"name": "a", "diameter_m": 0.08, "position_m": [2, 1, 0.5]}]"#,
+        ),
+        &["generators[0].file", "pile.json[1].name", "'a'", "twice"],
+    );
+}
+
+#[test]
+fn file_generator_overlapping_apples() {
+    // The same check and message as for any generated apples.
+    file_generator(
+        "file-overlap",
+        Some(
+            r#"[{"name": "a", "diameter_m": 0.08, "position_m": [1, 1, 0.5]}, {"name": "b", "diameter_m": 0.08, "position_m": [1.07, 1, 0.5]}]"#,
+        ),
+        &["generators", "'p-b'", "'p-a'", "inside"],
+    );
+}

@@ -135,3 +135,136 @@ fn rigid_surfaces_use_rapiers_contact_and_record_nothing() {
         "fell through the floor"
     );
 }
+
+/// A pile written to a file (name, diameter, position each), as the LIGGGHTS reference's gen.py
+/// writes it: numbers chosen not to be round in binary.
+const PILE: &str = r#"[
+  {"name": "p1", "diameter_m": 0.074150, "position_m": [-0.196526, -0.197362, 0.05]},
+  {"name": "p2", "diameter_m": 0.076081, "position_m": [-0.100046, -0.200505, 0.05]},
+  {"name": "q7", "diameter_m": 0.082425, "position_m": [0.002887, -0.204061, 0.15]}
+]"#;
+
+fn pile_scenario(file: &str) -> serde_json::Value {
+    json!({
+        "duration_s": 0.02, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
+        "output": {"sample_interval_s": 0.01, "force_history": false},
+        "materials": {
+            "apple": {"youngs_modulus_pa": 2.6e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
+            "steel": {"youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.3}},
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+        "apples": [{"name": "first", "material": "apple", "diameter_m": 0.08, "position_m": [1, 1, 0.05]}],
+        "generators": [{"type": "file", "name": "f", "material": "apple", "file": file,
+            "velocity_m_s": [0.1, 0, 0]}],
+        "surfaces": [{"name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1]}]
+    })
+}
+
+#[test]
+fn file_generator_reads_names_diameters_and_positions_exactly() {
+    let dir = std::env::temp_dir().join(format!("applesim-file-gen-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("piles")).unwrap();
+    std::fs::write(dir.join("piles/p.json"), PILE).unwrap();
+    let path = dir.join("s.json");
+    std::fs::write(&path, pile_scenario("piles/p.json").to_string()).unwrap();
+
+    // Relative to the scenario's folder, whatever the working directory.
+    let sc = scenario::load(&path).unwrap();
+    let apples = sc.initial_apples().unwrap();
+    let want: Vec<(&str, f64, [f64; 3])> = vec![
+        ("first", 0.08, [1.0, 1.0, 0.05]),
+        ("f-p1", 0.074150, [-0.196526, -0.197362, 0.05]),
+        ("f-p2", 0.076081, [-0.100046, -0.200505, 0.05]),
+        ("f-q7", 0.082425, [0.002887, -0.204061, 0.15]),
+    ];
+    assert_eq!(apples.len(), want.len());
+    for (a, (name, d, p)) in apples.iter().zip(&want) {
+        assert_eq!(a.name, *name);
+        // Exactly the file's numbers: the same decimal text parses to the same f64.
+        assert_eq!(a.diameter_m, *d, "{name}");
+        assert_eq!(a.position_m, *p, "{name}");
+        assert_eq!(a.material, "apple");
+        assert_eq!(a.mass_kg, None);
+    }
+    assert_eq!(apples[1].velocity_m_s, [0.1, 0.0, 0.0]);
+    assert_eq!(apples[0].velocity_m_s, [0.0, 0.0, 0.0]);
+
+    // mass_kg applies to every apple of the file.
+    let mut v = pile_scenario("piles/p.json");
+    v["generators"][0]["mass_kg"] = json!(0.2);
+    std::fs::write(&path, v.to_string()).unwrap();
+    let sc = scenario::load(&path).unwrap();
+    let apples = sc.initial_apples().unwrap();
+    assert!(apples[1..].iter().all(|a| a.mass_kg == Some(0.2)));
+
+    // Parsed without its folder, the file is not read: validation says so instead of guessing
+    // a directory; read_files with the folder makes it whole.
+    let mut sc = scenario::from_json(&v.to_string(), "s").unwrap();
+    let e = scenario::validate(&sc).unwrap_err().to_string();
+    assert!(
+        e.contains("generators[0].file") && e.contains("has not been read"),
+        "{e}"
+    );
+    sc.read_files(&dir).unwrap();
+    scenario::validate(&sc).unwrap();
+    assert_eq!(sc.initial_apples().unwrap().len(), 4);
+
+    // Through the CLI from another working directory: the run has the file's apples.
+    let out = dir.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .current_dir(std::env::temp_dir())
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let names: Vec<&str> = summary["apples"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["first", "f-p1", "f-p2", "f-q7"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn file_generator_values_are_validated() {
+    // The file's values are checked by validate (the format by read_files): a list set in code
+    // with a non-finite position or a non-positive diameter is refused with the entry named.
+    use applesim::scenario::generators::FileApples;
+    use applesim::scenario::{FileApple, GeneratorSpec};
+    let v = pile_scenario("unused.json");
+    let with = |apples: Vec<FileApple>| {
+        let mut sc = scenario::from_json(&v.to_string(), "s").unwrap();
+        let GeneratorSpec::File(f) = &mut sc.generators[0] else {
+            unreachable!()
+        };
+        f.loaded = Some(FileApples(std::sync::Arc::new(apples)));
+        scenario::validate(&sc).map_err(|e| e.to_string())
+    };
+    let apple = |name: &str, d: f64, p: [f64; 3]| FileApple {
+        name: name.into(),
+        diameter_m: d,
+        position_m: p,
+    };
+    let e = with(vec![apple("a", 0.08, [0.0, 0.0, f64::NAN])]).unwrap_err();
+    assert!(
+        e.contains("generators[0].file: unused.json[0].position_m"),
+        "{e}"
+    );
+    let e = with(vec![
+        apple("a", 0.08, [0.0, 0.0, 0.1]),
+        apple("b", -0.08, [0.5, 0.0, 0.1]),
+    ])
+    .unwrap_err();
+    assert!(e.contains("unused.json[1].diameter_m: -0.08"), "{e}");
+    assert!(with(vec![apple("a", 0.08, [0.0, 0.0, 0.1])]).is_ok());
+}

@@ -255,7 +255,8 @@ fn run_one(batch: &Batch, run: &PlannedRun, out: &Path) -> Outcome {
 fn execute(batch: &Batch, run: &PlannedRun, out: &Path, tmp: &Path) -> Result<(), String> {
     let value = run.scenario.as_ref().map_err(Clone::clone)?;
     let text = serde_json::to_string(value).map_err(|e| e.to_string())?;
-    let sc = scenario::from_json(&text, &run.label).map_err(|e| e.to_string())?;
+    let mut sc = scenario::from_json(&text, &run.label).map_err(|e| e.to_string())?;
+    sc.read_files(&batch.base_dir).map_err(|e| e.to_string())?;
     scenario::validate(&sc).map_err(|e| e.to_string())?;
     if tmp.exists() {
         std::fs::remove_dir_all(tmp).map_err(|e| format!("{}: {e}", tmp.display()))?;

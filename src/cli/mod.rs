@@ -1,6 +1,7 @@
 //! Argument parsing and plain error reporting; every subcommand lives in its own file.
 
 mod batch;
+mod bench;
 mod calibrate;
 mod merge;
 mod plot;
@@ -32,6 +33,9 @@ enum Command {
     Batch(batch::Args),
     /// Merge the runs of a batch into one table, OUT/merged.csv; report failed or missing runs.
     Merge(merge::Args),
+    /// Step a scenario to its end without outputs and report its cost per window of simulated
+    /// time (apple-steps per second, awake apples, contacts per apple, memory).
+    Bench(bench::Args),
     /// Run the paper's Figs. 1-7, check them against its numbers and closed forms, and write a
     /// Markdown report with SVG charts.
     Validate(validate::Args),
@@ -48,6 +52,7 @@ pub fn main() -> i32 {
         Command::Batch(a) => batch::main(a),
         Command::Merge(a) => merge::main(a),
         Command::Validate(a) => validate::main(a),
+        Command::Bench(a) => bench::main(a),
     };
     match result {
         Ok(()) => 0,

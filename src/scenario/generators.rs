@@ -1,6 +1,7 @@
 //! Many apples: generators that place apples at the start (a grid / layers, a seeded random
-//! fill) and sources that feed apples in over time. Every generated apple gets a stable name,
-//! `NAME-1`, `NAME-2`, ... in generation order, and the same seed always gives the same apples
+//! fill, a list read from a file) and sources that feed apples in over time. Every generated
+//! apple gets a stable name, `NAME-1`, `NAME-2`, ... in generation order (a file's apples keep
+//! their own names behind the prefix: `NAME-p17`), and the same seed always gives the same apples
 //! (ChaCha8 from `rand_chacha`, whose output is fixed across platforms and versions).
 
 use super::{AppleSpec, ScenarioError};
@@ -9,6 +10,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::sync::Arc;
 
 /// Diameter of generated apples: a fixed number, or a distribution.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -120,6 +123,9 @@ pub enum GeneratorSpec {
     Grid(GridSpec),
     /// `count` apples at random, non-overlapping positions inside a box region.
     RandomFill(RandomFillSpec),
+    /// Apples listed in a JSON file (name, diameter, position each), e.g. a pile written by
+    /// another program that applesim is compared with.
+    File(FileSpec),
 }
 
 impl GeneratorSpec {
@@ -128,6 +134,7 @@ impl GeneratorSpec {
         match self {
             GeneratorSpec::Grid(g) => &g.name,
             GeneratorSpec::RandomFill(g) => &g.name,
+            GeneratorSpec::File(g) => &g.name,
         }
     }
 }
@@ -186,6 +193,89 @@ pub struct RandomFillSpec {
     /// Initial velocity of every apple (m/s).
     #[serde(default)]
     pub velocity_m_s: [f64; 3],
+}
+
+/// Apples read from a JSON file: an array of `{"name", "diameter_m", "position_m"}` objects (the
+/// `pile.json` of the LIGGGHTS reference run, for instance). The file is read once, when the
+/// scenario is loaded ([`super::Scenario::read_files`]), because the scenario's folder is known
+/// only then; the apples are kept in [`FileSpec::loaded`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FileSpec {
+    /// Name prefix: apple `p17` of the file becomes `NAME-p17`.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// The JSON file, relative to the scenario's folder (or absolute).
+    pub file: String,
+    /// Mass of every apple (kg); default from density.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
+    /// Initial velocity of every apple (m/s).
+    #[serde(default)]
+    pub velocity_m_s: [f64; 3],
+    /// The apples read from `file` (not part of the JSON: the scenario as written keeps the file
+    /// name, not its contents). `None` until the file is read.
+    #[serde(skip)]
+    pub loaded: Option<FileApples>,
+}
+
+/// One apple of a file generator's list, exactly as in the file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FileApple {
+    /// Name in the file (unique within it).
+    pub name: String,
+    /// Diameter (m).
+    pub diameter_m: f64,
+    /// Centre (m).
+    pub position_m: [f64; 3],
+}
+
+/// The apples of a file, shared between clones of the scenario (a pile file holds thousands).
+#[derive(Clone, PartialEq)]
+pub struct FileApples(pub Arc<Vec<FileApple>>);
+
+impl std::fmt::Debug for FileApples {
+    // Thousands of apples would drown any debug print of the scenario.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "FileApples({} apples)", self.0.len())
+    }
+}
+
+impl FileSpec {
+    /// Reads and parses `file`, resolved against `base_dir` (the scenario's folder); `field` is
+    /// the generator's JSON path (`generators[0]`), named in errors as `generators[0].file`.
+    /// Only the format is checked here; the values are checked by [`super::validate`].
+    pub fn read(&mut self, base_dir: &Path, field: &str) -> Result<(), ScenarioError> {
+        let f = format!("{field}.file");
+        if self.file.trim().is_empty() {
+            return Err(ScenarioError::invalid(f, "empty file name"));
+        }
+        let path = base_dir.join(&self.file);
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            ScenarioError::invalid(&f, format!("cannot read '{}': {e}", path.display()))
+        })?;
+        let de = &mut serde_json::Deserializer::from_str(&text);
+        let apples: Vec<FileApple> = serde_path_to_error::deserialize(de).map_err(|e| {
+            let at = e.path().to_string();
+            ScenarioError::invalid(
+                &f,
+                format!(
+                    "'{}'{}: {} (expected an array of {{\"name\", \"diameter_m\", \"position_m\"}})",
+                    path.display(),
+                    if at.is_empty() || at == "." {
+                        String::new()
+                    } else {
+                        format!(" at {at}")
+                    },
+                    e.into_inner()
+                ),
+            )
+        })?;
+        self.loaded = Some(FileApples(Arc::new(apples)));
+        Ok(())
+    }
 }
 
 /// A source that feeds apples in over time, for lines.
@@ -339,6 +429,30 @@ pub fn expand(
                 }
             }
             Ok(out)
+        }
+        GeneratorSpec::File(s) => {
+            let Some(list) = &s.loaded else {
+                return Err(ScenarioError::invalid(
+                    format!("{field}.file"),
+                    format!(
+                        "'{}' has not been read: load the scenario with scenario::load, or call Scenario::read_files with its folder",
+                        s.file
+                    ),
+                ));
+            };
+            Ok(list
+                .0
+                .iter()
+                .map(|a| AppleSpec {
+                    name: format!("{}-{}", s.name, a.name),
+                    material: s.material.clone(),
+                    diameter_m: a.diameter_m,
+                    mass_kg: s.mass_kg,
+                    position_m: a.position_m,
+                    velocity_m_s: s.velocity_m_s,
+                    angular_velocity_rad_s: [0.0; 3],
+                })
+                .collect())
         }
     }
 }

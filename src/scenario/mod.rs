@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
-pub use generators::{DiameterSpec, GeneratorSpec, SourceSpec};
+pub use generators::{DiameterSpec, FileApple, FileSpec, GeneratorSpec, SourceSpec};
 pub use stepping::{Accuracy, Fidelity, TimeStep};
 pub use surfaces::{ContactModel, RotationSpec, SurfaceSpec};
 pub use validate::validate;
@@ -137,6 +137,18 @@ impl Scenario {
         };
         self.max_time_step_s
             .unwrap_or_else(|| self.output.sample_interval_s.min(cap))
+    }
+
+    /// Reads the apple lists of `file` generators, resolving their paths against `base_dir` (the
+    /// scenario's folder, as for mesh surfaces). [`load`] does this; a scenario parsed with
+    /// [`from_json`] needs it before [`validate`] and running when it has a `file` generator.
+    pub fn read_files(&mut self, base_dir: &Path) -> Result<(), ScenarioError> {
+        for (k, g) in self.generators.iter_mut().enumerate() {
+            if let GeneratorSpec::File(f) = g {
+                f.read(base_dir, &format!("generators[{k}]"))?;
+            }
+        }
+        Ok(())
     }
 
     /// The apples present at t = 0: the listed ones, then each generator's in order.
@@ -460,13 +472,15 @@ pub fn from_json(text: &str, file: &str) -> Result<Scenario, ScenarioError> {
     })
 }
 
-/// Reads, parses and validates a scenario file.
+/// Reads, parses and validates a scenario file, with the apple lists of its `file` generators
+/// (relative to the file's folder).
 pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
     let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    let sc = from_json(&text, &path.display().to_string())?;
+    let mut sc = from_json(&text, &path.display().to_string())?;
+    sc.read_files(path.parent().unwrap_or(Path::new("")))?;
     validate(&sc)?;
     Ok(sc)
 }

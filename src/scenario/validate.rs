@@ -1,6 +1,6 @@
 //! Validation of a parsed scenario: every check names the field and the value it saw.
 
-use super::generators::GeneratorSpec;
+use super::generators::{FileSpec, GeneratorSpec};
 use super::surfaces::{rotation_of, ChuteProfile, SurfaceSpec};
 use super::{AppleSpec, Scenario, ScenarioError, TimeStep};
 use crate::contact::{Material, MaterialError};
@@ -239,14 +239,10 @@ pub fn validate(sc: &Scenario) -> R {
     }
     for (k, g) in sc.generators.iter().enumerate() {
         let f = format!("generators[{k}]");
-        let (name, material, diameter, mass) = match g {
-            GeneratorSpec::Grid(s) => (&s.name, &s.material, &s.diameter_m, s.mass_kg),
-            GeneratorSpec::RandomFill(s) => (&s.name, &s.material, &s.diameter_m, s.mass_kg),
-        };
-        prefix_and_material(&f, name, material, mass, &mats)?;
-        diameter.validate(&format!("{f}.diameter_m"))?;
         match g {
             GeneratorSpec::Grid(s) => {
+                prefix_and_material(&f, &s.name, &s.material, s.mass_kg, &mats)?;
+                s.diameter_m.validate(&format!("{f}.diameter_m"))?;
                 finite3(&format!("{f}.origin_m"), s.origin_m)?;
                 finite3(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
                 for (c, &x) in s.spacing_m.iter().enumerate() {
@@ -260,9 +256,16 @@ pub fn validate(sc: &Scenario) -> R {
                 }
             }
             GeneratorSpec::RandomFill(s) => {
+                prefix_and_material(&f, &s.name, &s.material, s.mass_kg, &mats)?;
+                s.diameter_m.validate(&format!("{f}.diameter_m"))?;
                 finite3(&format!("{f}.region_min_m"), s.region_min_m)?;
                 finite3(&format!("{f}.region_max_m"), s.region_max_m)?;
                 finite3(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
+            }
+            GeneratorSpec::File(s) => {
+                prefix_and_material(&f, &s.name, &s.material, s.mass_kg, &mats)?;
+                finite3(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
+                file_apples(&f, s)?;
             }
         }
     }
@@ -312,6 +315,66 @@ pub fn validate(sc: &Scenario) -> R {
         }
     }
     check_apple_overlaps(&all, sc.apples.len())
+}
+
+/// The apples of a `file` generator: read, at least one, unique non-empty names, diameters > 0
+/// and finite positions. Errors name `generators[k].file` and the entry (`pile.json[3]`), since
+/// the file is the user's input as much as the scenario.
+fn file_apples(f: &str, s: &FileSpec) -> R {
+    let field = format!("{f}.file");
+    let Some(list) = &s.loaded else {
+        return Err(ScenarioError::invalid(
+            field,
+            format!(
+                "'{}' has not been read: load the scenario with scenario::load, or call Scenario::read_files with its folder",
+                s.file
+            ),
+        ));
+    };
+    if list.0.is_empty() {
+        return Err(ScenarioError::invalid(
+            field,
+            format!("'{}' lists no apple: give at least one", s.file),
+        ));
+    }
+    let mut seen = HashSet::new();
+    for (k, a) in list.0.iter().enumerate() {
+        let at = format!("{}[{k}]", s.file);
+        if a.name.trim().is_empty() {
+            return Err(ScenarioError::invalid(
+                field,
+                format!("{at}.name: empty name"),
+            ));
+        }
+        if !seen.insert(a.name.as_str()) {
+            return Err(ScenarioError::invalid(
+                field,
+                format!(
+                    "{at}.name: '{}' is used twice: names must be unique",
+                    a.name
+                ),
+            ));
+        }
+        if !(a.diameter_m.is_finite() && a.diameter_m > 0.0) {
+            return Err(ScenarioError::invalid(
+                field,
+                format!(
+                    "{at}.diameter_m: {} must be a finite number > 0 (apple '{}')",
+                    a.diameter_m, a.name
+                ),
+            ));
+        }
+        if !a.position_m.iter().all(|x| x.is_finite()) {
+            return Err(ScenarioError::invalid(
+                field,
+                format!(
+                    "{at}.position_m: {:?} must hold finite numbers (apple '{}')",
+                    a.position_m, a.name
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn material_of<'a>(
