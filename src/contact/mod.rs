@@ -148,9 +148,10 @@ pub struct ContactResponse {
 }
 
 /// Evaluates the full law for one contact. `xi` is the contact's stored tangential displacement;
-/// `relaxation` is the fraction of the "velocity-kill" rate m / dt that bounds the rate-dependent
-/// forces of this contact: the tangential dashpot (see [`friction`]) and the rate part of eq. 12
-/// (see [`damping::hysteresis_force`]).
+/// `kill_rate` (1/s) is the fraction of the "velocity-kill" rate 1 / dt that bounds the
+/// rate-dependent forces of this contact, per kg of its effective mass: the tangential dashpot
+/// (see [`friction`]) and the rate part of eq. 12 (see [`damping::hysteresis_force`]). The layer
+/// passes `relaxation / dt` with its relaxation shared among the apple's contacts.
 #[inline]
 pub fn evaluate(
     law: &PairLaw,
@@ -158,7 +159,7 @@ pub fn evaluate(
     k: &ContactConstants,
     kin: &ContactKinematics,
     xi: &mut Vec3,
-    relaxation: f64,
+    kill_rate: f64,
     dt_s: f64,
 ) -> ContactResponse {
     let n = kin.normal;
@@ -168,13 +169,11 @@ pub fn evaluate(
     // sqrt(u) serves the Hertz force k u^(3/2), the contact radius sqrt(R*) sqrt(u) and the energy.
     let sqrt_u = u.sqrt();
     let elastic = k.stiffness * u * sqrt_u;
-    // The velocity-kill rate per unit mass (1/s), shared by both bounds.
-    let kill_per_kg = relaxation / dt_s;
     let p = if parts.energy_loss {
         // The normal bound uses twice the tangential share: it stops the relative normal motion
         // within one step (the friction dashpot within two), still stable shared among contacts.
         let kill = if kin.resting {
-            2.0 * kill_per_kg * k.normal_mass_kg
+            2.0 * kill_rate * k.normal_mass_kg
         } else {
             f64::INFINITY
         };
@@ -196,7 +195,7 @@ pub fn evaluate(
         let params = friction::TangentialParams {
             mu: law.friction,
             stiffness_n_m: friction::mindlin_stiffness(law.g_star_pa, a),
-            damping_n_s_m: kill_per_kg * k.tangential_mass_kg,
+            damping_n_s_m: kill_rate * k.tangential_mass_kg,
         };
         let t = friction::tangential_force(&params, p, slip_t, xi, dt_s);
         friction_force = t.force;
@@ -255,7 +254,7 @@ mod tests {
             &consts(&law),
             &kin(1e-3, Vec3::new(0.0, 0.0, -1.0)),
             &mut xi,
-            0.5,
+            0.5 / 1e-5,
             1e-5,
         );
         let k = normal::stiffness(law.e_star_pa, 0.04);
@@ -266,7 +265,7 @@ mod tests {
             &consts(&law),
             &kin(1e-3, Vec3::new(0.0, 0.0, 1.0)),
             &mut xi,
-            0.5,
+            0.5 / 1e-5,
             1e-5,
         );
         assert!((unload.normal_force_n / load.normal_force_n - 0.09).abs() < 1e-9);
@@ -283,7 +282,7 @@ mod tests {
             &consts(&law),
             &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
             &mut xi,
-            0.5,
+            0.5 / 1e-5,
             1e-5,
         );
         assert!(r.sliding);
@@ -298,7 +297,7 @@ mod tests {
             &consts(&law),
             &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
             &mut xi,
-            0.5,
+            0.5 / 1e-5,
             1e-5,
         );
         assert_eq!(off.friction_force, Vec3::ZERO);
@@ -318,7 +317,7 @@ mod tests {
             &consts(&law),
             &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
             &mut xi,
-            0.5,
+            0.5 / 1e-5,
             1e-5,
         );
         let expect = r.friction_force.length() * law.nu1 / (4.0 * r.contact_radius_m * law.g1_pa);

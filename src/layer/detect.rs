@@ -177,7 +177,11 @@ impl ContactLayer {
             }
             let dist = r2.sqrt();
             let u = rs - dist;
-            let n = if dist > 0.0 { d / dist } else { Vec3::Z };
+            let n = if dist > 0.0 {
+                d * (1.0 / dist)
+            } else {
+                Vec3::Z
+            };
             if ai != aj {
                 // One sleeper: wake it if this contact starts, ends, or its overlap drifts.
                 let sleeper = if ai { j } else { i };

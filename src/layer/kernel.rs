@@ -52,8 +52,9 @@ struct Ctx<'a> {
     n_mat: usize,
     parts: LawParts,
     relaxation: f64,
-    /// `relaxation / n` for a bound shared by n contacts (0 and 1: the whole), n < 32.
-    relaxation_by_count: [f64; 32],
+    /// `relaxation / (n dt)`: the kill rate of a bound shared by n contacts (0 and 1: the
+    /// whole), n < 32.
+    kill_rate_by_count: [f64; 32],
     guard: Guard,
     history_cap: usize,
     control: Option<StepControl>,
@@ -137,11 +138,11 @@ impl Ctx<'_> {
             rel_velocity: v1 - v2,
             resting,
         };
-        let relax = match self.relaxation_by_count.get(usize::from(shared)) {
+        let kill_rate = match self.kill_rate_by_count.get(usize::from(shared)) {
             Some(&r) => r,
-            None => self.relaxation / f64::from(shared),
+            None => self.relaxation / (f64::from(shared) * self.dt_s),
         };
-        let resp = contact::evaluate(law, self.parts, &k, &kin, &mut c.xi, relax, self.dt_s);
+        let resp = contact::evaluate(law, self.parts, &k, &kin, &mut c.xi, kill_rate, self.dt_s);
         if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
             return Err(LayerError::NonFinite {
                 body: ai.name.to_string(),
@@ -388,8 +389,8 @@ impl ContactLayer {
             n_mat: self.materials.len(),
             parts: self.config.parts,
             relaxation: self.config.tangential_relaxation,
-            relaxation_by_count: std::array::from_fn(|n| {
-                self.config.tangential_relaxation / n.max(1) as f64
+            kill_rate_by_count: std::array::from_fn(|n| {
+                self.config.tangential_relaxation / (n.max(1) as f64 * dt_s)
             }),
             guard: self.config.guard,
             history_cap: self.config.force_history_cap,

@@ -168,9 +168,11 @@ impl Default for Guard {
 ///
 /// An awake apple counts as *still* when |v| and |w| R are both below `speed_m_s`; it falls
 /// asleep after `time_s` of stillness during which it touched something, its net force (contacts
-/// and gravity; set it with [`ContactLayer::set_gravity`]) could not change its speed by
-/// `speed_m_s` within `time_s`, and it touched no apple that was not still and no moving surface (a
-/// belt, a moving body). A sleeper is not integrated (rapier's sleeping) and its
+/// and gravity; set it with [`ContactLayer::set_gravity`]), averaged over the last quarter of
+/// `time_s`, could not change its speed by `speed_m_s` within `time_s`, and it touched no apple
+/// that was not still and no moving surface (a belt, a moving body). The force is averaged because
+/// an apple held in a pile vibrates at its contacts' frequencies while its mean force is nil. A
+/// sleeper is not integrated (rapier's sleeping) and its
 /// contacts with other sleepers and fixed surfaces are frozen, not evaluated. It wakes when a
 /// contact with an awake apple starts or ends, or when the overlap of such a contact moves by
 /// more than `wake_overlap_ratio` of its value at the time of sleeping (the neighbour pushes
@@ -499,6 +501,8 @@ pub struct ContactLayer {
     still: Vec<bool>,
     busy: Vec<bool>,
     still_time: Vec<f64>,
+    /// Running mean of the net force while still (see `sleep`).
+    mean_force: Vec<Vec3>,
     asleep: Vec<bool>,
     sleep_force: Vec<Vec3>,
     /// The layer left a non-zero force or torque on the body at the last step (so a zero one now
@@ -563,6 +567,7 @@ impl ContactLayer {
             still: Vec::new(),
             busy: Vec::new(),
             still_time: Vec::new(),
+            mean_force: Vec::new(),
             asleep: Vec::new(),
             sleep_force: Vec::new(),
             loaded: Vec::new(),
@@ -1059,6 +1064,7 @@ impl ContactLayer {
         self.busy.clear();
         self.busy.resize(n, false);
         self.still_time.resize(n, 0.0);
+        self.mean_force.resize(n, Vec3::NAN);
         self.asleep.resize(n, false);
         self.sleep_force.resize(n, Vec3::ZERO);
         self.loaded.resize(n, false);

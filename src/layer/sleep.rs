@@ -18,6 +18,7 @@ impl ContactLayer {
         self.active[k] = true;
         self.asleep[k] = false;
         self.still_time[k] = 0.0;
+        self.mean_force[k] = Vec3::NAN;
         self.stats_wakeups += 1;
         if let Some(rb) = bodies.get_mut(self.apples[k].body) {
             rb.wake_up(true);
@@ -47,11 +48,25 @@ impl ContactLayer {
                 continue;
             }
             // Still, supported (touching something) and not accelerating: the net force would not
-            // change its speed by the stillness threshold within the stillness time.
+            // change its speed by the stillness threshold within the stillness time. The force is
+            // a running mean over a quarter of the stillness time: an apple held in a pile
+            // vibrates (its contact forces swing around their balance at the contacts' own
+            // frequencies, hundreds of hertz) while its mean force is nil, and the rule is about
+            // the mean (measured on the 1000-apple pile: with the instantaneous force, ~300 still
+            // apples stayed awake for 0.7 s after the pile had come to rest).
             let m = self.apples[k].mass;
             let net = self.force[k] + self.gravity * m;
+            // The mean runs while the apple is still (NaN: it starts again).
+            let share = (4.0 * dt_s / cfg.time_s).min(1.0);
+            let last = self.mean_force[k];
+            let mean = if !self.still[k] || last.x.is_nan() {
+                net
+            } else {
+                last + (net - last) * share
+            };
+            self.mean_force[k] = if self.still[k] { mean } else { Vec3::NAN };
             let limit = cfg.speed_m_s * m / cfg.time_s;
-            let resting = self.count[k] > 0 && net.length_squared() < limit * limit;
+            let resting = self.count[k] > 0 && mean.length_squared() < limit * limit;
             if self.still[k] && !self.busy[k] && resting {
                 self.still_time[k] += dt_s;
             } else {

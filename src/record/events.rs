@@ -126,7 +126,8 @@ pub struct OpenContact {
     rate: f64,
     steps: u64,
     point_at_peak: Vec3,
-    history: Option<History>,
+    /// Boxed: most runs record no histories, and the record is touched every step.
+    history: Option<Box<History>>,
     /// Elastic contact time and maximum overlap of the impact at the approach speed, once known.
     impact_scale: Option<(f64, f64)>,
 }
@@ -181,7 +182,7 @@ impl OpenContact {
             rate: du_dt,
             steps: 0,
             point_at_peak: Vec3::ZERO,
-            history: (history_cap > 0).then(|| History::new(history_cap)),
+            history: (history_cap > 0).then(|| Box::new(History::new(history_cap))),
             impact_scale: None,
         }
     }
@@ -211,7 +212,12 @@ impl OpenContact {
             self.prev_u = self.last_u;
         }
         let span = 0.5 * (s.kick_back_s + s.dt_s);
-        self.last_w = (0.5 * span / s.dt_s, 0.5 * span / s.dt_back_s);
+        self.last_w = if s.kick_back_s == s.dt_s && s.dt_back_s == s.dt_s {
+            // A fixed step: the same numbers without two divisions per contact and step.
+            (0.5, 0.5)
+        } else {
+            (0.5 * span / s.dt_s, 0.5 * span / s.dt_back_s)
+        };
         self.last_u = s.overlap_m;
         self.last_p = s.force_n;
         self.impulse += s.force_n * span;
