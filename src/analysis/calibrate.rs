@@ -362,8 +362,13 @@ pub fn simulate_impact(setup: &ImpactSetup, ke: f64, v0: f64) -> Result<Impact, 
     let mut step = 0u64;
     loop {
         let t = step as f64 * dt;
-        w.layer
-            .apply_forces(&mut w.physics.bodies, &w.physics.colliders, t, dt)?;
+        w.layer.apply_forces(
+            &mut w.physics.bodies,
+            &w.physics.colliders,
+            &w.physics.islands,
+            t,
+            dt,
+        )?;
         if let Some(e) = w.layer.finished_events().first() {
             return Ok(Impact {
                 ke,

@@ -5,6 +5,10 @@
 //! over the slab itself (in parallel, each contact writing only its own state and output slot)
 //! and the forces are summed in slab order. Freed slots are reused last-freed-first: the order
 //! depends only on the run's history, never on the thread count, which keeps runs bit-identical.
+//!
+//! Which contacts the current detection pass saw overlapping is kept beside the slab, one stamp
+//! per slot: the force pass finds them without loading a whole contact per slot (a settled pile
+//! has thousands of frozen contacts and nothing to evaluate).
 
 use super::grid::NONE;
 use crate::contact::ContactConstants;
@@ -21,9 +25,6 @@ pub struct Contact {
     /// Next contact of the same (apple, surface) candidate (a mesh can touch an apple at several
     /// places), or [`NONE`].
     pub next: u32,
-    /// The detection pass that last saw this contact overlapping: the force pass evaluates the
-    /// contacts seen by the current pass only (a sleeper's frozen contacts keep an older one).
-    pub epoch: u64,
     /// Unit normal from the other body towards apple `i`, at the current poses.
     pub normal: Vec3,
     /// Overlap at the current poses (m).
@@ -49,8 +50,6 @@ pub struct Contact {
     pub law: u32,
     /// 1 / the smaller radius (set with `consts`), for the overlap guard.
     pub inv_r_min: f64,
-    /// Whether the slot holds a contact.
-    pub live: bool,
 }
 
 impl Contact {
@@ -60,7 +59,6 @@ impl Contact {
             i,
             other,
             next: NONE,
-            epoch: 0,
             normal: Vec3::Z,
             overlap_m: 0.0,
             curvature2: 0.0,
@@ -80,15 +78,24 @@ impl Contact {
             resting_from_s: f64::NAN,
             law: 0,
             inv_r_min: 0.0,
-            live: true,
         }
     }
 }
+
+/// Stamp of a free slot (detection passes count from 1).
+pub const FREE: u64 = 0;
+
+/// Stamp of a live contact not seen by any detection pass yet.
+const NEW: u64 = 1;
 
 /// The slab of contacts.
 #[derive(Debug, Clone, Default)]
 pub struct ContactStore {
     slots: Vec<Contact>,
+    /// Per slot: [`FREE`], or the detection pass that last saw the contact overlapping. The force
+    /// pass evaluates the contacts seen by the current pass; a sleeper's frozen contacts keep an
+    /// older stamp.
+    stamps: Vec<u64>,
     free: Vec<u32>,
 }
 
@@ -98,10 +105,12 @@ impl ContactStore {
         match self.free.pop() {
             Some(k) => {
                 self.slots[k as usize] = c;
+                self.stamps[k as usize] = NEW;
                 k
             }
             None => {
                 self.slots.push(c);
+                self.stamps.push(NEW);
                 (self.slots.len() - 1) as u32
             }
         }
@@ -109,22 +118,37 @@ impl ContactStore {
 
     /// Removes the contact in slot `k` and returns its record.
     pub fn remove(&mut self, k: u32) -> Option<OpenContact> {
-        let c = &mut self.slots[k as usize];
-        debug_assert!(c.live);
-        c.live = false;
-        c.next = NONE;
+        debug_assert!(self.is_live(k));
+        self.stamps[k as usize] = FREE;
         self.free.push(k);
+        let c = &mut self.slots[k as usize];
+        c.next = NONE;
         c.record.take()
     }
 
-    /// The slots (dead ones included, with `live == false`).
-    pub fn slots(&self) -> &[Contact] {
-        &self.slots
+    /// Whether slot `k` holds a contact.
+    pub fn is_live(&self, k: u32) -> bool {
+        self.stamps[k as usize] != FREE
     }
 
-    /// Mutable slots.
-    pub fn slots_mut(&mut self) -> &mut [Contact] {
-        &mut self.slots
+    /// The detection pass that last saw the contact in slot `k` (see [`Self::stamps`]).
+    pub fn stamp(&self, k: u32) -> u64 {
+        self.stamps[k as usize]
+    }
+
+    /// Marks the contact in slot `k` as seen overlapping by detection pass `pass` (>= 2).
+    pub fn see(&mut self, k: u32, pass: u64) {
+        self.stamps[k as usize] = pass;
+    }
+
+    /// The stamps, one per slot.
+    pub fn stamps(&self) -> &[u64] {
+        &self.stamps
+    }
+
+    /// The slots (free ones included) and their stamps, for the force pass.
+    pub fn slots_and_stamps(&mut self) -> (&mut [Contact], &[u64]) {
+        (&mut self.slots, &self.stamps)
     }
 
     /// The contact in slot `k`.
@@ -139,7 +163,11 @@ impl ContactStore {
 
     /// Live contacts.
     pub fn iter(&self) -> impl Iterator<Item = &Contact> {
-        self.slots.iter().filter(|c| c.live)
+        self.slots
+            .iter()
+            .zip(&self.stamps)
+            .filter(|(_, &s)| s != FREE)
+            .map(|(c, _)| c)
     }
 }
 

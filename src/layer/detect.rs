@@ -107,9 +107,12 @@ impl ContactLayer {
         let mut dropped: Vec<Pair> = Vec::new();
         let rebuilt = self
             .grid
-            .update(&self.pos, &self.radius, &self.active, false, |p| {
+            .update(&self.pos, &self.radius, &self.awake, false, |p| {
                 dropped.push(p)
             });
+        if rebuilt {
+            self.pair_scan = None;
+        }
         // Contacts dropped by a rebuild are farther apart than the skin: they ended.
         for p in dropped {
             self.close_apple_pair(p, time_s);
@@ -161,7 +164,24 @@ impl ContactLayer {
         let epoch = self.epoch;
         let mut touching = 0;
         let mut parted: Vec<Pair> = Vec::new();
-        for k in 0..self.grid.pairs().len() {
+        // With sleepers, only the pairs with an awake apple (listed when the awake set or the
+        // pairs change); a settled pile has none.
+        let all = self.awake.len() == self.apples.len();
+        if !all && self.pair_scan.is_none() {
+            let active = &self.active;
+            self.pair_scan = Some(
+                (0..self.grid.pairs().len() as u32)
+                    .filter(|&k| {
+                        let p = self.grid.pairs()[k as usize];
+                        active[p.i as usize] || active[p.j as usize]
+                    })
+                    .collect(),
+            );
+        }
+        let scan = if all { None } else { self.pair_scan.take() };
+        let count = scan.as_ref().map_or(self.grid.pairs().len(), |s| s.len());
+        for q in 0..count {
+            let k = scan.as_ref().map_or(q, |s| s[q] as usize);
             let p = self.grid.pairs()[k];
             let (i, j) = (p.i as usize, p.j as usize);
             let (ai, aj) = (self.active[i], self.active[j]);
@@ -246,11 +266,11 @@ impl ContactLayer {
                     }
                     s => s,
                 };
+                self.contacts.see(slot, epoch);
                 let c = self.contacts.get_mut(slot);
                 c.normal = n;
                 c.overlap_m = u;
                 c.curvature2 = 1.0 / self.radius[j];
-                c.epoch = epoch;
                 c.last_u = u;
                 self.count[i] += 1;
                 self.count[j] += 1;
@@ -259,6 +279,9 @@ impl ContactLayer {
                 parted.push(p);
                 self.grid.pairs_mut()[k].contact = NONE;
             }
+        }
+        if scan.is_some() {
+            self.pair_scan = scan;
         }
         for p in parted {
             self.close_apple_pair(p, time_s);
@@ -277,150 +300,151 @@ impl ContactLayer {
         let mut touching = 0;
         let mut chain = std::mem::take(&mut self.chain);
         let mut hits = std::mem::take(&mut self.scratch);
-        for ci in 0..self.candidates.len() {
-            let cand = self.candidates[ci];
-            let a = cand.apple as usize;
-            if !self.active[a] {
-                // A sleeper's surface contacts are frozen.
-                continue;
-            }
-            let s = cand.surface as usize;
-            chain.clear();
-            let mut k = cand.first;
-            while k != NONE {
-                chain.push(k);
-                k = self.contacts.get(k).next;
-            }
-            hits.clear();
-            let surf = &self.surfaces[s];
-            let now = &self.surf_now[s];
-            if now.exists {
-                if let Some(co) = colliders.get(surf.collider) {
-                    let margin = 2.0 * self.vel[a].length() * ahead + 1e-9;
-                    surface::surface_hits(
-                        &surf.shape,
-                        co,
-                        self.pos[a],
-                        self.radius[a],
-                        margin,
-                        &mut hits,
-                    );
+        // A sleeper's surface contacts are frozen: only the awake apples' candidates.
+        for w in 0..self.awake.len() {
+            let k = self.awake[w] as usize;
+            for ci in self.cand_start[k] as usize..self.cand_start[k + 1] as usize {
+                let cand = self.candidates[ci];
+                let a = cand.apple as usize;
+                let s = cand.surface as usize;
+                chain.clear();
+                let mut k = cand.first;
+                while k != NONE {
+                    chain.push(k);
+                    k = self.contacts.get(k).next;
                 }
-            }
-            if hits.is_empty() && chain.is_empty() {
-                continue;
-            }
-            let law =
-                self.laws[self.apples[a].material.0 as usize * n_mat + surf.material.0 as usize];
-            for hit in &hits {
-                // Match the hit to the open contact with the closest normal (one per smooth
-                // region), among those not matched yet.
-                let mut best: Option<(u32, f64)> = None;
-                for &k in &chain {
-                    let c = self.contacts.get(k);
-                    if !c.live || c.epoch == epoch {
-                        continue;
-                    }
-                    let cos = c.normal.dot(hit.normal);
-                    if cos > surface::MESH_MERGE_COS && best.is_none_or(|b| cos > b.1) {
-                        best = Some((k, cos));
-                    }
-                }
-                let r_star =
-                    contact::normal::effective_radius(1.0 / self.radius[a], hit.curvature_1_m);
-                let v_s = self.surf_now[s].velocity_at(self.pos[a]);
-                if let (Some(c), Some(r_star)) = (control, r_star) {
-                    let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
-                    let m_n = self.apples[a].mass;
-                    if hit.overlap_m <= 0.0 {
-                        // About to touch: resolve the impact (see `StepControl`).
-                        let closing = (v_s - self.vel[a]).dot(hit.normal);
-                        // Gravity towards the surface closes the gap within the step too.
-                        let accel = (-c.gravity.dot(hit.normal)).max(0.0);
-                        if let Some(t_touch) =
-                            time_to_touch(-hit.overlap_m, closing, accel, horizon)
-                        {
-                            let closing = closing + accel * t_touch;
-                            let t_h =
-                                theory::elastic_impact(m_n, closing, k_n, r_star).contact_time_s;
-                            self.stats
-                                .limit(t_touch + t_h / c.steps_per_contact, StepLimit::Approaching);
-                        }
-                    } else {
-                        let rate = (v_s - self.vel[a]).dot(hit.normal);
-                        let record =
-                            best.and_then(|(k, _)| self.contacts.get_mut(k).record.as_mut());
-                        let (scale, start) = match record {
-                            Some(o) => (
-                                o.impact_scale(|v| impact_scale(m_n, k_n, v)),
-                                o.start_time_s(),
-                            ),
-                            None => (impact_scale(m_n, k_n, rate), time_s),
-                        };
-                        let ke = if energy_loss { law.ke } else { 1.0 };
-                        let lim = contact_step_limit(
-                            &c,
-                            m_n,
-                            k_n,
-                            hit.overlap_m,
-                            scale,
-                            rate,
-                            ke,
-                            time_s - start,
+                hits.clear();
+                let surf = &self.surfaces[s];
+                let now = &self.surf_now[s];
+                if now.exists {
+                    if let Some(co) = colliders.get(surf.collider) {
+                        let margin = 2.0 * self.vel[a].length() * ahead + 1e-9;
+                        surface::surface_hits(
+                            &surf.shape,
+                            co,
+                            self.pos[a],
+                            self.radius[a],
+                            margin,
+                            &mut hits,
                         );
-                        self.stats.limit(lim.0, lim.1);
                     }
                 }
-                let slot = match best {
-                    Some((k, _)) => k,
-                    None => {
-                        if hit.overlap_m <= 0.0 {
+                if hits.is_empty() && chain.is_empty() {
+                    continue;
+                }
+                let law = self.laws
+                    [self.apples[a].material.0 as usize * n_mat + surf.material.0 as usize];
+                for hit in &hits {
+                    // Match the hit to the open contact with the closest normal (one per smooth
+                    // region), among those not matched yet.
+                    let mut best: Option<(u32, f64)> = None;
+                    for &k in &chain {
+                        if !self.contacts.is_live(k) || self.contacts.stamp(k) == epoch {
                             continue;
                         }
-                        let k = self
-                            .contacts
-                            .insert(Contact::new(cand.apple, Party::Surface(cand.surface)));
-                        chain.push(k);
-                        k
+                        let c = self.contacts.get(k);
+                        let cos = c.normal.dot(hit.normal);
+                        if cos > surface::MESH_MERGE_COS && best.is_none_or(|b| cos > b.1) {
+                            best = Some((k, cos));
+                        }
                     }
-                };
-                if hit.overlap_m > 0.0 {
-                    let c = self.contacts.get_mut(slot);
-                    c.normal = hit.normal;
-                    c.overlap_m = hit.overlap_m;
-                    c.curvature2 = hit.curvature_1_m;
-                    c.epoch = epoch;
-                    self.count[a] += 1;
-                    touching += 1;
-                } else {
-                    // Seen apart: it ended within the last step.
-                    let sep = (self.vel[a] - v_s).dot(hit.normal);
-                    self.close_surface_contact(slot, Some((hit.overlap_m, sep)), time_s);
+                    let r_star =
+                        contact::normal::effective_radius(1.0 / self.radius[a], hit.curvature_1_m);
+                    let v_s = self.surf_now[s].velocity_at(self.pos[a]);
+                    if let (Some(c), Some(r_star)) = (control, r_star) {
+                        let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
+                        let m_n = self.apples[a].mass;
+                        if hit.overlap_m <= 0.0 {
+                            // About to touch: resolve the impact (see `StepControl`).
+                            let closing = (v_s - self.vel[a]).dot(hit.normal);
+                            // Gravity towards the surface closes the gap within the step too.
+                            let accel = (-c.gravity.dot(hit.normal)).max(0.0);
+                            if let Some(t_touch) =
+                                time_to_touch(-hit.overlap_m, closing, accel, horizon)
+                            {
+                                let closing = closing + accel * t_touch;
+                                let t_h = theory::elastic_impact(m_n, closing, k_n, r_star)
+                                    .contact_time_s;
+                                self.stats.limit(
+                                    t_touch + t_h / c.steps_per_contact,
+                                    StepLimit::Approaching,
+                                );
+                            }
+                        } else {
+                            let rate = (v_s - self.vel[a]).dot(hit.normal);
+                            let record =
+                                best.and_then(|(k, _)| self.contacts.get_mut(k).record.as_mut());
+                            let (scale, start) = match record {
+                                Some(o) => (
+                                    o.impact_scale(|v| impact_scale(m_n, k_n, v)),
+                                    o.start_time_s(),
+                                ),
+                                None => (impact_scale(m_n, k_n, rate), time_s),
+                            };
+                            let ke = if energy_loss { law.ke } else { 1.0 };
+                            let lim = contact_step_limit(
+                                &c,
+                                m_n,
+                                k_n,
+                                hit.overlap_m,
+                                scale,
+                                rate,
+                                ke,
+                                time_s - start,
+                            );
+                            self.stats.limit(lim.0, lim.1);
+                        }
+                    }
+                    let slot = match best {
+                        Some((k, _)) => k,
+                        None => {
+                            if hit.overlap_m <= 0.0 {
+                                continue;
+                            }
+                            let k = self
+                                .contacts
+                                .insert(Contact::new(cand.apple, Party::Surface(cand.surface)));
+                            chain.push(k);
+                            k
+                        }
+                    };
+                    if hit.overlap_m > 0.0 {
+                        self.contacts.see(slot, epoch);
+                        let c = self.contacts.get_mut(slot);
+                        c.normal = hit.normal;
+                        c.overlap_m = hit.overlap_m;
+                        c.curvature2 = hit.curvature_1_m;
+                        self.count[a] += 1;
+                        touching += 1;
+                    } else {
+                        // Seen apart: it ended within the last step.
+                        let sep = (self.vel[a] - v_s).dot(hit.normal);
+                        self.close_surface_contact(slot, Some((hit.overlap_m, sep)), time_s);
+                    }
                 }
+                // Contacts not seen this step: the apple left the surface's neighbourhood.
+                let mut first = NONE;
+                let mut last = NONE;
+                for &k in &chain {
+                    if !self.contacts.is_live(k) {
+                        continue;
+                    }
+                    if self.contacts.stamp(k) != epoch {
+                        self.close_surface_contact(k, None, time_s);
+                        continue;
+                    }
+                    if last == NONE {
+                        first = k;
+                    } else {
+                        self.contacts.get_mut(last).next = k;
+                    }
+                    last = k;
+                }
+                if last != NONE {
+                    self.contacts.get_mut(last).next = NONE;
+                }
+                self.candidates[ci].first = first;
             }
-            // Contacts not seen this step: the apple left the surface's neighbourhood.
-            let mut first = NONE;
-            let mut last = NONE;
-            for &k in &chain {
-                let c = self.contacts.get(k);
-                if !c.live {
-                    continue;
-                }
-                if c.epoch != epoch {
-                    self.close_surface_contact(k, None, time_s);
-                    continue;
-                }
-                if last == NONE {
-                    first = k;
-                } else {
-                    self.contacts.get_mut(last).next = k;
-                }
-                last = k;
-            }
-            if last != NONE {
-                self.contacts.get_mut(last).next = NONE;
-            }
-            self.candidates[ci].first = first;
         }
         self.chain = chain;
         self.scratch = hits;
@@ -491,6 +515,14 @@ impl ContactLayer {
         }
         gone.extend(old[o..].iter().map(|c| c.first));
         self.candidates = fresh;
+        self.cand_start.clear();
+        self.cand_start.resize(self.pos.len() + 1, 0);
+        for c in &self.candidates {
+            self.cand_start[c.apple as usize + 1] += 1;
+        }
+        for k in 0..self.pos.len() {
+            self.cand_start[k + 1] += self.cand_start[k];
+        }
         for mut k in gone {
             while k != NONE {
                 let next = self.contacts.get(k).next;

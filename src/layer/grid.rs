@@ -75,16 +75,16 @@ impl NeighborList {
     }
 
     /// Whether some awake apple moved more than skin / 2 since the last build (or the number of
-    /// apples changed).
-    pub fn needs_rebuild(&self, pos: &[Vec3], active: &[bool]) -> bool {
+    /// apples changed). `awake` lists the apples that can have moved.
+    pub fn needs_rebuild(&self, pos: &[Vec3], awake: &[u32]) -> bool {
         if self.reference.len() != pos.len() {
             return true;
         }
         let lim = 0.25 * self.skin_m * self.skin_m;
-        pos.iter()
-            .zip(&self.reference)
-            .zip(active)
-            .any(|((p, r), &a)| a && (*p - *r).length_squared() > lim)
+        awake.iter().any(|&k| {
+            let k = k as usize;
+            (pos[k] - self.reference[k]).length_squared() > lim
+        })
     }
 
     /// Rebuilds if needed (or if `force`); returns whether it did. Sleeping apples are still
@@ -95,11 +95,11 @@ impl NeighborList {
         &mut self,
         pos: &[Vec3],
         radius: &[f64],
-        active: &[bool],
+        awake: &[u32],
         force: bool,
         mut dropped: impl FnMut(Pair),
     ) -> bool {
-        if !force && !self.needs_rebuild(pos, active) {
+        if !force && !self.needs_rebuild(pos, awake) {
             return false;
         }
         self.build(pos, radius);
@@ -293,7 +293,7 @@ mod tests {
     #[test]
     fn finds_the_same_pairs_as_brute_force() {
         let (pos, r) = random_cloud(400, 1.0);
-        let active = vec![true; pos.len()];
+        let active: Vec<u32> = (0..pos.len() as u32).collect();
         let mut list = NeighborList::new(0.01);
         assert!(list.update(&pos, &r, &active, false, |_| {}));
         assert_eq!(listed(&list), brute(&pos, &r, 0.01));
@@ -312,7 +312,13 @@ mod tests {
         pos.extend(far.iter().map(|p| *p + Vec3::new(1000.0, 1000.0, 0.0)));
         r.extend(rf);
         let mut list = NeighborList::new(0.01);
-        list.update(&pos, &r, &vec![true; pos.len()], false, |_| {});
+        list.update(
+            &pos,
+            &r,
+            &(0..pos.len() as u32).collect::<Vec<_>>(),
+            false,
+            |_| {},
+        );
         assert_eq!(listed(&list), brute(&pos, &r, 0.01));
     }
 
@@ -334,7 +340,7 @@ mod tests {
         ];
         let r = vec![0.0392, 0.0392];
         let mut list = NeighborList::new(0.011);
-        list.update(&pos, &r, &[true, true], false, |_| {});
+        list.update(&pos, &r, &[0, 1], false, |_| {});
         assert_eq!(list.pairs().len(), 1);
         // A full column of cells on both sides of zero.
         let mut pos = Vec::new();
@@ -347,7 +353,13 @@ mod tests {
         }
         let r = vec![0.04; pos.len()];
         let mut list = NeighborList::new(0.01);
-        list.update(&pos, &r, &vec![true; pos.len()], false, |_| {});
+        list.update(
+            &pos,
+            &r,
+            &(0..pos.len() as u32).collect::<Vec<_>>(),
+            false,
+            |_| {},
+        );
         assert_eq!(listed(&list), brute(&pos, &r, 0.01));
     }
 
@@ -359,7 +371,7 @@ mod tests {
             Vec3::new(1.0, 0.0, 0.0),
         ];
         let r = vec![0.04; 3];
-        let active = vec![true; 3];
+        let active: Vec<u32> = vec![0, 1, 2];
         let mut list = NeighborList::new(0.01);
         list.update(&pos, &r, &active, false, |_| {});
         list.pairs_mut()[0].contact = 7;

@@ -410,12 +410,12 @@ impl ContactLayer {
             slips: &mut self.slips,
             stats: &mut self.stats,
         };
-        let contacts = self.contacts.slots_mut();
+        let (contacts, stamps) = self.contacts.slots_and_stamps();
         let parallel =
             loads.stats.contacts >= PARALLEL_MIN_CONTACTS && rayon::current_num_threads() > 1;
         if !parallel {
-            for c in contacts.iter_mut() {
-                if c.live && c.epoch == epoch {
+            for (c, &stamp) in contacts.iter_mut().zip(stamps) {
+                if stamp == epoch {
                     let o = ctx.evaluate(c)?;
                     ctx.add_load(&mut loads, c.i, c.other, &o);
                 }
@@ -429,10 +429,11 @@ impl ContactLayer {
         contacts
             .par_iter_mut()
             .zip(self.outs.par_iter_mut())
+            .zip(stamps.par_iter())
             .enumerate()
             .with_min_len(64)
-            .for_each(|(k, (c, o))| {
-                if c.live && c.epoch == epoch {
+            .for_each(|(k, ((c, o), &stamp))| {
+                if stamp == epoch {
                     match ctx.evaluate(c) {
                         Ok(r) => *o = r,
                         Err(e) => errors.lock().expect("no panic holds it").push((k, e)),
@@ -447,8 +448,8 @@ impl ContactLayer {
         if let Some((_, e)) = first_error {
             return Err(e);
         }
-        for (c, o) in contacts.iter().zip(&self.outs) {
-            if c.live && c.epoch == epoch {
+        for ((c, o), &stamp) in contacts.iter().zip(&self.outs).zip(stamps) {
+            if stamp == epoch {
                 ctx.add_load(&mut loads, c.i, c.other, o);
             }
         }

@@ -38,7 +38,7 @@
 //! let dt = world.integration_parameters.dt;
 //! for step in 0..1500 {
 //!     let t = step as f64 * dt;
-//!     layer.apply_forces(&mut world.bodies, &world.colliders, t, dt).unwrap();
+//!     layer.apply_forces(&mut world.bodies, &world.colliders, &world.islands, t, dt).unwrap();
 //!     world.step_with_events(layer.hooks(), &());
 //! }
 //! let bounce = &layer.finished_events()[0];
@@ -73,7 +73,7 @@ use crate::math::{is_finite, Vec3};
 use crate::record::events::{ContactEvent, Names, OpenContact, Party};
 use contacts::ContactStore;
 pub use hooks::{ContactHooks, Role};
-use rapier3d_f64::dynamics::{RigidBodyHandle, RigidBodySet};
+use rapier3d_f64::dynamics::{IslandManager, RigidBodyHandle, RigidBodySet};
 use rapier3d_f64::geometry::{ColliderHandle, ColliderSet, Group, InteractionGroups};
 use rapier3d_f64::math::Pose;
 use rapier3d_f64::pipeline::ActiveHooks;
@@ -487,8 +487,18 @@ pub struct ContactLayer {
     rebuild_candidates: bool,
     contacts: ContactStore,
     surf_now: Vec<SurfaceNow>,
-    /// The detection pass counter (see [`Contact::epoch`]).
+    /// The detection pass counter (see [`ContactStore::stamp`]); passes count from 2.
     epoch: u64,
+    /// The apples awake now, in increasing order (see `refresh_awake`).
+    awake: Vec<u32>,
+    /// The awake set changed: `awake` and `pair_scan` must be listed again.
+    awake_dirty: bool,
+    /// Indices of the pairs with an awake apple, when some apples sleep (`None`: all pairs).
+    pair_scan: Option<Vec<u32>>,
+    /// `candidates[cand_start[k]..cand_start[k + 1]]` are apple k's surface candidates.
+    cand_start: Vec<u32>,
+    /// Apple of each registered rigid body, by the body's arena index (rapier's wake-ups).
+    apple_of_body: Vec<Option<(RigidBodyHandle, u32)>>,
     // Per apple, per step.
     pos: Vec<Vec3>,
     vel: Vec<Vec3>,
@@ -555,7 +565,12 @@ impl ContactLayer {
             rebuild_candidates: true,
             contacts: ContactStore::default(),
             surf_now: Vec::new(),
-            epoch: 0,
+            epoch: 1,
+            awake: Vec::new(),
+            awake_dirty: true,
+            pair_scan: None,
+            cand_start: Vec::new(),
+            apple_of_body: Vec::new(),
             pos: Vec::new(),
             vel: Vec::new(),
             angvel: Vec::new(),
@@ -739,7 +754,7 @@ impl ContactLayer {
         material: MaterialId,
         name: &str,
     ) -> Result<AppleId, LayerError> {
-        if self.apples.iter().any(|a| a.body == body) {
+        if self.apple_of(body).is_some() {
             return Err(LayerError::Duplicate(name.to_string()));
         }
         let rb = bodies
@@ -773,6 +788,12 @@ impl ContactLayer {
     fn push_apple(&mut self, entry: AppleEntry) -> AppleId {
         let id = self.apples.len() as u32;
         let radius = entry.radius;
+        let b = entry.body.into_raw_parts().0 as usize;
+        if self.apple_of_body.len() <= b {
+            self.apple_of_body.resize(b + 1, None);
+        }
+        self.apple_of_body[b] = Some((entry.body, id));
+        self.awake_dirty = true;
         self.apples.push(entry);
         self.radius.push(radius);
         self.fresh.push(true);
@@ -828,6 +849,14 @@ impl ContactLayer {
             self.by_collider.resize(k + 1, None);
         }
         self.by_collider[k] = Some((h, role, id));
+    }
+
+    /// The apple of a rigid body, if it is one.
+    fn apple_of(&self, h: RigidBodyHandle) -> Option<usize> {
+        match self.apple_of_body.get(h.into_raw_parts().0 as usize) {
+            Some(Some((stored, k))) if *stored == h => Some(*k as usize),
+            _ => None,
+        }
     }
 
     fn lookup(&self, h: ColliderHandle) -> Option<(Role, u32)> {
@@ -917,17 +946,23 @@ impl ContactLayer {
         self.surfaces[id.0 as usize].rigid
     }
 
-    /// Total contact force on an apple at the last [`apply_forces`](Self::apply_forces) (N).
+    /// Total contact force on an apple at the last [`apply_forces`](Self::apply_forces) (N); for
+    /// a sleeper, the force it carried when it fell asleep (its contacts are frozen).
     pub fn apple_contact_force(&self, id: AppleId) -> Vec3 {
-        self.force.get(id.0 as usize).copied().unwrap_or(Vec3::ZERO)
+        let k = id.0 as usize;
+        if self.asleep.get(k).copied().unwrap_or(false) {
+            return self.sleep_force[k];
+        }
+        self.force.get(k).copied().unwrap_or(Vec3::ZERO)
     }
 
-    /// Contact torque on an apple at the last step (N m).
+    /// Contact torque on an apple at the last step (N m); zero for a sleeper.
     pub fn apple_contact_torque(&self, id: AppleId) -> Vec3 {
-        self.torque
-            .get(id.0 as usize)
-            .copied()
-            .unwrap_or(Vec3::ZERO)
+        let k = id.0 as usize;
+        if self.asleep.get(k).copied().unwrap_or(false) {
+            return Vec3::ZERO;
+        }
+        self.torque.get(k).copied().unwrap_or(Vec3::ZERO)
     }
 
     /// The apple-apple candidate pairs of the neighbour list (i < j, sorted), and how many times
@@ -1002,6 +1037,21 @@ impl ContactLayer {
         self.asleep.iter().filter(|&&a| a).count()
     }
 
+    /// Number of apples awake at the last force pass.
+    pub fn awake_count(&self) -> usize {
+        self.awake.len()
+    }
+
+    /// Open contacts, sleepers' frozen ones included: (all, apple-apple).
+    pub fn contact_counts(&self) -> (usize, usize) {
+        self.contacts.iter().fold((0, 0), |(all, aa), c| {
+            (
+                all + 1,
+                aa + usize::from(matches!(c.other, Party::Apple(_))),
+            )
+        })
+    }
+
     /// Whether an apple is asleep.
     pub fn is_asleep(&self, id: AppleId) -> bool {
         self.asleep.get(id.0 as usize).copied().unwrap_or(false)
@@ -1039,10 +1089,11 @@ impl ContactLayer {
         }
     }
 
-    /// Reads the apples' current state from rapier (sleepers only for whether rapier still
-    /// holds them asleep).
+    /// Reads the awake apples' current state from rapier. A sleeper costs nothing here: one that
+    /// rapier woke (the user moved it, or gave it an impulse with `wake_up`) shows up in rapier's
+    /// active set and is taken as awake again.
     #[inline(never)]
-    fn gather(&mut self, bodies: &RigidBodySet) -> Result<(), LayerError> {
+    fn gather(&mut self, bodies: &RigidBodySet, islands: &IslandManager) -> Result<(), LayerError> {
         let n = self.apples.len();
         self.pos.resize(n, Vec3::ZERO);
         self.vel.resize(n, Vec3::ZERO);
@@ -1068,24 +1119,25 @@ impl ContactLayer {
         self.asleep.resize(n, false);
         self.sleep_force.resize(n, Vec3::ZERO);
         self.loaded.resize(n, false);
-        let still2 = self.config.sleep.speed_m_s * self.config.sleep.speed_m_s;
-        for (k, a) in self.apples.iter().enumerate() {
-            let rb = bodies.get(a.body);
-            if self.asleep[k] {
-                match rb {
-                    // Still asleep in rapier: nothing moved, velocities are zero.
-                    Some(rb) if rb.is_sleeping() => {
-                        self.active[k] = false;
-                        continue;
-                    }
-                    // Woken from outside (the user moved it): treat it as awake again.
-                    _ => {
+        if self.sleeping_any() {
+            for h in islands.active_bodies() {
+                if let Some(k) = self.apple_of(h) {
+                    if self.asleep[k] {
                         self.asleep[k] = false;
+                        self.active[k] = true;
                         self.still_time[k] = 0.0;
+                        self.mean_force[k] = Vec3::NAN;
+                        self.awake_dirty = true;
                     }
                 }
             }
-            let Some(rb) = rb else {
+        }
+        self.refresh_awake();
+        let still2 = self.config.sleep.speed_m_s * self.config.sleep.speed_m_s;
+        for &k in &self.awake {
+            let k = k as usize;
+            let a = &self.apples[k];
+            let Some(rb) = bodies.get(a.body) else {
                 return Err(LayerError::NonFinite {
                     body: a.name.to_string(),
                     time_s: self.time_s,
@@ -1108,11 +1160,31 @@ impl ContactLayer {
             self.pos[k] = c;
             self.vel[k] = v;
             self.angvel[k] = w;
-            self.active[k] = true;
             self.still[k] =
                 v.length_squared() < still2 && w.length_squared() * a.radius * a.radius < still2;
         }
         Ok(())
+    }
+
+    /// Whether some apple sleeps (the awake list is shorter than the apples).
+    fn sleeping_any(&self) -> bool {
+        self.awake.len() < self.apples.len() || self.awake_dirty
+    }
+
+    /// Lists the awake apples again after sleeps and wake-ups, and the pairs to scan with them.
+    fn refresh_awake(&mut self) {
+        if !self.awake_dirty {
+            return;
+        }
+        self.awake_dirty = false;
+        self.awake.clear();
+        for (k, &a) in self.asleep.iter().enumerate() {
+            self.active[k] = !a;
+            if !a {
+                self.awake.push(k as u32);
+            }
+        }
+        self.pair_scan = None;
     }
 
     /// Computes every modelled contact at the current poses and sets the apples' forces and
@@ -1126,11 +1198,12 @@ impl ContactLayer {
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
+        islands: &IslandManager,
         time_s: f64,
         dt_s: f64,
     ) -> Result<(), LayerError> {
         let control = self.config.step_control.take();
-        let r = self.step_forces(bodies, colliders, time_s, dt_s);
+        let r = self.step_forces(bodies, colliders, islands, time_s, dt_s);
         self.config.step_control = control;
         r.map(|_| ())
     }
@@ -1145,12 +1218,13 @@ impl ContactLayer {
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
+        islands: &IslandManager,
         time_s: f64,
         dt_cap_s: f64,
         land_in_s: f64,
     ) -> Result<f64, LayerError> {
         self.land_in_s = land_in_s;
-        let r = self.step_forces(bodies, colliders, time_s, dt_cap_s);
+        let r = self.step_forces(bodies, colliders, islands, time_s, dt_cap_s);
         self.land_in_s = 0.0;
         r
     }
@@ -1159,12 +1233,13 @@ impl ContactLayer {
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
+        islands: &IslandManager,
         time_s: f64,
         dt_cap_s: f64,
     ) -> Result<f64, LayerError> {
         self.time_s = time_s;
         self.ensure_laws();
-        self.gather(bodies)?;
+        self.gather(bodies, islands)?;
         if self.config.passive {
             self.stats = StepStats {
                 dt_limit_s: f64::INFINITY,
@@ -1178,6 +1253,7 @@ impl ContactLayer {
         for k in std::mem::take(&mut self.to_wake) {
             self.wake(bodies, k as usize);
         }
+        self.refresh_awake();
         let mut redone = false;
         loop {
             self.detect(colliders, time_s, dt_cap_s);
@@ -1187,6 +1263,7 @@ impl ContactLayer {
             for k in std::mem::take(&mut self.to_wake) {
                 self.wake(bodies, k as usize);
             }
+            self.refresh_awake();
             redone = true;
         }
         self.to_wake.clear();
@@ -1204,7 +1281,6 @@ impl ContactLayer {
         self.last_dt = Some(dt_s);
 
         self.force_pass(time_s, dt_s)?;
-        self.add_frozen_forces();
         self.sleep_decisions(bodies, dt_s);
         self.hand_to_rapier(bodies, dt_s);
         Ok(dt_s)
@@ -1221,10 +1297,13 @@ impl ContactLayer {
             Some(c) => ((self.dt_back + dt_s) / (2.0 * dt_s), c.gravity),
             None => (1.0, Vec3::ZERO),
         };
-        for (k, a) in self.apples.iter().enumerate() {
+        for &k in &self.awake {
+            let k = k as usize;
             if !self.active[k] {
+                // Fell asleep in this pass.
                 continue;
             }
+            let a = &self.apples[k];
             let (f, t) = match control {
                 None => (self.force[k], self.torque[k]),
                 Some(_) => {
@@ -1271,11 +1350,9 @@ impl ContactLayer {
             return;
         };
         let mut v_max: f64 = 0.0;
-        for k in 0..self.apples.len() {
-            if self.active[k] {
-                // Centres only: spin moves no centre, and the margins are about centres.
-                v_max = v_max.max(self.vel[k].length());
-            }
+        for &k in &self.awake {
+            // Centres only: spin moves no centre, and the margins are about centres.
+            v_max = v_max.max(self.vel[k as usize].length());
         }
         // The grid's skin is known once apples exist (sources may add the first ones late).
         // Two apples closing at up to 2 v_max must not cross the skin of the list unseen in one

@@ -19,20 +19,10 @@ impl ContactLayer {
         self.asleep[k] = false;
         self.still_time[k] = 0.0;
         self.mean_force[k] = Vec3::NAN;
+        self.awake_dirty = true;
         self.stats_wakeups += 1;
         if let Some(rb) = bodies.get_mut(self.apples[k].body) {
             rb.wake_up(true);
-        }
-    }
-
-    /// A sleeper reports the contact force it carried when it fell asleep (its contacts are
-    /// frozen; a change large enough to matter wakes it).
-    #[inline(never)]
-    pub(super) fn add_frozen_forces(&mut self) {
-        for k in 0..self.apples.len() {
-            if self.asleep[k] {
-                self.force[k] = self.sleep_force[k];
-            }
         }
     }
 
@@ -43,10 +33,8 @@ impl ContactLayer {
         if !cfg.enabled {
             return;
         }
-        for k in 0..self.apples.len() {
-            if !self.active[k] {
-                continue;
-            }
+        for i in 0..self.awake.len() {
+            let k = self.awake[i] as usize;
             // Still, supported (touching something) and not accelerating: the net force would not
             // change its speed by the stillness threshold within the stillness time. The force is
             // a running mean over a quarter of the stillness time: an apple held in a pile
@@ -75,6 +63,7 @@ impl ContactLayer {
             if self.still_time[k] >= cfg.time_s {
                 self.active[k] = false;
                 self.asleep[k] = true;
+                self.awake_dirty = true;
                 self.sleep_force[k] = self.force[k];
                 self.vel[k] = Vec3::ZERO;
                 self.angvel[k] = Vec3::ZERO;

@@ -339,13 +339,19 @@ impl Simulation {
             w.layer.apply_forces_adaptive(
                 &mut w.physics.bodies,
                 &w.physics.colliders,
+                &w.physics.islands,
                 t,
                 cap,
                 land,
             )?
         } else {
-            w.layer
-                .apply_forces(&mut w.physics.bodies, &w.physics.colliders, t, cap)?;
+            w.layer.apply_forces(
+                &mut w.physics.bodies,
+                &w.physics.colliders,
+                &w.physics.islands,
+                t,
+                cap,
+            )?;
             cap
         };
         self.events.extend(w.layer.take_finished_events());
