@@ -8,7 +8,6 @@
 //! sleepers and contacts) runs between them, off the clock, so that it does not inflate the cost
 //! being measured.
 
-use crate::record::events::Party;
 use crate::record::series::NoSamples;
 use crate::scenario::{Scenario, ScenarioError};
 use crate::sim::{SimError, Simulation};
@@ -233,8 +232,7 @@ pub fn run(sc: &Scenario, base_dir: &Path, windows: &[Window]) -> Result<BenchRe
                 m.steps += 1;
                 m.wall_s += dt_wall;
                 m.apple_steps += present;
-                m.awake_sum +=
-                    *awake.get_or_insert_with(|| present - layer.sleeping_count() as f64);
+                m.awake_sum += *awake.get_or_insert_with(|| layer.awake_count() as f64);
             }
         }
     }
@@ -298,12 +296,8 @@ fn close_ended(meters: &mut [Meter], sim: &Simulation, t: f64, tol: f64) {
         return;
     }
     let layer = &sim.world().layer;
-    let open = layer.open_events();
-    let apple_apple = open
-        .iter()
-        .filter(|e| matches!(e.b_party, Party::Apple(_)))
-        .count();
-    let figures = (layer.apple_count(), open.len() as f64, apple_apple as f64);
+    let (all, apple_apple) = layer.contact_counts();
+    let figures = (layer.apple_count(), all as f64, apple_apple as f64);
     for m in meters.iter_mut() {
         if m.end.is_none() && t >= m.window.to_s - tol {
             m.end = Some(figures);

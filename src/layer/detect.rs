@@ -81,6 +81,13 @@ impl ContactLayer {
                 }
             }
             now.belt = pose.rotation * surf.belt_local;
+            now.plane = match (&surf.shape, co.shape().as_halfspace()) {
+                (surface::SurfaceShape::FromCollider, Some(hs)) => {
+                    let n = pose.rotation * hs.normal;
+                    Some((n, n.dot(pose.translation)))
+                }
+                _ => None,
+            };
             if surf.belt_local != Vec3::ZERO {
                 now.moving = true;
             }
@@ -482,12 +489,15 @@ impl ContactLayer {
                 if !bx.intersects(&ball) {
                     continue;
                 }
-                let surf = &self.surfaces[s as usize];
-                let Some(co) = colliders.get(surf.collider) else {
-                    continue;
-                };
                 hits.clear();
-                surface::surface_hits(&surf.shape, co, p, r, skin, &mut hits);
+                self.surf_now[s as usize].hits(
+                    &self.surfaces[s as usize],
+                    colliders,
+                    p,
+                    r,
+                    skin,
+                    &mut hits,
+                );
                 if !hits.is_empty() {
                     fresh.push(SurfaceCandidate {
                         apple: a as u32,

@@ -86,7 +86,7 @@ impl Ctx<'_> {
 
     /// Evaluates one contact at the current poses: the contact law, the guards and the contact
     /// record.
-    fn evaluate(&self, c: &mut Contact) -> Result<ContactOut, LayerError> {
+    fn evaluate(&self, c: &mut Contact) -> Result<ContactOut, Box<LayerError>> {
         let i = c.i as usize;
         let ai = &self.apples[i];
         let (pi, ri) = (self.pos[i], self.radius[i]);
@@ -144,14 +144,14 @@ impl Ctx<'_> {
         };
         let resp = contact::evaluate(law, self.parts, &k, &kin, &mut c.xi, kill_rate, self.dt_s);
         if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
-            return Err(LayerError::NonFinite {
+            return Err(Box::new(LayerError::NonFinite {
                 body: ai.name.to_string(),
                 time_s,
-            });
+            }));
         }
         let ratio = u * c.inv_r_min;
         if ratio > self.guard.max_overlap_ratio {
-            return Err(LayerError::Unstable {
+            return Err(Box::new(LayerError::Unstable {
                 a: ai.name.to_string(),
                 b: self.name_of(c.other),
                 time_s,
@@ -162,7 +162,7 @@ impl Ctx<'_> {
                     100.0 * self.guard.max_overlap_ratio
                 ),
                 suggested_dt_s: None,
-            });
+            }));
         }
         if c.record.is_none() {
             c.record = Some(self.begin(c, &k, &resp)?);
@@ -211,7 +211,7 @@ impl Ctx<'_> {
     }
 
     /// The constants of a contact's law, once (and again if its curvature changes).
-    fn prepare(&self, c: &mut Contact) -> Result<(), LayerError> {
+    fn prepare(&self, c: &mut Contact) -> Result<(), Box<LayerError>> {
         let i = c.i as usize;
         let ai = &self.apples[i];
         let ri = self.radius[i];
@@ -231,7 +231,7 @@ impl Ctx<'_> {
             }
         };
         let Some(r_star) = contact::normal::effective_radius(1.0 / ri, c.curvature2) else {
-            return Err(LayerError::Conforming {
+            return Err(Box::new(LayerError::Conforming {
                 apple: ai.name.to_string(),
                 surface: self.name_of(c.other),
                 apple_radius_m: ri,
@@ -240,7 +240,7 @@ impl Ctx<'_> {
                 } else {
                     f64::INFINITY
                 },
-            });
+            }));
         };
         c.law = (ai.material.0 as usize * self.n_mat + m2.0 as usize) as u32;
         c.consts = ContactConstants::new(
@@ -262,7 +262,7 @@ impl Ctx<'_> {
         c: &Contact,
         k: &ContactConstants,
         resp: &contact::ContactResponse,
-    ) -> Result<OpenContact, LayerError> {
+    ) -> Result<OpenContact, Box<LayerError>> {
         let v_app = resp.overlap_rate_m_s;
         if v_app > 0.0 && self.guard.min_steps_per_impact > 0.0 {
             let t_h = theory::elastic_impact(k.normal_mass_kg, v_app, k.stiffness, k.r_star_m)
@@ -270,7 +270,7 @@ impl Ctx<'_> {
             let steps = t_h / self.dt_s;
             if steps < self.guard.min_steps_per_impact * (1.0 - 1e-6) {
                 let dt_ok = t_h / self.guard.min_steps_per_impact;
-                return Err(LayerError::Unstable {
+                return Err(Box::new(LayerError::Unstable {
                     a: self.apples[c.i as usize].name.to_string(),
                     b: self.name_of(c.other),
                     time_s: self.time_s,
@@ -281,7 +281,7 @@ impl Ctx<'_> {
                         self.guard.min_steps_per_impact
                     ),
                     suggested_dt_s: Some(dt_ok),
-                });
+                }));
             }
         }
         let mut open = OpenContact::begin(
@@ -416,7 +416,7 @@ impl ContactLayer {
         if !parallel {
             for (c, &stamp) in contacts.iter_mut().zip(stamps) {
                 if stamp == epoch {
-                    let o = ctx.evaluate(c)?;
+                    let o = ctx.evaluate(c).map_err(|e| *e)?;
                     ctx.add_load(&mut loads, c.i, c.other, &o);
                 }
             }
@@ -444,9 +444,9 @@ impl ContactLayer {
             .into_inner()
             .expect("no panic holds it")
             .into_iter()
-            .min_by_key(|e| e.0);
+            .min_by_key(|e: &(usize, Box<LayerError>)| e.0);
         if let Some((_, e)) = first_error {
-            return Err(e);
+            return Err(*e);
         }
         for ((c, o), &stamp) in contacts.iter().zip(&self.outs).zip(stamps) {
             if stamp == epoch {

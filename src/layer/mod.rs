@@ -384,6 +384,9 @@ struct AppleEntry {
     body: RigidBodyHandle,
     /// Centre of the ball in the body's frame.
     offset: Vec3,
+    /// The ball is centred on the body's centre of mass: its centre is the body's translation
+    /// when `offset` is zero, and its velocity the body's linear velocity.
+    centred: bool,
     radius: f64,
     material: MaterialId,
     mass: f64,
@@ -428,6 +431,9 @@ struct SurfaceNow {
     dynamic_body: Option<RigidBodyHandle>,
     /// Belt velocity in world axes (m/s).
     belt: Vec3,
+    /// A plane (a half-space collider with the collider's own shape): its world normal and
+    /// n . point, so that its contacts need no shape dispatch.
+    plane: Option<(Vec3, f64)>,
 }
 
 impl SurfaceNow {
@@ -445,12 +451,38 @@ impl SurfaceNow {
             inv_mass: 0.0,
             dynamic_body: None,
             belt: Vec3::ZERO,
+            plane: None,
         }
     }
 
     /// Velocity of the surface's material point at `p` (belt excluded).
     fn velocity_at(&self, p: Vec3) -> Vec3 {
         self.lin + self.ang.cross(p - self.com)
+    }
+
+    /// The hits of an apple (centre, radius) with this surface, keeping those with overlap
+    /// > -margin (see [`surface::surface_hits`]); planes without the shape dispatch.
+    fn hits(
+        &self,
+        surf: &SurfaceEntry,
+        colliders: &ColliderSet,
+        centre: Vec3,
+        radius: f64,
+        margin: f64,
+        out: &mut Vec<SurfaceHit>,
+    ) {
+        if let Some((n, d)) = self.plane {
+            let u = radius - (centre.dot(n) - d);
+            if u > -margin {
+                out.push(SurfaceHit {
+                    normal: n,
+                    overlap_m: u,
+                    curvature_1_m: 0.0,
+                });
+            }
+        } else if let Some(co) = colliders.get(surf.collider) {
+            surface::surface_hits(&surf.shape, co, centre, radius, margin, out);
+        }
     }
 }
 
@@ -491,6 +523,8 @@ pub struct ContactLayer {
     epoch: u64,
     /// The apples awake now, in increasing order (see `refresh_awake`).
     awake: Vec<u32>,
+    /// How many apples sleep.
+    asleep_count: usize,
     /// The awake set changed: `awake` and `pair_scan` must be listed again.
     awake_dirty: bool,
     /// Indices of the pairs with an awake apple, when some apples sleep (`None`: all pairs).
@@ -567,6 +601,7 @@ impl ContactLayer {
             surf_now: Vec::new(),
             epoch: 1,
             awake: Vec::new(),
+            asleep_count: 0,
             awake_dirty: true,
             pair_scan: None,
             cand_start: Vec::new(),
@@ -734,6 +769,7 @@ impl ContactLayer {
             collider: Some(collider),
             body,
             offset,
+            centred: false,
             radius,
             material,
             mass,
@@ -778,6 +814,7 @@ impl ContactLayer {
             collider: None,
             body,
             offset: mp.local_com,
+            centred: true,
             radius: radius_m,
             material,
             mass,
@@ -1009,8 +1046,8 @@ impl ContactLayer {
         out
     }
 
-    /// Who a contact is about (for its event).
-    fn names(&self, i: u32, other: Party) -> Names {
+    /// Who a contact is about (the names of an event's parties).
+    pub fn names(&self, i: u32, other: Party) -> Names {
         Names {
             a: self.apples[i as usize].name.clone(),
             b: match other {
@@ -1034,12 +1071,12 @@ impl ContactLayer {
 
     /// Number of apples asleep now.
     pub fn sleeping_count(&self) -> usize {
-        self.asleep.iter().filter(|&&a| a).count()
+        self.asleep_count
     }
 
-    /// Number of apples awake at the last force pass.
+    /// Number of apples awake now.
     pub fn awake_count(&self) -> usize {
-        self.awake.len()
+        self.apples.len() - self.asleep_count
     }
 
     /// Open contacts, sleepers' frozen ones included: (all, apple-apple).
@@ -1124,6 +1161,7 @@ impl ContactLayer {
                 if let Some(k) = self.apple_of(h) {
                     if self.asleep[k] {
                         self.asleep[k] = false;
+                        self.asleep_count -= 1;
                         self.active[k] = true;
                         self.still_time[k] = 0.0;
                         self.mean_force[k] = Vec3::NAN;
@@ -1150,7 +1188,11 @@ impl ContactLayer {
                 pose.transform_point(a.offset)
             };
             let w = rb.angvel();
-            let v = rb.linvel() + w.cross(c - rb.center_of_mass());
+            let v = if a.centred {
+                rb.linvel()
+            } else {
+                rb.linvel() + w.cross(c - rb.center_of_mass())
+            };
             if !(is_finite(c) && is_finite(v) && is_finite(w)) {
                 return Err(LayerError::NonFinite {
                     body: a.name.to_string(),

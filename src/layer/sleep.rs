@@ -17,6 +17,7 @@ impl ContactLayer {
         }
         self.active[k] = true;
         self.asleep[k] = false;
+        self.asleep_count -= 1;
         self.still_time[k] = 0.0;
         self.mean_force[k] = Vec3::NAN;
         self.awake_dirty = true;
@@ -63,6 +64,7 @@ impl ContactLayer {
             if self.still_time[k] >= cfg.time_s {
                 self.active[k] = false;
                 self.asleep[k] = true;
+                self.asleep_count += 1;
                 self.awake_dirty = true;
                 self.sleep_force[k] = self.force[k];
                 self.vel[k] = Vec3::ZERO;

@@ -203,6 +203,7 @@ impl OpenContact {
     }
 
     /// Records one step with overlap.
+    #[inline]
     pub fn observe(&mut self, s: &ContactSample) {
         if self.steps == 0 {
             // The pose before first touch, on the straight line the step followed.
@@ -330,6 +331,101 @@ impl OpenContact {
     }
 }
 
+/// A finished contact as a run keeps it until its end: the fields of its [`ContactEvent`] without
+/// the names (the indices name the parties), without the options a finished contact always fills
+/// and without what follows from the other fields (duration, restitution): 152 bytes instead of
+/// 240. A 5 s run of the 8036-apple reference pile finishes about 58 000 contacts.
+#[derive(Debug, Clone)]
+pub struct FinishedContact {
+    a_index: u32,
+    b_party: Party,
+    steps: u64,
+    t_start_s: f64,
+    /// NaN for a contact without an end (kept only if a caller stores one).
+    t_end_s: f64,
+    peak_force_n: f64,
+    t_peak_s: f64,
+    impulse_n_s: f64,
+    max_overlap_m: f64,
+    max_contact_radius_m: f64,
+    max_pressure_pa: f64,
+    approach_speed_m_s: f64,
+    /// NaN without an end.
+    separation_speed_m_s: f64,
+    absorbed_energy_j: f64,
+    contact_point_m: [f64; 3],
+    history: Option<Box<[(f64, f64)]>>,
+}
+
+impl From<ContactEvent> for FinishedContact {
+    fn from(e: ContactEvent) -> Self {
+        Self {
+            a_index: e.a_index,
+            b_party: e.b_party,
+            steps: e.steps,
+            t_start_s: e.t_start_s,
+            t_end_s: e.t_end_s.unwrap_or(f64::NAN),
+            peak_force_n: e.peak_force_n,
+            t_peak_s: e.t_peak_s,
+            impulse_n_s: e.impulse_n_s,
+            max_overlap_m: e.max_overlap_m,
+            max_contact_radius_m: e.max_contact_radius_m,
+            max_pressure_pa: e.max_pressure_pa,
+            approach_speed_m_s: e.approach_speed_m_s,
+            separation_speed_m_s: e.separation_speed_m_s.unwrap_or(f64::NAN),
+            absorbed_energy_j: e.absorbed_energy_j,
+            contact_point_m: e.contact_point_m,
+            history: e.history.map(Vec::into_boxed_slice),
+        }
+    }
+}
+
+impl FinishedContact {
+    /// The apple's index.
+    pub fn a_index(&self) -> u32 {
+        self.a_index
+    }
+
+    /// The other party.
+    pub fn b_party(&self) -> Party {
+        self.b_party
+    }
+
+    /// The event again, with the parties' names: every field as [`OpenContact::finish`] gave it
+    /// (duration and restitution are recomputed by the same operations).
+    pub fn into_event(self, names: Names) -> ContactEvent {
+        let end = (!self.t_end_s.is_nan()).then_some((self.t_end_s, self.separation_speed_m_s));
+        let restitution = match end {
+            Some((_, sep)) if self.approach_speed_m_s > RESTING_APPROACH_SPEED_M_S => {
+                Some(sep / self.approach_speed_m_s)
+            }
+            _ => None,
+        };
+        ContactEvent {
+            a: names.a,
+            b: names.b,
+            a_index: self.a_index,
+            b_party: self.b_party,
+            t_start_s: self.t_start_s,
+            t_end_s: end.map(|e| e.0),
+            duration_s: end.map(|e| e.0 - self.t_start_s),
+            peak_force_n: self.peak_force_n,
+            t_peak_s: self.t_peak_s,
+            impulse_n_s: self.impulse_n_s,
+            max_overlap_m: self.max_overlap_m,
+            max_contact_radius_m: self.max_contact_radius_m,
+            max_pressure_pa: self.max_pressure_pa,
+            approach_speed_m_s: self.approach_speed_m_s,
+            separation_speed_m_s: end.map(|e| e.1),
+            restitution,
+            absorbed_energy_j: self.absorbed_energy_j,
+            steps: self.steps,
+            contact_point_m: self.contact_point_m,
+            history: self.history.map(Vec::from),
+        }
+    }
+}
+
 /// Who an event is about.
 #[derive(Debug, Clone)]
 pub struct Names {
@@ -376,6 +472,28 @@ mod tests {
         assert!((e.t_end_s.unwrap() - 1.0015).abs() < 1e-12);
         assert!((e.impulse_n_s - 2e-3).abs() < 1e-15);
         assert_eq!(e.restitution, Some(1.0));
+    }
+
+    #[test]
+    fn finished_contact_gives_the_event_back() {
+        let mut c = OpenContact::begin(1.0, 1e-3, 0.25e-3, 1.0, 8);
+        for k in 0..3 {
+            c.observe(&ContactSample {
+                time_s: 1.0 + k as f64 * 1e-3,
+                dt_s: 1e-3,
+                dt_back_s: 1e-3,
+                kick_back_s: 1e-3,
+                overlap_m: 0.25e-3 * (k + 1) as f64,
+                force_n: 2.0 + k as f64,
+                contact_radius_m: 1e-3,
+                pressure_pa: 5.0,
+                point: Vec3::new(0.1, 0.2, 0.3),
+            });
+        }
+        let e = c.finish(1.004, 1e-3, -0.5e-3, 0.7, names());
+        let back = FinishedContact::from(e.clone()).into_event(names());
+        assert_eq!(format!("{back:?}"), format!("{e:?}"));
+        assert!(std::mem::size_of::<FinishedContact>() < std::mem::size_of::<ContactEvent>());
     }
 
     #[test]

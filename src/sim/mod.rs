@@ -11,7 +11,7 @@ pub mod timestep;
 
 use crate::layer::{AppleId, LayerError, StepControl};
 use crate::math::arr3;
-use crate::record::events::{ContactEvent, Party};
+use crate::record::events::{ContactEvent, FinishedContact, Party};
 use crate::record::series::{AppleState, SampleSink};
 use crate::record::transitions::{self, Detector, Transition, TransitionSummary};
 use crate::scenario::Scenario;
@@ -183,7 +183,8 @@ pub struct Simulation {
     step: u64,
     max_steps: u64,
     next_sample: u64,
-    events: Vec<ContactEvent>,
+    /// Contacts that ended, kept compact until the run's end (see [`FinishedContact`]).
+    events: Vec<FinishedContact>,
     states: Vec<AppleState>,
     gravity: crate::math::Vec3,
     energy: Option<EnergyGuard>,
@@ -354,7 +355,12 @@ impl Simulation {
             )?;
             cap
         };
-        self.events.extend(w.layer.take_finished_events());
+        self.events.extend(
+            w.layer
+                .take_finished_events()
+                .into_iter()
+                .map(FinishedContact::from),
+        );
         if let Some(d) = self.detector.as_mut() {
             d.observe(t, &w.layer);
         }
@@ -547,7 +553,13 @@ impl Simulation {
     }
 
     fn finish(mut self, wall_time_s: f64) -> RunResult {
-        let mut events = std::mem::take(&mut self.events);
+        let layer = &self.world.layer;
+        let finished = std::mem::take(&mut self.events);
+        let mut events: Vec<ContactEvent> = Vec::with_capacity(finished.len());
+        events.extend(finished.into_iter().map(|f| {
+            let names = layer.names(f.a_index(), f.b_party());
+            f.into_event(names)
+        }));
         events.extend(self.world.layer.open_events());
         events.sort_by(|x, y| {
             x.t_start_s
