@@ -161,6 +161,40 @@ impl ContactStore {
         &mut self.slots[k as usize]
     }
 
+    /// Number of live contacts.
+    pub fn live_count(&self) -> usize {
+        self.slots.len() - self.free.len()
+    }
+
+    /// Puts the live contacts in the order `order` lists them (slots 0, 1, ...; the slab
+    /// loses its free slots) and returns the new slot of each old one ([`NONE`] for free
+    /// ones). `order` must list every live slot once. The pair lists and chains are the
+    /// caller's to renumber.
+    pub fn reorder(&mut self, order: &[u32]) -> Vec<u32> {
+        debug_assert_eq!(order.len(), self.live_count());
+        let mut new_of = vec![NONE; self.slots.len()];
+        let mut slots = Vec::with_capacity(order.len());
+        let mut stamps = Vec::with_capacity(order.len());
+        for &old in order {
+            let placeholder = Contact::new(0, Party::Apple(0));
+            new_of[old as usize] = slots.len() as u32;
+            slots.push(std::mem::replace(
+                &mut self.slots[old as usize],
+                placeholder,
+            ));
+            stamps.push(self.stamps[old as usize]);
+        }
+        for c in &mut slots {
+            if c.next != NONE {
+                c.next = new_of[c.next as usize];
+            }
+        }
+        self.slots = slots;
+        self.stamps = stamps;
+        self.free.clear();
+        new_of
+    }
+
     /// Live contacts.
     pub fn iter(&self) -> impl Iterator<Item = &Contact> {
         self.slots
@@ -188,5 +222,26 @@ mod tests {
         assert_eq!(s.insert(Contact::new(3, Party::Apple(4))), 2);
         assert_eq!(s.insert(Contact::new(3, Party::Apple(5))), 0);
         assert_eq!(s.get(0).other, Party::Apple(5));
+    }
+
+    #[test]
+    fn reorder_keeps_contacts_and_chains() {
+        let mut s = ContactStore::default();
+        let a = s.insert(Contact::new(0, Party::Surface(0)));
+        let b = s.insert(Contact::new(0, Party::Surface(0)));
+        let c = s.insert(Contact::new(1, Party::Apple(2)));
+        s.get_mut(a).next = b;
+        s.remove(c);
+        let d = s.insert(Contact::new(3, Party::Apple(4)));
+        assert_eq!(d, c, "reused");
+        let new_of = s.reorder(&[d, a, b]);
+        assert_eq!(
+            (new_of[d as usize], new_of[a as usize], new_of[b as usize]),
+            (0, 1, 2)
+        );
+        assert_eq!(s.get(0).other, Party::Apple(4));
+        assert_eq!(s.get(1).next, 2, "the chain follows its contacts");
+        assert_eq!(s.live_count(), 3);
+        assert_eq!(s.insert(Contact::new(5, Party::Apple(6))), 3);
     }
 }

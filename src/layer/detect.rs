@@ -127,6 +127,9 @@ impl ContactLayer {
         if rebuilt || self.rebuild_candidates {
             self.rebuild_surface_candidates(colliders, time_s);
         }
+        if rebuilt {
+            self.reorder_contacts();
+        }
         self.stats.apple_candidates = self.grid.pairs().len();
         self.detect_apple_pairs(time_s);
         self.detect_surface_contacts(colliders, time_s, dt_s);
@@ -538,6 +541,46 @@ impl ContactLayer {
                 let next = self.contacts.get(k).next;
                 self.close_surface_contact(k, None, time_s);
                 k = next;
+            }
+        }
+    }
+}
+
+impl ContactLayer {
+    /// Puts the contacts in the order detection visits them (the pairs, then the surface
+    /// candidates), so that detection and the force pass walk the slab forwards: measured on the
+    /// 8036-apple pile, where the slab (8.8 MB) outgrows the caches, pair detection took 14 % of
+    /// a step with contacts in the order they happened to start, against 8 % on 1000 apples.
+    fn reorder_contacts(&mut self) {
+        let mut order = Vec::with_capacity(self.contacts.live_count());
+        order.extend(
+            self.grid
+                .pairs()
+                .iter()
+                .filter(|p| p.contact != NONE)
+                .map(|p| p.contact),
+        );
+        for c in &self.candidates {
+            let mut k = c.first;
+            while k != NONE {
+                order.push(k);
+                k = self.contacts.get(k).next;
+            }
+        }
+        if order.len() != self.contacts.live_count() {
+            // Every live contact belongs to a pair or a chain; if not, leave the slab as it is.
+            debug_assert!(false, "contacts outside the lists");
+            return;
+        }
+        let new_of = self.contacts.reorder(&order);
+        for p in self.grid.pairs_mut() {
+            if p.contact != NONE {
+                p.contact = new_of[p.contact as usize];
+            }
+        }
+        for c in &mut self.candidates {
+            if c.first != NONE {
+                c.first = new_of[c.first as usize];
             }
         }
     }
