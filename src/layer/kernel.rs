@@ -304,6 +304,7 @@ impl Ctx<'_> {
     }
 
     /// Adds one evaluated contact to the loads of its bodies.
+    #[inline]
     fn add_load(&self, loads: &mut Loads, i: u32, other: Party, o: &ContactOut) {
         let ii = i as usize;
         let (f, point) = (o.force, o.point);
