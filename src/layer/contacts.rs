@@ -170,27 +170,51 @@ impl ContactStore {
     /// loses its free slots) and returns the new slot of each old one ([`NONE`] for free
     /// ones). `order` must list every live slot once. The pair lists and chains are the
     /// caller's to renumber.
+    ///
+    /// The permutation is applied in place, cycle by cycle: the slab is not copied into a new
+    /// one (a fresh 9 MB slab at every rebuild of the 8036-apple pile grew the peak resident
+    /// memory from 42 to 77 MiB through the allocator's reuse of freed blocks).
     pub fn reorder(&mut self, order: &[u32]) -> Vec<u32> {
         debug_assert_eq!(order.len(), self.live_count());
-        let mut new_of = vec![NONE; self.slots.len()];
-        let mut slots = Vec::with_capacity(order.len());
-        let mut stamps = Vec::with_capacity(order.len());
-        for &old in order {
-            let placeholder = Contact::new(0, Party::Apple(0));
-            new_of[old as usize] = slots.len() as u32;
-            slots.push(std::mem::replace(
-                &mut self.slots[old as usize],
-                placeholder,
-            ));
-            stamps.push(self.stamps[old as usize]);
+        let n = self.slots.len();
+        let mut new_of = vec![NONE; n];
+        for (new, &old) in order.iter().enumerate() {
+            new_of[old as usize] = new as u32;
         }
-        for c in &mut slots {
+        // Free slots go after the live ones, in any order (they are dropped).
+        let mut source = order.to_vec();
+        for (old, target) in new_of.iter().enumerate() {
+            if *target == NONE {
+                source.push(old as u32);
+            }
+        }
+        // source[new] = old: slot `new` receives the contact of slot `old`.
+        let mut done = vec![false; n];
+        for start in 0..n {
+            if done[start] || source[start] as usize == start {
+                done[start] = true;
+                continue;
+            }
+            // Follow the cycle: position j takes from source[j] until the cycle closes.
+            let mut j = start;
+            loop {
+                done[j] = true;
+                let from = source[j] as usize;
+                if from == start {
+                    break;
+                }
+                self.slots.swap(j, from);
+                self.stamps.swap(j, from);
+                j = from;
+            }
+        }
+        self.slots.truncate(order.len());
+        self.stamps.truncate(order.len());
+        for c in &mut self.slots {
             if c.next != NONE {
                 c.next = new_of[c.next as usize];
             }
         }
-        self.slots = slots;
-        self.stamps = stamps;
         self.free.clear();
         new_of
     }
@@ -243,5 +267,29 @@ mod tests {
         assert_eq!(s.get(1).next, 2, "the chain follows its contacts");
         assert_eq!(s.live_count(), 3);
         assert_eq!(s.insert(Contact::new(5, Party::Apple(6))), 3);
+    }
+
+    #[test]
+    fn reorder_in_place_matches_a_copy() {
+        // 60 slots, every fifth freed, then a scrambled order of the live ones.
+        let mut s = ContactStore::default();
+        for k in 0..60 {
+            s.insert(Contact::new(k, Party::Apple(k + 1)));
+        }
+        for k in (0..60).step_by(5) {
+            s.remove(k);
+        }
+        let mut order: Vec<u32> = (0..60).filter(|k| k % 5 != 0).collect();
+        let mut seed = 7u64;
+        for i in (1..order.len()).rev() {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+            order.swap(i, (seed >> 33) as usize % (i + 1));
+        }
+        let want: Vec<u32> = order.iter().map(|&k| s.get(k).i).collect();
+        s.reorder(&order);
+        let got: Vec<u32> = (0..order.len() as u32).map(|k| s.get(k).i).collect();
+        assert_eq!(got, want);
+        assert_eq!(s.live_count(), 48);
+        assert_eq!(s.stamps().len(), 48);
     }
 }

@@ -21,7 +21,6 @@ use rapier3d_f64::parry::bounding_volume::{Aabb, BoundingVolume};
 impl ContactLayer {
     /// Reads each surface's pose and motion once per step, notes which moved or vanished, and
     /// lists the sleepers near those for waking (their support may have gone).
-    #[inline(never)]
     pub(super) fn observe_surfaces(&mut self, bodies: &RigidBodySet, colliders: &ColliderSet) {
         let half_skin = 0.5 * self.grid.skin_m();
         let mut any_changed = false;
@@ -164,7 +163,6 @@ impl ContactLayer {
         }
     }
 
-    #[inline(never)]
     fn detect_apple_pairs(&mut self, time_s: f64) {
         let wake_ratio = self.config.sleep.wake_overlap_ratio;
         let control = self.config.step_control;
@@ -299,7 +297,6 @@ impl ContactLayer {
         self.stats.apple_apple_contacts = touching;
     }
 
-    #[inline(never)]
     fn detect_surface_contacts(&mut self, colliders: &ColliderSet, time_s: f64, dt_s: f64) {
         let control = self.config.step_control;
         let horizon = control.map_or(0.0, |c| lookahead(self.last_dt, &c));
@@ -464,7 +461,6 @@ impl ContactLayer {
     /// Lists, for every apple, the Hertz surfaces closer than the skin (their AABB first, then
     /// the exact geometry), keeping the open contacts of candidates that stay; contacts of
     /// candidates that leave the list are closed.
-    #[inline(never)]
     fn rebuild_surface_candidates(&mut self, colliders: &ColliderSet, time_s: f64) {
         self.rebuild_candidates = false;
         let skin = self.grid.skin_m();

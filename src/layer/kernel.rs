@@ -372,7 +372,6 @@ impl ContactLayer {
     /// The force pass: every contact seen by this step's detection evaluated and added to the
     /// loads in slot order (evaluated in parallel on rayon's current pool when there are enough
     /// of them).
-    #[inline(never)]
     pub(super) fn force_pass(&mut self, time_s: f64, dt_s: f64) -> Result<(), LayerError> {
         self.slips.clear();
         let epoch = self.epoch;

@@ -1129,7 +1129,6 @@ impl ContactLayer {
     /// Reads the awake apples' current state from rapier. A sleeper costs nothing here: one that
     /// rapier woke (the user moved it, or gave it an impulse with `wake_up`) shows up in rapier's
     /// active set and is taken as awake again.
-    #[inline(never)]
     fn gather(&mut self, bodies: &RigidBodySet, islands: &IslandManager) -> Result<(), LayerError> {
         let n = self.apples.len();
         self.pos.resize(n, Vec3::ZERO);
@@ -1332,7 +1331,6 @@ impl ContactLayer {
     /// on a body is replaced; a body that had no load and gets none is not touched (rapier then
     /// has no change of it to process). With variable steps, the leapfrog kick (see
     /// [`StepControl::gravity`]).
-    #[inline(never)]
     fn hand_to_rapier(&mut self, bodies: &mut RigidBodySet, dt_s: f64) {
         let control = self.config.step_control;
         let (kick, gravity) = match control {
@@ -1386,7 +1384,6 @@ impl ContactLayer {
     }
 
     /// With step control: no awake apple may move more than the pair-finding margins in one step.
-    #[inline(never)]
     fn motion_limit(&mut self) {
         let Some(c) = self.config.step_control else {
             return;

@@ -28,7 +28,6 @@ impl ContactLayer {
     }
 
     /// Puts to sleep the apples that have been still long enough.
-    #[inline(never)]
     pub(super) fn sleep_decisions(&mut self, bodies: &mut RigidBodySet, dt_s: f64) {
         let cfg = self.config.sleep;
         if !cfg.enabled {
