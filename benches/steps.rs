@@ -44,6 +44,16 @@ fn time_window(sim: &mut Simulation, steps: u64) -> f64 {
 }
 
 fn main() {
+    // One thread, as the figures in docs/benchmarks.md say (the force pass would use rayon's
+    // global pool otherwise).
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("thread pool");
+    pool.install(measure);
+}
+
+fn measure() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     // Single apple drop at the shipped step, repeated to get a stable figure.
     let drop = scenario::load(&root.join("scenarios/drop_on_steel.json")).unwrap();

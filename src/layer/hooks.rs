@@ -1,10 +1,12 @@
 //! The rapier physics hooks that switch rapier's own contact response off for the pairs we model.
 //!
-//! rapier-notes.md: `filter_contact_pair` returning `None` clears the pair's manifolds (rapier
-//! computes no contact geometry for it) while the pair stays in the narrow phase's graph, so
-//! `NarrowPhase::contact_pairs()` still lists it: that list is our apple-surface candidate list,
-//! and the forces come from our own geometry at the current poses. Pairs with a surface whose
-//! model is `rigid` get rapier's ordinary response (`Some(COMPUTE_RIGID_IMPULSES)`).
+//! They matter only where apples carry ball colliders (a user's world, or a scene with a surface
+//! left to rapier's own contact): rapier then pairs apple colliders with surface colliders, and
+//! `filter_contact_pair` returning `None` for the pairs the layer models clears their manifolds
+//! (rapier-notes.md): rapier computes no contact geometry and applies no impulse; the layer finds
+//! these contacts itself and computes them at the current poses. Pairs with a surface whose model
+//! is `rigid` get rapier's ordinary response (`Some(COMPUTE_RIGID_IMPULSES)`). Collider-less
+//! apples never reach rapier's pair finding at all.
 
 use rapier3d_f64::geometry::{ColliderHandle, SolverFlags};
 use rapier3d_f64::pipeline::{PairFilterContext, PhysicsHooks};

@@ -799,10 +799,11 @@ impl ContactLayer {
         let mprops = rb.mass_properties();
         let mut mp = mprops.local_mprops;
         if mp.mass() <= 0.0 {
-            if let Some(add) = mprops.additional_local_mprops.as_deref() {
-                if let rapier3d_f64::dynamics::RigidBodyAdditionalMassProps::MassProps(m) = add {
-                    mp = *m;
-                }
+            // Not computed by rapier yet (the body was just built): its additional properties.
+            if let Some(rapier3d_f64::dynamics::RigidBodyAdditionalMassProps::MassProps(m)) =
+                mprops.additional_local_mprops.as_deref()
+            {
+                mp = *m;
             }
         }
         let (mass, inertia) = (mp.mass(), mp.principal_inertia().x);

@@ -1,9 +1,9 @@
 //! Apple-surface contact geometry at the current poses.
 //!
-//! rapier finds which surfaces are near an apple (its broad phase, from the collider shapes); this
-//! module computes the overlap, normal and surface curvature of each contact from the collider's
-//! pose *now*, never from rapier's manifolds, which describe the previous pose (rapier-notes.md,
-//! "one-step lag"). Planes, spheres, boxes and troughs are analytic; triangle meshes are queried
+//! The layer lists the surfaces near each apple when it rebuilds its pair lists (the colliders'
+//! bounding boxes, then this module's geometry with the skin as margin); this module computes the
+//! overlap, normal and surface curvature of each contact from the collider's pose *now*, never
+//! from rapier's manifolds, which describe the previous pose (rapier-notes.md, "one-step lag"). Planes, spheres, boxes and troughs are analytic; triangle meshes are queried
 //! triangle by triangle through their BVH; any other convex shape goes through parry's `contact`.
 
 use crate::math::Vec3;

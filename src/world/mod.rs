@@ -190,9 +190,12 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     pending.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     world.pending = pending.into();
 
-    // A step of length zero runs rapier's collision detection only, so the pairs touching at
-    // t = 0 are known before the first force pass.
-    world.refresh_pairs();
+    // Apples with colliders (rapier's own contact with rigid surfaces): a step of length zero runs
+    // rapier's collision detection only, so the rigid contacts touching at t = 0 are known before
+    // the first step. The layer needs none of it: it finds its contacts itself.
+    if world.apple_colliders {
+        world.refresh_pairs();
+    }
     Ok(world)
 }
 
@@ -325,8 +328,8 @@ impl World {
         while let Some(x) = kept.pop_back() {
             self.pending.push_front(x);
         }
-        if emitted > 0 {
-            // New colliders: let rapier find their surface pairs before the next force pass.
+        if emitted > 0 && self.apple_colliders {
+            // New apple colliders: let rapier find their rigid-surface pairs before the next step.
             self.refresh_pairs();
         }
         Ok(emitted)
