@@ -3,7 +3,6 @@
 //! `applesim::bench`).
 
 use applesim::bench::{self, BenchReport, Window};
-use applesim::scenario;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -29,23 +28,9 @@ pub fn main(a: Args) -> Result<(), String> {
         .map(|w| Window::parse(w))
         .collect::<Result<_, _>>()
         .map_err(|e| e.to_string())?;
-    let sc = scenario::load(&a.scenario).map_err(|e| e.to_string())?;
-    let base = a
-        .scenario
-        .parent()
-        .map(|p| p.to_path_buf())
-        .unwrap_or_default();
-    let run = || bench::run(&sc, &base, &windows);
-    let r = match a.threads {
-        Some(0) => return Err("--threads 0: give at least 1".into()),
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| format!("--threads {n}: {e}"))?
-            .install(run),
-        None => run(),
-    }
-    .map_err(|e| e.to_string())?;
+    let (sc, base) = super::load_scenario(&a.scenario)?;
+    let r = super::with_threads(a.threads, || bench::run(&sc, &base, &windows))?
+        .map_err(|e| e.to_string())?;
     if a.json {
         let mut v = serde_json::to_value(&r).map_err(|e| e.to_string())?;
         v["scenario"] = serde_json::Value::String(a.scenario.display().to_string());

@@ -9,7 +9,9 @@ mod run;
 mod tradeoff;
 mod validate;
 
+use applesim::scenario::{self, Scenario};
 use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
 
 /// applesim: apple contact forces, contact times and slip/roll in fruit-handling lines.
 #[derive(Parser)]
@@ -60,5 +62,29 @@ pub fn main() -> i32 {
             eprintln!("error: {msg}");
             1
         }
+    }
+}
+
+/// Loads and validates a scenario file, with the folder its relative paths (meshes, apple files)
+/// resolve against.
+fn load_scenario(path: &Path) -> Result<(Scenario, PathBuf), String> {
+    let sc = scenario::load(path).map_err(|e| e.to_string())?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    Ok((sc, base))
+}
+
+/// Runs `f` in a pool of `threads` threads (`--threads`), or in rayon's global pool.
+fn with_threads<R: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> R + Send,
+) -> Result<R, String> {
+    match threads {
+        Some(0) => Err("--threads 0: give at least 1".into()),
+        Some(n) => Ok(rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| format!("--threads {n}: {e}"))?
+            .install(f)),
+        None => Ok(f()),
     }
 }

@@ -1,7 +1,7 @@
 //! `applesim run SCENARIO --out DIR`.
 
+use applesim::output;
 use applesim::output::plot::{self, PlotOptions};
-use applesim::{output, scenario};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -26,12 +26,7 @@ pub struct Args {
 }
 
 pub fn main(a: Args) -> Result<(), String> {
-    let sc = scenario::load(&a.scenario).map_err(|e| e.to_string())?;
-    let base = a
-        .scenario
-        .parent()
-        .map(|p| p.to_path_buf())
-        .unwrap_or_default();
+    let (sc, base) = super::load_scenario(&a.scenario)?;
     let tty = std::io::stderr().is_terminal() && !a.quiet;
     let mut last = -1i64;
     let mut progress = |f: f64| {
@@ -41,15 +36,9 @@ pub fn main(a: Args) -> Result<(), String> {
             eprint!("\r{pct:3} %");
         }
     };
-    let r = match a.threads {
-        Some(0) => return Err("--threads 0: give at least 1".into()),
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| format!("--threads {n}: {e}"))?
-            .install(|| output::run_to_dir(&sc, &base, &a.out, &mut progress)),
-        None => output::run_to_dir(&sc, &base, &a.out, &mut progress),
-    }
+    let r = super::with_threads(a.threads, || {
+        output::run_to_dir(&sc, &base, &a.out, &mut progress)
+    })?
     .map_err(|e| e.to_string());
     if tty {
         eprint!("\r      \r");

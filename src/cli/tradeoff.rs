@@ -2,7 +2,6 @@
 
 use applesim::analysis::tradeoff;
 use applesim::output::atomic;
-use applesim::scenario;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -15,12 +14,7 @@ pub struct Args {
 }
 
 pub fn main(a: Args) -> Result<(), String> {
-    let sc = scenario::load(&a.scenario).map_err(|e| e.to_string())?;
-    let base = a
-        .scenario
-        .parent()
-        .map(|p| p.to_path_buf())
-        .unwrap_or_default();
+    let (sc, base) = super::load_scenario(&a.scenario)?;
     let (reference, rungs) = tradeoff::default_ladder(&sc);
     let table = tradeoff::tradeoff(&sc, &base, &reference, &rungs, &mut |label| {
         eprintln!("running {label}");

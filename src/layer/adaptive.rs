@@ -3,6 +3,7 @@
 
 use super::{StepControl, StepLimit};
 use crate::contact::theory;
+use crate::record::events::OpenContact;
 
 /// Time until a gap closes, if within `horizon` (s): the smallest h > 0 with
 /// (closing + accel h) h >= gap. Rapier's symplectic Euler moves a body by its kicked velocity
@@ -82,4 +83,27 @@ pub(super) fn contact_step_limit(
         theory::contact_time_at_overlap(m_n, k, u_eff) / (0.25 * c.steps_per_contact).max(4.0),
         StepLimit::Resting,
     )
+}
+
+/// The step limit of a contact in progress (see [`contact_step_limit`]), from its record when it
+/// has one (approach speed, start time), else from the current overlap rate as a new contact.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn limit_in_contact(
+    c: &StepControl,
+    record: Option<&mut OpenContact>,
+    m_n: f64,
+    k: f64,
+    u: f64,
+    rate: f64,
+    unloading_ke: f64,
+    time_s: f64,
+) -> (f64, StepLimit) {
+    let (scale, start) = match record {
+        Some(o) => (
+            o.impact_scale(|v| impact_scale(m_n, k, v)),
+            o.start_time_s(),
+        ),
+        None => (impact_scale(m_n, k, rate), time_s),
+    };
+    contact_step_limit(c, m_n, k, u, scale, rate, unloading_ke, time_s - start)
 }

@@ -6,7 +6,7 @@
 //! surface moved by more than half the skin). Between rebuilds a step costs one distance test
 //! per candidate; only overlapping candidates touch the contact store.
 
-use super::adaptive::{contact_step_limit, impact_scale, time_to_touch};
+use super::adaptive::{limit_in_contact, time_to_touch};
 use super::contacts::Contact;
 use super::grid::{Pair, NONE};
 use super::{lookahead, surface, ContactLayer, StepLimit, SurfaceCandidate};
@@ -253,15 +253,8 @@ impl ContactLayer {
                         NONE => None,
                         slot => self.contacts.get_mut(slot).record.as_mut(),
                     };
-                    let (scale, start) = match record {
-                        Some(o) => (
-                            o.impact_scale(|v| impact_scale(m_n, k_n, v)),
-                            o.start_time_s(),
-                        ),
-                        None => (impact_scale(m_n, k_n, rate), time_s),
-                    };
                     let ke = if energy_loss { law.ke } else { 1.0 };
-                    let lim = contact_step_limit(&c, m_n, k_n, u, scale, rate, ke, time_s - start);
+                    let lim = limit_in_contact(&c, record, m_n, k_n, u, rate, ke, time_s);
                     self.stats.limit(lim.0, lim.1);
                 }
             }
@@ -381,23 +374,16 @@ impl ContactLayer {
                             let rate = (v_s - self.vel[a]).dot(hit.normal);
                             let record =
                                 best.and_then(|(k, _)| self.contacts.get_mut(k).record.as_mut());
-                            let (scale, start) = match record {
-                                Some(o) => (
-                                    o.impact_scale(|v| impact_scale(m_n, k_n, v)),
-                                    o.start_time_s(),
-                                ),
-                                None => (impact_scale(m_n, k_n, rate), time_s),
-                            };
                             let ke = if energy_loss { law.ke } else { 1.0 };
-                            let lim = contact_step_limit(
+                            let lim = limit_in_contact(
                                 &c,
+                                record,
                                 m_n,
                                 k_n,
                                 hit.overlap_m,
-                                scale,
                                 rate,
                                 ke,
-                                time_s - start,
+                                time_s,
                             );
                             self.stats.limit(lim.0, lim.1);
                         }

@@ -197,14 +197,7 @@ impl NeighborList {
                         let k = id([x, y, z]);
                         let (s, e) = (self.start[k] as usize, self.start[k + 1] as usize);
                         for &m in &self.sorted[s..e] {
-                            let m = m as usize;
-                            if m <= i {
-                                continue;
-                            }
-                            let reach = radius[i] + radius[m] + self.skin_m;
-                            if (pos[m] - pos[i]).length_squared() < reach * reach {
-                                self.fresh.push((i as u32, m as u32));
-                            }
+                            push_if_near(&mut self.fresh, pos, radius, self.skin_m, i, m);
                         }
                     }
                 }
@@ -232,20 +225,33 @@ impl NeighborList {
                             if k != key {
                                 break;
                             }
-                            let m = m as usize;
-                            if m <= i {
-                                continue;
-                            }
-                            let reach = radius[i] + radius[m] + self.skin_m;
-                            if (pos[m] - pos[i]).length_squared() < reach * reach {
-                                self.fresh.push((i as u32, m as u32));
-                            }
+                            push_if_near(&mut self.fresh, pos, radius, self.skin_m, i, m);
                         }
                     }
                 }
             }
             self.fresh[first..].sort_unstable();
         }
+    }
+}
+
+/// Lists the pair (i, m) once (from its lower index) if the two apples are closer than
+/// R_i + R_m + skin.
+fn push_if_near(
+    out: &mut Vec<(u32, u32)>,
+    pos: &[Vec3],
+    radius: &[f64],
+    skin: f64,
+    i: usize,
+    m: u32,
+) {
+    let mu = m as usize;
+    if mu <= i {
+        return;
+    }
+    let reach = radius[i] + radius[mu] + skin;
+    if (pos[mu] - pos[i]).length_squared() < reach * reach {
+        out.push((i as u32, m));
     }
 }
 
