@@ -58,15 +58,16 @@ fn size_distribution_has_the_asked_mean_and_spread() {
     assert!(d.iter().all(|&x| (0.072..=0.088).contains(&x)));
 }
 
-fn run_cli(sc: &Scenario, dir: &std::path::Path) -> Vec<u8> {
-    std::fs::create_dir_all(dir).unwrap();
-    let f = dir.join("s.json");
-    std::fs::write(&f, serde_json::to_string(sc).unwrap()).unwrap();
-    let out = dir.join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
+/// `applesim run SCENARIO --out OUT -q`, from `cwd` if given; asserts success.
+fn applesim_run(scenario: &std::path::Path, out: &std::path::Path, cwd: Option<&std::path::Path>) {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_applesim"));
+    if let Some(d) = cwd {
+        cmd.current_dir(d);
+    }
+    let o = cmd
         .args([
             "run",
-            f.to_str().unwrap(),
+            scenario.to_str().unwrap(),
             "--out",
             out.to_str().unwrap(),
             "-q",
@@ -74,6 +75,14 @@ fn run_cli(sc: &Scenario, dir: &std::path::Path) -> Vec<u8> {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+fn run_cli(sc: &Scenario, dir: &std::path::Path) -> Vec<u8> {
+    std::fs::create_dir_all(dir).unwrap();
+    let f = dir.join("s.json");
+    std::fs::write(&f, serde_json::to_string(sc).unwrap()).unwrap();
+    let out = dir.join("out");
+    applesim_run(&f, &out, None);
     let mut bytes = std::fs::read(out.join("bodies.csv")).unwrap();
     bytes.extend(std::fs::read(out.join("contacts.csv")).unwrap());
     bytes
@@ -211,18 +220,7 @@ fn file_generator_reads_names_diameters_and_positions_exactly() {
 
     // Through the CLI from another working directory: the run has the file's apples.
     let out = dir.join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
-        .current_dir(std::env::temp_dir())
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "-q",
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    applesim_run(&path, &out, Some(&std::env::temp_dir()));
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
     let names: Vec<&str> = summary["apples"]

@@ -271,6 +271,14 @@ mod tests {
         v
     }
 
+    /// Builds a list with every apple awake.
+    fn listed_all(pos: &[Vec3], r: &[f64], skin: f64) -> NeighborList {
+        let mut list = NeighborList::new(skin);
+        let all: Vec<u32> = (0..pos.len() as u32).collect();
+        list.update(pos, r, &all, false, |_| {});
+        list
+    }
+
     fn listed(list: &NeighborList) -> Vec<(u32, u32)> {
         list.pairs().iter().map(|p| (p.i, p.j)).collect()
     }
@@ -317,14 +325,7 @@ mod tests {
         let (far, rf) = random_cloud(200, 0.6);
         pos.extend(far.iter().map(|p| *p + Vec3::new(1000.0, 1000.0, 0.0)));
         r.extend(rf);
-        let mut list = NeighborList::new(0.01);
-        list.update(
-            &pos,
-            &r,
-            &(0..pos.len() as u32).collect::<Vec<_>>(),
-            false,
-            |_| {},
-        );
+        let list = listed_all(&pos, &r, 0.01);
         assert_eq!(listed(&list), brute(&pos, &r, 0.01));
     }
 
@@ -358,14 +359,7 @@ mod tests {
             }
         }
         let r = vec![0.04; pos.len()];
-        let mut list = NeighborList::new(0.01);
-        list.update(
-            &pos,
-            &r,
-            &(0..pos.len() as u32).collect::<Vec<_>>(),
-            false,
-            |_| {},
-        );
+        let list = listed_all(&pos, &r, 0.01);
         assert_eq!(listed(&list), brute(&pos, &r, 0.01));
     }
 
