@@ -362,7 +362,7 @@ pub fn simulate_impact(setup: &ImpactSetup, ke: f64, v0: f64) -> Result<Impact, 
     let mut step = 0u64;
     loop {
         let t = step as f64 * dt;
-        w.layer.apply_forces(
+        let dt = w.layer.apply_forces(
             &mut w.physics.bodies,
             &w.physics.colliders,
             &w.physics.islands,
@@ -393,7 +393,7 @@ pub fn simulate_impact(setup: &ImpactSetup, ke: f64, v0: f64) -> Result<Impact, 
                 time_step_s: dt,
             });
         }
-        w.physics.step_with_events(w.layer.hooks(), &());
+        w.advance(dt);
         step += 1;
     }
 }

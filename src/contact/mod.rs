@@ -167,8 +167,7 @@ pub fn evaluate(
     let v_n = kin.rel_velocity.dot(n);
     let du_dt = -v_n;
     // sqrt(u) serves the Hertz force k u^(3/2), the contact radius sqrt(R*) sqrt(u) and the energy.
-    let sqrt_u = u.sqrt();
-    let elastic = k.stiffness * u * sqrt_u;
+    let (elastic, sqrt_u) = normal::hertz_force_and_root(k.stiffness, u);
     let p = if parts.energy_loss {
         // The normal bound uses twice the tangential share: it stops the relative normal motion
         // within one step (the friction dashpot within two), still stable shared among contacts.

@@ -24,10 +24,18 @@ pub fn stiffness(e_star_pa: f64, r_star_m: f64) -> f64 {
 /// Elastic Hertz force k u^(3/2) for overlap u (m); zero when the bodies do not overlap.
 pub fn hertz_force(k: f64, u_m: f64) -> f64 {
     if u_m > 0.0 {
-        k * u_m * u_m.sqrt()
+        hertz_force_and_root(k, u_m).0
     } else {
         0.0
     }
+}
+
+/// Hertz force k u^(3/2) and sqrt(u) for an overlap u >= 0: the contact law needs the root again
+/// for the contact radius sqrt(R*) sqrt(u) and the stored energy, so it is taken once.
+#[inline]
+pub fn hertz_force_and_root(k: f64, u_m: f64) -> (f64, f64) {
+    let sqrt_u = u_m.sqrt();
+    (k * u_m * sqrt_u, sqrt_u)
 }
 
 /// Contact radius a = sqrt(R* u) (eq. 1 with P eliminated).

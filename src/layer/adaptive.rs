@@ -1,7 +1,8 @@
 //! Adaptive step control: the longest next step that resolves the contacts in progress and those
 //! about to start (see [`super::StepControl`]). Pure functions of one contact's figures.
 
-use super::{StepControl, StepLimit};
+use super::clock::StepLimit;
+use super::config::StepControl;
 use crate::contact::theory;
 use crate::record::events::OpenContact;
 
@@ -106,4 +107,22 @@ pub(super) fn limit_in_contact(
         None => (impact_scale(m_n, k, rate), time_s),
     };
     contact_step_limit(c, m_n, k, u, scale, rate, unloading_ke, time_s - start)
+}
+
+/// With step control: the longest step in which no awake apple moves more than the pair-finding
+/// margins (`max_displacement_m`, and half the grid's skin: two apples closing at up to 2 v_max
+/// must not cross the skin of the list unseen). `None` when nothing moves or the skin is not known
+/// yet (sources may add the first apples late). Centres only: spin moves no centre.
+pub(super) fn motion_limit(
+    c: &StepControl,
+    awake: &[u32],
+    vel: &[crate::math::Vec3],
+    skin_m: f64,
+) -> Option<f64> {
+    let mut v_max: f64 = 0.0;
+    for &k in awake {
+        v_max = v_max.max(vel[k as usize].length());
+    }
+    let reach = c.max_displacement_m.min(0.5 * skin_m);
+    (v_max > 0.0 && reach > 0.0).then(|| reach / v_max)
 }

@@ -142,6 +142,7 @@ impl ContactStore {
     }
 
     /// The stamps, one per slot.
+    #[cfg(test)]
     pub fn stamps(&self) -> &[u64] {
         &self.stamps
     }

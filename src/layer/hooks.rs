@@ -1,4 +1,5 @@
-//! The rapier physics hooks that switch rapier's own contact response off for the pairs we model.
+//! The rapier physics hooks that switch rapier's own contact response off for the pairs we model,
+//! and the one handle-keyed table of the colliders registered with the layer.
 //!
 //! They matter only where apples carry ball colliders (a user's world, or a scene with a surface
 //! left to rapier's own contact): rapier then pairs apple colliders with surface colliders, and
@@ -8,6 +9,7 @@
 //! is `rigid` get rapier's ordinary response (`Some(COMPUTE_RIGID_IMPULSES)`). Collider-less
 //! apples never reach rapier's pair finding at all.
 
+use rapier3d_f64::data::Coarena;
 use rapier3d_f64::geometry::{ColliderHandle, SolverFlags};
 use rapier3d_f64::pipeline::{PairFilterContext, PhysicsHooks};
 
@@ -22,30 +24,45 @@ pub enum Role {
     RigidSurface,
 }
 
-/// Pass `&layer.hooks()` to `PhysicsPipeline::step` (or `PhysicsWorld::step_with_events`).
+/// A registered collider: its role and its index among the layer's apples or surfaces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Registered {
+    pub role: Role,
+    pub index: u32,
+}
+
+impl Default for Registered {
+    /// Only fills the unused slots of the table (rapier's `Coarena` needs a value for them).
+    fn default() -> Self {
+        Self {
+            role: Role::RigidSurface,
+            index: u32::MAX,
+        }
+    }
+}
+
+/// Pass `layer.hooks()` to `PhysicsPipeline::step` (or `PhysicsWorld::step_with_events`).
 ///
-/// Roles are kept in a plain table indexed by the collider's arena index (rapier calls the filter
-/// for every pair every step: a hash map cost 10 % of a step, measured).
+/// Roles live in rapier's `Coarena`, a table indexed by the collider's arena index (rapier calls
+/// the filter for every pair every step: a hash map cost 10 % of a step, measured). It is also the
+/// layer's own lookup from a collider to its apple or surface.
 #[derive(Debug, Clone, Default)]
 pub struct ContactHooks {
-    roles: Vec<Option<(ColliderHandle, Role)>>,
+    table: Coarena<Registered>,
 }
 
 impl ContactHooks {
-    pub(crate) fn set(&mut self, h: ColliderHandle, role: Role) {
-        let k = h.into_raw_parts().0 as usize;
-        if self.roles.len() <= k {
-            self.roles.resize(k + 1, None);
-        }
-        self.roles[k] = Some((h, role));
+    pub(crate) fn set(&mut self, h: ColliderHandle, role: Role, index: u32) {
+        self.table.insert(h.0, Registered { role, index });
+    }
+
+    pub(crate) fn get(&self, h: ColliderHandle) -> Option<Registered> {
+        self.table.get(h.0).copied()
     }
 
     /// The role of a collider, if registered.
     pub fn role(&self, h: ColliderHandle) -> Option<Role> {
-        match self.roles.get(h.into_raw_parts().0 as usize) {
-            Some(Some((stored, role))) if *stored == h => Some(*role),
-            _ => None,
-        }
+        self.get(h).map(|r| r.role)
     }
 
     /// Whether rapier must leave this pair's response to the layer.

@@ -7,16 +7,22 @@
 //! summed afterwards, still in slab order, so the sums are bit-identical whatever the thread
 //! count.
 
-use super::contacts::Contact;
-use super::{
-    AppleEntry, ContactLayer, Guard, LayerError, SlipSample, StepControl, StepStats, SurfaceEntry,
-    SurfaceNow, PARALLEL_MIN_CONTACTS,
-};
-use crate::contact::{self, theory, ContactConstants, ContactKinematics, LawParts, PairLaw};
+use super::clock::StepClock;
+use super::config::LayerConfig;
+use super::contacts::{Contact, ContactStore};
+use super::frame::{Frame, Loads};
+use super::outputs::{Outputs, SlipSample};
+use super::registry::Registry;
+use super::scene::SurfaceNow;
+use super::LayerError;
+use crate::contact::{self, theory, ContactConstants, ContactKinematics};
 use crate::math::{is_finite, Vec3};
 use crate::record::events::{ContactSample, OpenContact, Party};
-use rapier3d_f64::dynamics::RigidBodyHandle;
 use std::sync::Mutex;
+
+/// Contacts per step from which the force pass runs in parallel (below that, rayon's overhead
+/// outweighs the work). The results do not depend on it.
+const PARALLEL_MIN_CONTACTS: usize = 256;
 
 /// What the evaluation of one contact hands to the sums.
 #[derive(Debug, Clone, Copy, Default)]
@@ -37,86 +43,65 @@ pub(super) struct ContactOut {
     overlap_ratio: f64,
 }
 
-/// Everything one contact's evaluation reads (all of it shared, none of it written).
+/// Everything one contact's evaluation reads (all of it shared, none of it written): the
+/// registry, the frame, the surfaces as seen this step and the settings, plus the step.
 struct Ctx<'a> {
-    pos: &'a [Vec3],
-    vel: &'a [Vec3],
-    angvel: &'a [Vec3],
-    radius: &'a [f64],
-    count: &'a [u16],
-    still: &'a [bool],
-    apples: &'a [AppleEntry],
-    surfaces: &'a [SurfaceEntry],
+    registry: &'a Registry,
+    frame: &'a Frame,
     surf_now: &'a [SurfaceNow],
-    laws: &'a [PairLaw],
-    n_mat: usize,
-    parts: LawParts,
-    relaxation: f64,
+    config: &'a LayerConfig,
     /// `relaxation / (n dt)`: the kill rate of a bound shared by n contacts (0 and 1: the
     /// whole), n < 32.
     kill_rate_by_count: [f64; 32],
-    guard: Guard,
-    history_cap: usize,
-    control: Option<StepControl>,
-    record_slips: bool,
     time_s: f64,
     dt_s: f64,
     dt_back: f64,
 }
 
 /// The sums the force pass writes.
-struct Loads<'a> {
-    force: &'a mut [Vec3],
-    torque: &'a mut [Vec3],
-    kicked_force: &'a mut [Vec3],
-    kicked_torque: &'a mut [Vec3],
-    busy: &'a mut [bool],
-    body_loads: &'a mut Vec<(RigidBodyHandle, Vec3, Vec3)>,
-    slips: &'a mut Vec<SlipSample>,
-    stats: &'a mut StepStats,
+struct Sums<'a> {
+    loads: &'a mut Loads,
+    out: &'a mut Outputs,
 }
 
 impl Ctx<'_> {
     fn name_of(&self, p: Party) -> String {
-        match p {
-            Party::Apple(j) => self.apples[j as usize].name.to_string(),
-            Party::Surface(s) => self.surfaces[s as usize].name.to_string(),
-        }
+        self.registry.name_of(p).to_string()
     }
 
     /// Evaluates one contact at the current poses: the contact law, the guards and the contact
     /// record.
     fn evaluate(&self, c: &mut Contact) -> Result<ContactOut, Box<LayerError>> {
         let i = c.i as usize;
-        let ai = &self.apples[i];
-        let (pi, ri) = (self.pos[i], self.radius[i]);
+        let ai = &self.registry.apples[i];
+        let (pi, ri) = (self.frame.pos[i], self.frame.radius[i]);
         let n = c.normal;
         let u = c.overlap_m;
         // NaN (not computed yet) never equals: computed at the first evaluation.
         if c.consts_curvature != c.curvature2 {
             self.prepare(c)?;
         }
-        let law = &self.laws[c.law as usize];
+        let law = &self.registry.laws()[c.law as usize];
         let k = c.consts;
         let point = contact::geometry::contact_point(pi, ri, n, u, law.share1);
-        let v1 = self.vel[i] + self.angvel[i].cross(point - pi);
+        let v1 = self.frame.vel[i] + self.frame.angvel[i].cross(point - pi);
         // The other body's surface point (belt included), how many contacts share the rate
         // bounds, and the smaller radius.
         let (v2, shared) = match c.other {
             Party::Apple(j) => {
                 let j = j as usize;
                 (
-                    self.vel[j] + self.angvel[j].cross(point - self.pos[j]),
-                    self.count[i].max(self.count[j]),
+                    self.frame.vel[j] + self.frame.angvel[j].cross(point - self.frame.pos[j]),
+                    self.frame.count[i].max(self.frame.count[j]),
                 )
             }
             Party::Surface(s) => {
                 let now = &self.surf_now[s as usize];
                 let belt = now.belt - n * now.belt.dot(n);
-                (now.velocity_at(point) + belt, self.count[i])
+                (now.velocity_at(point) + belt, self.frame.count[i])
             }
         };
-        let ke = if self.parts.energy_loss { law.ke } else { 1.0 };
+        let ke = if self.config.parts.energy_loss { law.ke } else { 1.0 };
         let time_s = self.time_s;
         // Resting once its impact is over: older than 1.2 times eq. 12's contact time at its
         // approach speed, (1 + 1/sqrt(ke)) / 2 elastic contact times (physics.md section 3).
@@ -140,9 +125,9 @@ impl Ctx<'_> {
         };
         let kill_rate = match self.kill_rate_by_count.get(usize::from(shared)) {
             Some(&r) => r,
-            None => self.relaxation / (f64::from(shared) * self.dt_s),
+            None => self.config.tangential_relaxation / (f64::from(shared) * self.dt_s),
         };
-        let resp = contact::evaluate(law, self.parts, &k, &kin, &mut c.xi, kill_rate, self.dt_s);
+        let resp = contact::evaluate(law, self.config.parts, &k, &kin, &mut c.xi, kill_rate, self.dt_s);
         if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
             return Err(Box::new(LayerError::NonFinite {
                 body: ai.name.to_string(),
@@ -150,7 +135,7 @@ impl Ctx<'_> {
             }));
         }
         let ratio = u * c.inv_r_min;
-        if ratio > self.guard.max_overlap_ratio {
+        if ratio > self.config.guard.max_overlap_ratio {
             return Err(Box::new(LayerError::Unstable {
                 a: ai.name.to_string(),
                 b: self.name_of(c.other),
@@ -159,7 +144,7 @@ impl Ctx<'_> {
                     "overlap {:.4} mm is {:.1} % of the radius, beyond the {:.0} % limit (Hertz needs u << R): the bodies pass through each other or the step is far too large",
                     u * 1e3,
                     100.0 * ratio,
-                    100.0 * self.guard.max_overlap_ratio
+                    100.0 * self.config.guard.max_overlap_ratio
                 ),
                 suggested_dt_s: None,
             }));
@@ -168,7 +153,7 @@ impl Ctx<'_> {
             c.record = Some(self.begin(c, &k, &resp)?);
         }
         // The backward span of this force's kick (see the leapfrog kick below).
-        let kick_back = match (self.control, c.record.as_ref()) {
+        let kick_back = match (self.config.step_control, c.record.as_ref()) {
             (Some(_), Some(o)) => self.dt_back.min((time_s - o.start_time_s()).max(0.0)),
             _ => self.dt_back,
         };
@@ -191,7 +176,7 @@ impl Ctx<'_> {
         // the last step has pushed only since its touch, so its backward share is its age, not
         // h_back (measured: a 6.8 ms step before a belt landing kicked the first contact force
         // 7.3 times, peak 14 N instead of 22 N).
-        let kick = match self.control {
+        let kick = match self.config.step_control {
             Some(_) => (kick_back + self.dt_s) / (2.0 * self.dt_s),
             None => 1.0,
         };
@@ -200,7 +185,7 @@ impl Ctx<'_> {
             point,
             kick,
             normal_force_n: resp.normal_force_n,
-            slip_m_s: if self.record_slips {
+            slip_m_s: if self.config.record_slips {
                 resp.slip_velocity.length()
             } else {
                 0.0
@@ -213,21 +198,21 @@ impl Ctx<'_> {
     /// The constants of a contact's law, once (and again if its curvature changes).
     fn prepare(&self, c: &mut Contact) -> Result<(), Box<LayerError>> {
         let i = c.i as usize;
-        let ai = &self.apples[i];
-        let ri = self.radius[i];
+        let ai = &self.registry.apples[i];
+        let ri = self.frame.radius[i];
         let (m2, inv_t2, inv_n2, r_min) = match c.other {
             Party::Apple(j) => {
-                let aj = &self.apples[j as usize];
+                let aj = &self.registry.apples[j as usize];
                 (
                     aj.material,
                     aj.inv_tangential_mass,
                     1.0 / aj.mass,
-                    ri.min(self.radius[j as usize]),
+                    ri.min(self.frame.radius[j as usize]),
                 )
             }
             Party::Surface(s) => {
                 let inv = self.surf_now[s as usize].inv_mass;
-                (self.surfaces[s as usize].material, inv, inv, ri)
+                (self.registry.surfaces[s as usize].material, inv, inv, ri)
             }
         };
         let Some(r_star) = contact::normal::effective_radius(1.0 / ri, c.curvature2) else {
@@ -242,9 +227,9 @@ impl Ctx<'_> {
                 },
             }));
         };
-        c.law = (ai.material.0 as usize * self.n_mat + m2.0 as usize) as u32;
+        c.law = self.registry.law_index(ai.material, m2) as u32;
         c.consts = ContactConstants::new(
-            &self.laws[c.law as usize],
+            &self.registry.laws()[c.law as usize],
             r_star,
             1.0 / (1.0 / ai.mass + inv_n2),
             1.0 / (ai.inv_tangential_mass + inv_t2),
@@ -264,21 +249,21 @@ impl Ctx<'_> {
         resp: &contact::ContactResponse,
     ) -> Result<OpenContact, Box<LayerError>> {
         let v_app = resp.overlap_rate_m_s;
-        if v_app > 0.0 && self.guard.min_steps_per_impact > 0.0 {
+        if v_app > 0.0 && self.config.guard.min_steps_per_impact > 0.0 {
             let t_h = theory::elastic_impact(k.normal_mass_kg, v_app, k.stiffness, k.r_star_m)
                 .contact_time_s;
             let steps = t_h / self.dt_s;
-            if steps < self.guard.min_steps_per_impact * (1.0 - 1e-6) {
-                let dt_ok = t_h / self.guard.min_steps_per_impact;
+            if steps < self.config.guard.min_steps_per_impact * (1.0 - 1e-6) {
+                let dt_ok = t_h / self.config.guard.min_steps_per_impact;
                 return Err(Box::new(LayerError::Unstable {
-                    a: self.apples[c.i as usize].name.to_string(),
+                    a: self.registry.apples[c.i as usize].name.to_string(),
                     b: self.name_of(c.other),
                     time_s: self.time_s,
                     what: format!(
                         "impact at {v_app:.4} m/s lasts {:.4} ms, only {steps:.1} steps of {:e} s (need >= {}); use time_step_s <= {dt_ok:.3e}",
                         t_h * 1e3,
                         self.dt_s,
-                        self.guard.min_steps_per_impact
+                        self.config.guard.min_steps_per_impact
                     ),
                     suggested_dt_s: Some(dt_ok),
                 }));
@@ -289,14 +274,14 @@ impl Ctx<'_> {
             self.dt_back,
             c.overlap_m,
             v_app,
-            self.history_cap,
+            self.config.force_history_cap,
         );
-        if let (Some(ctl), Party::Surface(_)) = (self.control, c.other) {
+        if let (Some(_), Party::Surface(_)) = (self.config.step_control, c.other) {
             // Rapier's velocities are staggered half a step behind the poses: at long steps the
             // velocity that carried the apple in is the one of mid-step, not of the touch. Add
             // gravity's share from mid-step to touch (two apples fall alike: no share).
             let since_touch = self.time_s - open.start_time_s();
-            let a_n = -ctl.gravity.dot(c.normal);
+            let a_n = -self.config.gravity.dot(c.normal);
             let v = v_app + a_n * (0.5 * self.dt_back - since_touch);
             open.set_approach_speed(v.max(0.0));
         }
@@ -305,13 +290,14 @@ impl Ctx<'_> {
 
     /// Adds one evaluated contact to the loads of its bodies.
     #[inline]
-    fn add_load(&self, loads: &mut Loads, i: u32, other: Party, o: &ContactOut) {
+    fn add_load(&self, sums: &mut Sums, i: u32, other: Party, o: &ContactOut) {
+        let loads = &mut *sums.loads;
         let ii = i as usize;
         let (f, point) = (o.force, o.point);
-        let arm_i = point - self.pos[ii];
+        let arm_i = point - self.frame.pos[ii];
         loads.force[ii] += f;
         loads.torque[ii] += arm_i.cross(f);
-        let control = self.control.is_some();
+        let control = self.config.step_control.is_some();
         let fk = f * o.kick;
         if control {
             loads.kicked_force[ii] += fk;
@@ -321,13 +307,13 @@ impl Ctx<'_> {
             Party::Apple(j) => {
                 let j = j as usize;
                 // A neighbour that is not still keeps an apple awake.
-                if !self.still[j] {
+                if !self.frame.still[j] {
                     loads.busy[ii] = true;
                 }
-                if !self.still[ii] {
+                if !self.frame.still[ii] {
                     loads.busy[j] = true;
                 }
-                let arm_j = point - self.pos[j];
+                let arm_j = point - self.frame.pos[j];
                 loads.force[j] -= f;
                 loads.torque[j] -= arm_j.cross(f);
                 if control {
@@ -346,9 +332,9 @@ impl Ctx<'_> {
                 }
             }
         }
-        loads.stats.elastic_energy_j += o.elastic_energy_j;
-        loads.stats.max_overlap_ratio = loads.stats.max_overlap_ratio.max(o.overlap_ratio);
-        if self.record_slips {
+        sums.out.stats.elastic_energy_j += o.elastic_energy_j;
+        sums.out.stats.max_overlap_ratio = sums.out.stats.max_overlap_ratio.max(o.overlap_ratio);
+        if self.config.record_slips {
             let sample = SlipSample {
                 apple: i,
                 other,
@@ -356,9 +342,9 @@ impl Ctx<'_> {
                 normal_force_n: o.normal_force_n,
                 point,
             };
-            loads.slips.push(sample);
+            sums.out.slips.push(sample);
             if let Party::Apple(j) = other {
-                loads.slips.push(SlipSample {
+                sums.out.slips.push(SlipSample {
                     apple: j,
                     other: Party::Apple(i),
                     ..sample
@@ -368,65 +354,65 @@ impl Ctx<'_> {
     }
 }
 
-impl ContactLayer {
-    /// The force pass: every contact seen by this step's detection evaluated and added to the
+/// What the force pass reads: the registry, the frame, the surfaces as seen this step, the
+/// settings and the clock.
+pub(super) struct Inputs<'a> {
+    pub registry: &'a Registry,
+    pub frame: &'a Frame,
+    pub surf_now: &'a [SurfaceNow],
+    pub config: &'a LayerConfig,
+    pub clock: &'a StepClock,
+}
+
+/// The force pass and its scratch: one output per contact slot, for the parallel evaluation.
+#[derive(Debug, Default)]
+pub(super) struct Kernel {
+    outs: Vec<ContactOut>,
+}
+
+impl Kernel {
+    /// Every contact seen by this step's detection (stamped `epoch`) evaluated and added to the
     /// loads in slot order (evaluated in parallel on rayon's current pool when there are enough
     /// of them).
-    pub(super) fn force_pass(&mut self, time_s: f64, dt_s: f64) -> Result<(), LayerError> {
-        self.slips.clear();
-        let epoch = self.epoch;
+    pub fn run(
+        &mut self,
+        inputs: Inputs,
+        contacts: &mut ContactStore,
+        epoch: u64,
+        loads: &mut Loads,
+        out: &mut Outputs,
+        dt_s: f64,
+    ) -> Result<(), LayerError> {
+        out.slips.clear();
+        let relaxation = inputs.config.tangential_relaxation;
         let ctx = Ctx {
-            pos: &self.pos,
-            vel: &self.vel,
-            angvel: &self.angvel,
-            radius: &self.radius,
-            count: &self.count,
-            still: &self.still,
-            apples: &self.apples,
-            surfaces: &self.surfaces,
-            surf_now: &self.surf_now,
-            laws: &self.laws,
-            n_mat: self.materials.len(),
-            parts: self.config.parts,
-            relaxation: self.config.tangential_relaxation,
-            kill_rate_by_count: std::array::from_fn(|n| {
-                self.config.tangential_relaxation / (n.max(1) as f64 * dt_s)
-            }),
-            guard: self.config.guard,
-            history_cap: self.config.force_history_cap,
-            control: self.config.step_control,
-            record_slips: self.config.record_slips,
-            time_s,
+            registry: inputs.registry,
+            frame: inputs.frame,
+            surf_now: inputs.surf_now,
+            config: inputs.config,
+            kill_rate_by_count: std::array::from_fn(|n| relaxation / (n.max(1) as f64 * dt_s)),
+            time_s: inputs.clock.time_s,
             dt_s,
-            dt_back: self.dt_back,
+            dt_back: inputs.clock.dt_back,
         };
-        let mut loads = Loads {
-            force: &mut self.force,
-            torque: &mut self.torque,
-            kicked_force: &mut self.kicked_force,
-            kicked_torque: &mut self.kicked_torque,
-            busy: &mut self.busy,
-            body_loads: &mut self.body_loads,
-            slips: &mut self.slips,
-            stats: &mut self.stats,
-        };
-        let (contacts, stamps) = self.contacts.slots_and_stamps();
         let parallel =
-            loads.stats.contacts >= PARALLEL_MIN_CONTACTS && rayon::current_num_threads() > 1;
+            out.stats.contacts >= PARALLEL_MIN_CONTACTS && rayon::current_num_threads() > 1;
+        let mut sums = Sums { loads, out };
+        let (slots, stamps) = contacts.slots_and_stamps();
         if !parallel {
-            for (c, &stamp) in contacts.iter_mut().zip(stamps) {
+            for (c, &stamp) in slots.iter_mut().zip(stamps) {
                 if stamp == epoch {
                     let o = ctx.evaluate(c).map_err(|e| *e)?;
-                    ctx.add_load(&mut loads, c.i, c.other, &o);
+                    ctx.add_load(&mut sums, c.i, c.other, &o);
                 }
             }
             return Ok(());
         }
         use rayon::prelude::*;
-        self.outs.resize(contacts.len(), ContactOut::default());
+        self.outs.resize(slots.len(), ContactOut::default());
         // The error of the lowest slot wins, whatever the thread count.
         let errors = Mutex::new(Vec::new());
-        contacts
+        slots
             .par_iter_mut()
             .zip(self.outs.par_iter_mut())
             .zip(stamps.par_iter())
@@ -448,9 +434,9 @@ impl ContactLayer {
         if let Some((_, e)) = first_error {
             return Err(*e);
         }
-        for ((c, o), &stamp) in contacts.iter().zip(&self.outs).zip(stamps) {
+        for ((c, o), &stamp) in slots.iter().zip(&self.outs).zip(stamps) {
             if stamp == epoch {
-                ctx.add_load(&mut loads, c.i, c.other, o);
+                ctx.add_load(&mut sums, c.i, c.other, o);
             }
         }
         Ok(())

@@ -20,6 +20,17 @@ pub enum Party {
     Surface(u32),
 }
 
+impl Party {
+    /// Sort key of the other parties of one apple's contacts: apples first, then surfaces, each
+    /// by index (the order of events and records in every output).
+    pub fn order(self) -> (u8, u32) {
+        match self {
+            Party::Apple(j) => (0, j),
+            Party::Surface(s) => (1, s),
+        }
+    }
+}
+
 /// A finished (or, at the end of a run, still open) contact.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ContactEvent {

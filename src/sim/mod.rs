@@ -8,12 +8,14 @@
 //! that would take more than `model.max_steps` steps.
 
 pub mod timestep;
+pub mod slip_roll;
 
-use crate::layer::{AppleId, LayerError, StepControl};
+use crate::layer::{AppleId, LayerError, StepRequest};
 use crate::math::arr3;
 use crate::record::events::{ContactEvent, FinishedContact, Party};
 use crate::record::series::{AppleState, SampleSink};
-use crate::record::transitions::{self, Detector, Transition, TransitionSummary};
+use crate::record::transitions::{self, Transition, TransitionSummary};
+use slip_roll::Detector;
 use crate::scenario::Scenario;
 use crate::world::{self, BuildError, World};
 use serde::Serialize;
@@ -205,23 +207,9 @@ struct EnergyGuard {
 impl Simulation {
     /// Builds the world of a validated scenario and plans its steps.
     pub fn new(sc: &Scenario, base_dir: &Path) -> Result<Self, SimError> {
-        let mut world = world::build(sc, base_dir)?;
+        let world = world::build(sc, base_dir)?;
         let plan = timestep::plan(sc, &world);
         let v_bound = timestep::speed_bound(sc, &world).max(0.01);
-        world.physics.integration_parameters.dt = plan.initial_s;
-        if let timestep::Policy::Adaptive {
-            steps_per_contact,
-            max_s,
-        } = plan.policy
-        {
-            let prediction = world.physics.integration_parameters.prediction_distance();
-            world.layer.set_step_control(Some(StepControl {
-                steps_per_contact,
-                lookahead_s: max_s,
-                max_displacement_m: 0.5 * prediction,
-                gravity: crate::math::vec3(sc.gravity_m_s2),
-            }));
-        }
         let belt_or_moving = sc.surfaces.iter().any(|s| {
             matches!(s, crate::scenario::SurfaceSpec::Conveyor(c) if c.belt_velocity_m_s != 0.0)
         });
@@ -329,32 +317,43 @@ impl Simulation {
         }
     }
 
-    /// Computes the forces at the current poses for the coming step and returns its length:
-    /// the fixed step, or for an adaptive run the step the layer chose under `cap`.
-    fn force_pass(&mut self, cap: f64) -> Result<f64, LayerError> {
+    /// The time left to the next instant a step must land on: the next output sample, or the
+    /// end.
+    fn land_in_s(&self) -> f64 {
+        (self.next_sample as f64 * self.sample_interval_s).min(self.duration_s) - self.time_s
+    }
+
+    /// What the coming step is asked to be: the fixed step, or for an adaptive run at most the
+    /// largest step and twice the last one, landing exactly on the next sample and the end
+    /// ([`StepRequest::adaptive`]). After the last step (`closing`), the request that closes the
+    /// contacts at the final poses: a step as long as the last.
+    fn request(&self, closing: bool) -> StepRequest {
         let t = self.time_s;
-        let adaptive = matches!(self.plan.policy, timestep::Policy::Adaptive { .. });
+        let last = (self.step > 0).then_some(self.dt_prev);
+        match self.plan.policy {
+            timestep::Policy::Fixed(dt) => StepRequest::fixed(t, dt),
+            timestep::Policy::Adaptive { max_s, .. } if closing => StepRequest {
+                time_s: t,
+                dt_s: self.dt_prev,
+                max_dt_s: max_s,
+                last_dt_s: last,
+                land_in_s: Some(self.land_in_s()).filter(|&l| l > 0.0),
+            },
+            timestep::Policy::Adaptive { max_s, .. } => {
+                StepRequest::adaptive(t, max_s, last, self.plan.initial_s, self.land_in_s())
+            }
+        }
+    }
+
+    /// Computes the forces at the current poses for the coming step and returns its length.
+    fn force_pass(&mut self, request: &StepRequest) -> Result<f64, LayerError> {
         let w = &mut self.world;
-        let dt = if adaptive {
-            let land = (self.next_sample as f64 * self.sample_interval_s).min(self.duration_s) - t;
-            w.layer.apply_forces_adaptive(
-                &mut w.physics.bodies,
-                &w.physics.colliders,
-                &w.physics.islands,
-                t,
-                cap,
-                land,
-            )?
-        } else {
-            w.layer.apply_forces(
-                &mut w.physics.bodies,
-                &w.physics.colliders,
-                &w.physics.islands,
-                t,
-                cap,
-            )?;
-            cap
-        };
+        let dt = w.layer.step(
+            &mut w.physics.bodies,
+            &w.physics.colliders,
+            &w.physics.islands,
+            request,
+        )?;
         self.events.extend(
             w.layer
                 .take_finished_events()
@@ -362,32 +361,9 @@ impl Simulation {
                 .map(FinishedContact::from),
         );
         if let Some(d) = self.detector.as_mut() {
-            d.observe(t, &w.layer);
+            d.observe(request.time_s, &w.layer);
         }
         Ok(dt)
-    }
-
-    /// The longest the coming step may be: the fixed step, or for an adaptive run at most the
-    /// largest step, twice the last one, and what lands exactly on the next sample and the end.
-    fn step_cap(&self) -> f64 {
-        match self.plan.policy {
-            timestep::Policy::Fixed(dt) => dt,
-            timestep::Policy::Adaptive { max_s, .. } => {
-                let mut dt = if self.step == 0 {
-                    self.plan.initial_s.min(max_s)
-                } else {
-                    max_s.min(2.0 * self.dt_prev)
-                };
-                // Land exactly on the next sample (and the end) in equal steps, never with a sliver.
-                let next_sample_t =
-                    (self.next_sample as f64 * self.sample_interval_s).min(self.duration_s);
-                let left = next_sample_t - self.time_s;
-                if left > 0.0 {
-                    dt = left / (left / dt).ceil();
-                }
-                dt
-            }
-        }
     }
 
     fn sample_due(&self) -> bool {
@@ -416,7 +392,7 @@ impl Simulation {
         }
         let t = self.time_s;
         self.world.emit_due(t)?;
-        let dt = self.force_pass(self.step_cap())?;
+        let dt = self.force_pass(&self.request(false))?;
         if self.sample_due() {
             self.refresh_states();
             sink.sample(self.time_s, &self.states)?;
@@ -427,8 +403,7 @@ impl Simulation {
             self.check_energy()?;
         }
         let w = &mut self.world;
-        w.physics.integration_parameters.dt = dt;
-        w.physics.step_with_events(w.layer.hooks(), &());
+        w.advance(dt);
         if let Some(&bh) = w.physics.quarantine().bodies().first() {
             let name = w
                 .apple_bodies
@@ -543,8 +518,7 @@ impl Simulation {
             }
         }
         // The final poses: close contacts that parted in the last step, sample the end state.
-        let dt = self.dt_prev;
-        self.force_pass(dt)?;
+        self.force_pass(&self.request(true))?;
         self.refresh_states();
         sink.sample(self.time_s, &self.states)?;
         self.check_energy()?;

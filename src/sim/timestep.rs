@@ -59,18 +59,16 @@ pub fn speed_bound(sc: &Scenario, world: &World) -> f64 {
     let g = vec3(sc.gravity_m_s2);
     let gmag = g.length();
     let up = if gmag > 0.0 { -g / gmag } else { Vec3::Z };
-    let apples = sc.initial_apples().unwrap_or_default();
     let mut top = f64::NEG_INFINITY;
     let mut bottom = f64::INFINITY;
     let mut v0: f64 = 0.0;
-    for a in &apples {
-        let h = up.dot(vec3(a.position_m));
+    // The apples present now (at build: where the scenario placed them).
+    for (a, &bh) in world.roster.apples().iter().zip(&world.apple_bodies) {
+        let rb = &world.physics.bodies[bh];
+        let h = up.dot(rb.translation());
         top = top.max(h);
-        bottom = bottom.min(h - a.diameter_m / 2.0);
-        v0 = v0.max(
-            vec3(a.velocity_m_s).length()
-                + vec3(a.angular_velocity_rad_s).length() * a.diameter_m / 2.0,
-        );
+        bottom = bottom.min(h - a.radius_m);
+        v0 = v0.max(rb.linvel().length() + rb.angvel().length() * a.radius_m);
     }
     for s in &sc.sources {
         let h = up.dot(vec3(s.position_m)) + s.jitter_m;
@@ -124,30 +122,30 @@ pub fn stiffest_contact(sc: &Scenario, world: &World) -> Option<StiffestContact>
     let mat = |name: &str| mats.iter().find(|(n, _)| n == name).map(|(_, m)| *m);
     // The smallest apple of each material (the stiffest: m / k grows with R^2.5).
     let mut kinds: Vec<(String, f64, f64)> = Vec::new(); // material, radius, mass
-    let mut consider = |material: &str, d: f64, mass: Option<f64>| {
-        let m = mass.unwrap_or_else(|| {
-            sphere_mass(
-                d,
-                mat(material).and_then(|m| m.density_kg_m3).unwrap_or(0.0),
-            )
-        });
-        match kinds.iter_mut().find(|k| k.0 == material) {
-            Some(k) if d / 2.0 < k.1 => *k = (material.to_string(), d / 2.0, m),
-            Some(_) => {}
-            None => kinds.push((material.to_string(), d / 2.0, m)),
-        }
+    let mut consider = |material: &str, r: f64, m: f64| match kinds
+        .iter_mut()
+        .find(|k| k.0 == material)
+    {
+        Some(k) if r < k.1 => *k = (material.to_string(), r, m),
+        Some(_) => {}
+        None => kinds.push((material.to_string(), r, m)),
     };
-    let initial = sc.initial_apples().unwrap_or_default();
-    let apple_count = initial.len() + sc.sources.iter().map(|s| s.count as usize).sum::<usize>();
-    for a in initial {
-        consider(&a.material, a.diameter_m, a.mass_kg);
+    let apple_count =
+        world.roster.len() + sc.sources.iter().map(|s| s.count as usize).sum::<usize>();
+    for a in world.roster.apples() {
+        consider(&a.material, a.radius_m, a.mass_kg);
     }
     for s in &sc.sources {
         let d = match s.diameter_m {
             scenario::DiameterSpec::Fixed(d) => d,
             scenario::DiameterSpec::Distribution(x) => x.mean_m - 3.0 * x.spread_m.max(0.0),
-        };
-        consider(&s.material, d.max(1e-3), s.mass_kg);
+        }
+        .max(1e-3);
+        let density = mat(&s.material).and_then(|m| m.density_kg_m3);
+        let m = s
+            .mass_kg
+            .unwrap_or_else(|| sphere_mass(d, density.unwrap_or(0.0)));
+        consider(&s.material, d / 2.0, m);
     }
     let surface_mats: Vec<String> = (0..world.layer.surface_count())
         .map(|s| {

@@ -14,16 +14,18 @@
 //! rapier would spend a sixth of its step computing it.
 
 pub mod mesh;
+pub mod roster;
 pub mod surfaces;
 
 use crate::contact::LawParts;
 use crate::contact::Material;
 use crate::layer::{
     AppleId, Coefficients, ContactLayer, Guard, LayerConfig, LayerError, MaterialId, SleepConfig,
-    SurfaceId, SurfaceOptions,
+    StepControl, SurfaceId, SurfaceOptions,
 };
 use crate::math::vec3;
 use crate::scenario::{self, AppleSpec, ContactModel, Fidelity, Scenario, ScenarioError, TimeStep};
+pub use roster::{apple_mass, sphere_mass, Origin, Roster, RosterApple};
 use rapier3d_f64::prelude::*;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
@@ -62,6 +64,8 @@ pub struct World {
     pub layer: ContactLayer,
     /// Rigid body of each apple, in layer order (listed, generated, then fed in).
     pub apple_bodies: Vec<RigidBodyHandle>,
+    /// Every apple in the world, in layer order: name, material, radius, mass, origin.
+    pub roster: Roster,
     /// Collider of each surface part, in layer order.
     pub surface_colliders: Vec<ColliderHandle>,
     /// Frame of each surface part in which positions along it are measured, if it has a running
@@ -70,15 +74,9 @@ pub struct World {
     /// Whether apples carry ball colliders (only when rapier itself must touch them).
     apple_colliders: bool,
     materials: BTreeMap<String, (MaterialId, Material)>,
-    /// Emissions still to come: (time, source index, apple), in order.
+    /// Emissions still to come: (planned time, source index, apple), in order.
     pending: VecDeque<(f64, usize, AppleSpec)>,
     postponed: u64,
-}
-
-/// Mass of a solid sphere of the given diameter and density.
-pub fn sphere_mass(diameter_m: f64, density: f64) -> f64 {
-    let r = diameter_m / 2.0;
-    density * 4.0 / 3.0 * std::f64::consts::PI * r * r * r
 }
 
 /// Builds the world of a validated scenario. `base_dir` is where relative asset paths (meshes)
@@ -86,12 +84,8 @@ pub fn sphere_mass(diameter_m: f64, density: f64) -> f64 {
 pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     let mut physics = PhysicsWorld::new();
     physics.gravity = vec3(sc.gravity_m_s2);
+    // The step itself is set by the driver before every step (sim::timestep plans it).
     let ip = &mut physics.integration_parameters;
-    // The step is set by the driver's plan (sim::timestep) once the world exists.
-    ip.dt = match sc.time_step_s {
-        TimeStep::Fixed(dt) => dt,
-        _ => 1e-5,
-    };
     let rigid = sc.fidelity == Fidelity::Rigid;
     if rigid {
         // rapier's own contacts: its default solver iterations and CCD, for large steps.
@@ -102,6 +96,12 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     }
 
     let sl = &sc.model.sleep;
+    // Adaptive steps: the layer chooses each step (rigid fidelity: rapier's own contacts, a
+    // fixed step). No apple may cross half of rapier's prediction distance in one step.
+    let step_control = (sc.time_step_s == TimeStep::Adaptive && !rigid).then(|| StepControl {
+        steps_per_contact: sc.steps_per_contact(),
+        max_displacement_m: 0.5 * ip.prediction_distance(),
+    });
     let config = LayerConfig {
         force_history_cap: if sc.output.force_history {
             FORCE_HISTORY_CAP
@@ -118,6 +118,8 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             patch_shift: sc.fidelity == Fidelity::Full,
         },
         passive: rigid,
+        step_control,
+        gravity: vec3(sc.gravity_m_s2),
         record_slips: sc.output.transitions.enabled,
         sleep: SleepConfig {
             enabled: sl.enabled,
@@ -128,7 +130,6 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         ..LayerConfig::default()
     };
     let mut layer = ContactLayer::new(config);
-    layer.set_gravity(vec3(sc.gravity_m_s2));
     let mut materials = BTreeMap::new();
     for (name, spec) in &sc.materials {
         let m = scenario::validate::material(name, spec)?;
@@ -152,6 +153,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         physics,
         layer,
         apple_bodies: Vec::new(),
+        roster: Roster::default(),
         surface_colliders: Vec::new(),
         surface_frames: Vec::new(),
         materials,
@@ -176,19 +178,13 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             world.add_surface(part, apple_material.as_deref())?;
         }
     }
-    let apples = sc.initial_apples()?;
-    for a in &apples {
-        world.add_apple(a)?;
+    let plan = roster::plan(sc)?;
+    for (a, origin) in &plan.initial {
+        world.add_apple(a, *origin)?;
     }
     world.layer.check_conformity()?;
-    check_initial_surface_overlaps(&apples, sc.apples.len(), &world)?;
-
-    let mut pending: Vec<(f64, usize, AppleSpec)> = Vec::new();
-    for (k, src) in sc.sources.iter().enumerate() {
-        pending.extend(src.schedule().into_iter().map(|(t, a)| (t, k, a)));
-    }
-    pending.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    world.pending = pending.into();
+    check_initial_surface_overlaps(&plan.initial, sc.apples.len(), &world)?;
+    world.pending = plan.feeds.into();
 
     // Apples with colliders (rapier's own contact with rigid surfaces): a step of length zero runs
     // rapier's collision detection only, so the rigid contacts touching at t = 0 are known before
@@ -200,11 +196,18 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
 }
 
 impl World {
+    /// Advances rapier by `dt_s`: the step the layer answered the force pass with (the forces it
+    /// set are for that step). The step is set here, every step; the world has no step of its
+    /// own.
+    pub fn advance(&mut self, dt_s: f64) {
+        self.physics.integration_parameters.dt = dt_s;
+        self.physics.step_with_events(self.layer.hooks(), &());
+    }
+
     /// Runs rapier's collision detection without moving anything (a step of length zero).
     pub fn refresh_pairs(&mut self) {
         let dt = self.physics.integration_parameters.dt;
-        self.physics.integration_parameters.dt = 0.0;
-        self.physics.step_with_events(self.layer.hooks(), &());
+        self.advance(0.0);
         self.physics.integration_parameters.dt = dt;
     }
 
@@ -255,13 +258,12 @@ impl World {
         Ok(())
     }
 
-    /// Inserts an apple (a dynamic ball) and registers it with the layer.
-    pub fn add_apple(&mut self, a: &AppleSpec) -> Result<AppleId, BuildError> {
+    /// Inserts an apple (a dynamic ball), registers it with the layer and enters
+    /// it in the roster.
+    pub fn add_apple(&mut self, a: &AppleSpec, origin: Origin) -> Result<AppleId, BuildError> {
         let (mid, m) = self.materials[&a.material];
-        let mass = a
-            .mass_kg
-            .unwrap_or_else(|| sphere_mass(a.diameter_m, m.density_kg_m3.unwrap_or(0.0)));
-        let radius = a.diameter_m / 2.0;
+        let entry = roster::entry(a, m.density_kg_m3, origin);
+        let (mass, radius) = (entry.mass_kg, entry.radius_m);
         let body = RigidBodyBuilder::dynamic()
             .translation(vec3(a.position_m))
             .linvel(vec3(a.velocity_m_s))
@@ -299,6 +301,7 @@ impl World {
                 self.layer
                     .add_apple_body(&self.physics.bodies, bh, radius, mid, &a.name)?
             };
+        self.roster.push(entry);
         Ok(id)
     }
 
@@ -322,7 +325,7 @@ impl World {
                 kept.push_back((when, src, a));
                 continue;
             }
-            self.add_apple(&a)?;
+            self.add_apple(&a, Origin::Fed { source: src, time_s: when })?;
             emitted += 1;
         }
         while let Some(x) = kept.pop_back() {
@@ -371,12 +374,12 @@ impl World {
 }
 
 fn check_initial_surface_overlaps(
-    apples: &[AppleSpec],
+    apples: &[(AppleSpec, Origin)],
     listed: usize,
     world: &World,
 ) -> Result<(), ScenarioError> {
     let mut hits = Vec::new();
-    for (k, a) in apples.iter().enumerate() {
+    for (k, (a, _)) in apples.iter().enumerate() {
         let r = a.diameter_m / 2.0;
         for (s, &ch) in world.surface_colliders.iter().enumerate() {
             let Some(co) = world.physics.colliders.get(ch) else {

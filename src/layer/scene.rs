@@ -1,0 +1,196 @@
+//! The surfaces as the layer sees them this step: each surface's pose and motion, read from
+//! rapier once per step (the few surfaces, not every contact, go to rapier's sets), and what
+//! changed since the last step (a moved or removed surface wakes the sleepers near it).
+
+use super::registry::SurfaceEntry;
+use super::surface::{self, SurfaceHit, SurfaceShape};
+use crate::math::Vec3;
+use rapier3d_f64::dynamics::{RigidBodyHandle, RigidBodySet};
+use rapier3d_f64::geometry::ColliderSet;
+use rapier3d_f64::math::Pose;
+
+/// One surface this step.
+#[derive(Debug, Clone)]
+pub(super) struct SurfaceNow {
+    /// The collider still exists.
+    pub exists: bool,
+    /// Its pose at the last step (change detection).
+    pub pose: Pose,
+    /// Its pose at the last rebuild of the candidate lists (how far it may have moved since).
+    pub pose_at_build: Pose,
+    /// Radius of a sphere around the collider's origin containing its shape (m; infinite for a
+    /// half-space): bounds how far a rotation moves its points.
+    pub extent_m: f64,
+    /// Moved or removed since the last step: wakes the sleepers near it.
+    pub changed: bool,
+    /// The parent body is not fixed, or the surface is a running belt: apples on it stay awake.
+    pub moving: bool,
+    /// Velocity field of the parent body: linear velocity, angular velocity, centre of mass.
+    pub lin: Vec3,
+    pub ang: Vec3,
+    pub com: Vec3,
+    /// Inverse mass of a dynamic parent (0 for fixed or kinematic ones).
+    pub inv_mass: f64,
+    /// A dynamic parent receives the reaction forces.
+    pub dynamic_body: Option<RigidBodyHandle>,
+    /// Belt velocity in world axes (m/s).
+    pub belt: Vec3,
+    /// A plane (a half-space collider with the collider's own shape): its world normal and
+    /// n . point, so that its contacts need no shape dispatch.
+    pub plane: Option<(Vec3, f64)>,
+}
+
+/// What a look at one surface found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Seen {
+    /// Nothing changed that matters to the candidate lists.
+    Same,
+    /// It moved or vanished since the last step (sleepers near it must wake).
+    Changed,
+}
+
+impl SurfaceNow {
+    pub fn new() -> Self {
+        Self {
+            exists: false,
+            pose: Pose::IDENTITY,
+            pose_at_build: Pose::IDENTITY,
+            extent_m: f64::INFINITY,
+            changed: false,
+            moving: false,
+            lin: Vec3::ZERO,
+            ang: Vec3::ZERO,
+            com: Vec3::ZERO,
+            inv_mass: 0.0,
+            dynamic_body: None,
+            belt: Vec3::ZERO,
+            plane: None,
+        }
+    }
+
+    /// Velocity of the surface's material point at `p` (belt excluded).
+    #[inline]
+    pub fn velocity_at(&self, p: Vec3) -> Vec3 {
+        self.lin + self.ang.cross(p - self.com)
+    }
+
+    /// Reads the surface's pose and motion. Returns what changed and whether the candidate lists
+    /// must be rebuilt (it appeared, vanished, or moved by more than `half_skin` since the last
+    /// rebuild).
+    pub fn observe(
+        &mut self,
+        surf: &SurfaceEntry,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        half_skin: f64,
+    ) -> (Seen, bool) {
+        self.changed = false;
+        let mut rebuild = false;
+        let Some(co) = colliders.get(surf.collider) else {
+            if self.exists {
+                self.exists = false;
+                self.changed = true;
+                return (Seen::Changed, true);
+            }
+            return (Seen::Same, false);
+        };
+        let pose = *co.position();
+        if !self.exists {
+            self.exists = true;
+            self.pose = pose;
+            self.pose_at_build = pose;
+            let bs = co.shape().compute_local_bounding_sphere();
+            let extent = bs.center.length() + bs.radius;
+            self.extent_m = if extent.is_finite() && extent < 1e12 {
+                extent
+            } else {
+                f64::INFINITY
+            };
+            rebuild = true;
+        } else if pose != self.pose {
+            self.pose = pose;
+            self.changed = true;
+            if moved_by(&self.pose_at_build, &pose, self.extent_m) > half_skin {
+                rebuild = true;
+            }
+        }
+        let parent = co.parent().and_then(|p| bodies.get(p).map(|rb| (p, rb)));
+        match parent {
+            Some((p, rb)) if !rb.is_fixed() => {
+                self.moving = true;
+                self.lin = rb.linvel();
+                self.ang = rb.angvel();
+                self.com = rb.center_of_mass();
+                self.inv_mass = if rb.is_dynamic() && rb.mass() > 0.0 {
+                    1.0 / rb.mass()
+                } else {
+                    0.0
+                };
+                self.dynamic_body = rb.is_dynamic().then_some(p);
+            }
+            _ => {
+                self.moving = false;
+                self.lin = Vec3::ZERO;
+                self.ang = Vec3::ZERO;
+                self.com = Vec3::ZERO;
+                self.inv_mass = 0.0;
+                self.dynamic_body = None;
+            }
+        }
+        self.belt = pose.rotation * surf.belt_local;
+        self.plane = match (&surf.shape, co.shape().as_halfspace()) {
+            (SurfaceShape::FromCollider, Some(hs)) => {
+                let n = pose.rotation * hs.normal;
+                Some((n, n.dot(pose.translation)))
+            }
+            _ => None,
+        };
+        if surf.belt_local != Vec3::ZERO {
+            self.moving = true;
+        }
+        let seen = if self.changed {
+            Seen::Changed
+        } else {
+            Seen::Same
+        };
+        (seen, rebuild)
+    }
+
+    /// The hits of an apple (centre, radius) with this surface, keeping those with overlap
+    /// > -margin (see [`surface::surface_hits`]); planes without the shape dispatch
+    /// ([`crate::contact::geometry::sphere_plane`]).
+    pub fn hits(
+        &self,
+        surf: &SurfaceEntry,
+        colliders: &ColliderSet,
+        centre: Vec3,
+        radius: f64,
+        margin: f64,
+        out: &mut Vec<SurfaceHit>,
+    ) {
+        if let Some((n, d)) = self.plane {
+            let u = crate::contact::geometry::sphere_plane(centre, radius, n, d);
+            if u > -margin {
+                out.push(SurfaceHit {
+                    normal: n,
+                    overlap_m: u,
+                    curvature_1_m: 0.0,
+                });
+            }
+        } else if let Some(co) = colliders.get(surf.collider) {
+            surface::surface_hits(&surf.shape, co, centre, radius, margin, out);
+        }
+    }
+}
+
+/// Largest displacement of a point of a shape within `extent` of its origin when its pose goes
+/// from `a` to `b` (m).
+fn moved_by(a: &Pose, b: &Pose, extent: f64) -> f64 {
+    let shift = (b.translation - a.translation).length();
+    let angle = a.rotation.angle_between(b.rotation);
+    if angle == 0.0 {
+        shift
+    } else {
+        shift + angle * extent
+    }
+}
