@@ -6,13 +6,20 @@
 //! Amontons-Coulomb friction with its moments. Apples are rapier rigid bodies; a contact layer of
 //! ours switches rapier's own response off for the pairs we model and applies our forces instead.
 //!
-//! The modules follow the data flow:
-//! [`scenario`] (serde types, validation) -> [`world`] (rapier bodies and colliders) ->
-//! [`contact`] (the law, pure functions) -> [`layer`] (pair finding, hooks, forces) ->
-//! [`sim`] (stepping, stability guard) -> [`record`] (contact events, time series, slip/roll
-//! transitions) -> [`output`] (summary, CSV, charts, ParaView) -> [`analysis`] (pulse fit,
-//! bruise assessment, ke calibration); [`validate`] runs the paper's figures against it;
-//! [`bench`] measures the cost of a run.
+//! A run flows through the modules in this order: a [`scenario`] file is validated and becomes
+//! a [`world`] (rapier bodies and colliders, and the run's roster: every apple's name,
+//! material, radius, mass and origin, resolved once); the [`layer`] applies the [`contact`] law to
+//! it at the current poses every step; the driver in [`sim`] steps it, refuses a run that went
+//! wrong and runs the slip/roll detector; what happened is kept in [`record`]s (contact events,
+//! time series, transitions); [`analysis`] says what it means for the fruit (pulse fit, bruise
+//! assessment) and [`output`] writes the run folder (summary, CSV, ParaView, charts). On top:
+//! [`batch`] (sweeps, shards, merge), [`validate`] (the paper's figures), [`bench`] (the cost of
+//! a run) and the command line (a thin shell in `src/cli`).
+//!
+//! Code dependencies run one way, each module using only those listed before it: [`math`],
+//! [`contact`] (pure functions), [`scenario`], [`record`] (plain data), [`layer`], [`world`],
+//! [`sim`], [`analysis`], [`output`], then the top. One arrow runs back: scenario validation
+//! borrows the layer's cell grid ([`layer::grid`]) to find overlapping apples.
 #![warn(missing_docs)]
 
 pub mod analysis;

@@ -8,7 +8,7 @@
 //! contacts is. Each contact is also reported with the apple's velocity change, impulse / m, the
 //! quantity drop tests are often quoted in.
 
-use super::AppleInfo;
+use crate::world::RosterApple;
 use crate::record::events::{ContactEvent, Party};
 use crate::scenario::{BruiseSpec, Scenario};
 use serde::Serialize;
@@ -161,13 +161,13 @@ impl BruiseReport {
     }
 }
 
-/// Assesses every contact of a run of scenario `sc`. `roster` describes every apple by name
-/// ([`super::apple_roster`]); `order` lists the apples of the run (layer order), which sets the
+/// Assesses every contact of a run of scenario `sc` (its thresholds). `roster` describes every
+/// apple by name (the run's roster, [`crate::world::Roster::by_name`]); `order` lists the apples of the run (layer order), which sets the
 /// order of [`BruiseReport::apples`].
 pub fn assess(
     sc: &Scenario,
     events: &[ContactEvent],
-    roster: &BTreeMap<String, AppleInfo>,
+    roster: &BTreeMap<&str, &RosterApple>,
     order: &[&str],
 ) -> BruiseReport {
     let thresholds = |material: &str| {

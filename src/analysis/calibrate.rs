@@ -150,16 +150,21 @@ impl ImpactSetup {
         surface: Option<&str>,
         surface_material: Option<&str>,
     ) -> Result<Self, CalibrateError> {
-        let a =
-            match apple {
-                Some(n) => sc.apples.iter().find(|a| a.name == n).ok_or_else(|| {
-                    input("--apple", format!("no apple named '{n}' in the scenario"))
-                })?,
-                None => sc
-                    .apples
-                    .first()
-                    .ok_or_else(|| input("apples", "the scenario has no apple to calibrate"))?,
-            };
+        // The scenario's apples as the world would hold them (listed, then generated).
+        let plan = world::roster::plan(sc)?;
+        let a = match apple {
+            Some(n) => plan
+                .initial
+                .iter()
+                .map(|(a, _)| a)
+                .find(|a| a.name == n)
+                .ok_or_else(|| input("--apple", format!("no apple named '{n}' in the scenario")))?,
+            None => plan
+                .initial
+                .first()
+                .map(|(a, _)| a)
+                .ok_or_else(|| input("apples", "the scenario has no apple to calibrate"))?,
+        };
         let surface_mat = match (surface, surface_material) {
             (_, Some(m)) => m.to_string(),
             (name, None) => {
@@ -206,21 +211,16 @@ impl ImpactSetup {
         };
         let apple_spec = spec(&a.material, "--apple")?;
         let surface_spec = spec(&surface_mat, "--surface-material")?;
-        let mass_kg = match a.mass_kg {
-            Some(m) => m,
-            None => world::sphere_mass(
-                a.diameter_m,
-                apple_spec.density_kg_m3.ok_or_else(|| {
-                    input(
-                        "--apple",
-                        format!(
-                            "apple '{}' has neither mass_kg nor a material density",
-                            a.name
-                        ),
-                    )
-                })?,
-            ),
-        };
+        if a.mass_kg.is_none() && apple_spec.density_kg_m3.is_none() {
+            return Err(input(
+                "--apple",
+                format!(
+                    "apple '{}' has neither mass_kg nor a material density",
+                    a.name
+                ),
+            ));
+        }
+        let mass_kg = world::apple_mass(a, apple_spec.density_kg_m3);
         let lambda_s_m = sc
             .pairs
             .iter()

@@ -10,50 +10,10 @@ pub mod calibrate;
 pub mod pulse;
 pub mod tradeoff;
 
-use crate::scenario::{AppleSpec, Scenario};
+use crate::scenario::Scenario;
 use crate::sim::RunResult;
 use serde::Serialize;
 use std::collections::BTreeMap;
-
-/// What the analysis needs to know of one apple.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct AppleInfo {
-    /// Material name.
-    pub material: String,
-    /// Radius (m).
-    pub radius_m: f64,
-    /// Mass (kg): `mass_kg`, or density x volume of a solid sphere.
-    pub mass_kg: f64,
-}
-
-/// Every apple a run of a (validated) scenario can hold, by name: the listed ones, the
-/// generated ones and those the sources feed in. Apples are looked up by name because fed-in
-/// apples enter the layer in emission order, which a postponed emission can change.
-pub fn apple_roster(sc: &Scenario) -> BTreeMap<String, AppleInfo> {
-    let info = |a: &AppleSpec| AppleInfo {
-        material: a.material.clone(),
-        radius_m: a.diameter_m / 2.0,
-        mass_kg: a.mass_kg.unwrap_or_else(|| {
-            let rho = sc
-                .materials
-                .get(&a.material)
-                .and_then(|m| m.density_kg_m3)
-                .unwrap_or(f64::NAN);
-            crate::world::sphere_mass(a.diameter_m, rho)
-        }),
-    };
-    let initial = sc.initial_apples().unwrap_or_else(|_| sc.apples.clone());
-    let fed = sc
-        .sources
-        .iter()
-        .flat_map(|s| s.schedule().into_iter().map(|(_, a)| a));
-    initial
-        .iter()
-        .cloned()
-        .chain(fed)
-        .map(|a| (a.name.clone(), info(&a)))
-        .collect()
-}
 
 /// The analysis of one run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
@@ -64,9 +24,10 @@ pub struct Analysis {
     pub bruise: bruise::BruiseReport,
 }
 
-/// Fits the pulses and assesses bruising of a finished run of `sc`.
+/// Fits the pulses and assesses bruising of a finished run of `sc` (its thresholds); each
+/// apple's material and mass come from the run's roster.
 pub fn analyse(sc: &Scenario, r: &RunResult) -> Analysis {
-    let roster = apple_roster(sc);
+    let roster = r.roster.by_name();
     let mass = |name: &str| roster.get(name).map_or(f64::NAN, |a| a.mass_kg);
     let order: Vec<&str> = r.apples.iter().map(|a| a.name.as_str()).collect();
     Analysis {

@@ -310,17 +310,16 @@ pub fn tradeoff(
 ) -> Result<TradeoffTable, TradeoffError> {
     progress(&reference.label);
     let r = run_rung(sc, reference, base_dir).map_err(TradeoffError::Reference)?;
-    let radii: Vec<f64> = sc
-        .initial_apples()
-        .unwrap_or_default()
-        .into_iter()
-        .map(|a| a.diameter_m / 2.0)
-        .chain(
-            sc.sources
-                .iter()
-                .flat_map(|s| s.schedule().into_iter().map(|(_, a)| a.diameter_m / 2.0)),
-        )
-        .collect();
+    let radii: Vec<f64> = match crate::world::roster::plan(sc) {
+        Ok(plan) => plan
+            .initial
+            .iter()
+            .map(|(a, _)| a)
+            .chain(plan.feeds.iter().map(|(_, _, a)| a))
+            .map(|a| a.diameter_m / 2.0)
+            .collect(),
+        Err(_) => Vec::new(),
+    };
     let radius = radii.iter().sum::<f64>() / radii.len().max(1) as f64;
     let g = crate::math::vec3(sc.gravity_m_s2);
     let up = if g.length() > 0.0 {

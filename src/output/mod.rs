@@ -458,6 +458,9 @@ pub enum RunError {
         /// OS error.
         source: std::io::Error,
     },
+    /// The ParaView files could not be written (or `bodies.csv` could not be read back for them).
+    #[error("ParaView output: {0}")]
+    Vtk(#[from] vtk::VtkError),
 }
 
 fn io_at(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
@@ -502,14 +505,7 @@ pub fn run_to_dir(
             &analysis.bruise,
             &order,
             v.interval_s,
-        )
-        .map_err(|e| match e {
-            vtk::VtkError::Io { path, source } => RunError::Io { path, source },
-            other => RunError::Io {
-                path: out_dir.join("bodies.csv"),
-                source: std::io::Error::other(other.to_string()),
-            },
-        })?;
+        )?;
         result.warnings.extend(written.warnings);
         result
             .metrics
@@ -523,12 +519,14 @@ pub fn run_to_dir(
     }
     let p = out_dir.join("bruise.csv");
     write_bruise(&p, &analysis).map_err(io_at(&p))?;
-    write_contacts(&out_dir.join("contacts.csv"), &result.events).map_err(io_at(out_dir))?;
+    let p = out_dir.join("contacts.csv");
+    write_contacts(&p, &result.events).map_err(io_at(&p))?;
     if result.transition_summary.is_some() {
         let p = out_dir.join("transitions.csv");
         write_transitions(&p, &result.transitions).map_err(io_at(&p))?;
     }
-    write_scenario(&out_dir.join("scenario.json"), sc).map_err(io_at(out_dir))?;
+    let p = out_dir.join("scenario.json");
+    write_scenario(&p, sc).map_err(io_at(&p))?;
     let p = out_dir.join("summary.json");
     write_summary_with(&p, sc, &result, Some(&analysis)).map_err(io_at(&p))?;
     Ok(result)

@@ -514,7 +514,17 @@ pub fn write_vtk(
             "output.vtk.interval_s = {interval_s} s is shorter than output.sample_interval_s = {sample} s: one frame per sample"
         ));
     }
-    let roster = crate::analysis::apple_roster(sc);
+    // Radii of every apple the run can hold (listed, generated, fed in), by name.
+    let radii: BTreeMap<String, f64> = crate::world::roster::plan(sc)
+        .map(|p| {
+            p.initial
+                .into_iter()
+                .map(|(a, _)| a)
+                .chain(p.feeds.into_iter().map(|(_, _, a)| a))
+                .map(|a| (a.name, a.diameter_m / 2.0))
+                .collect()
+        })
+        .unwrap_or_default();
     let ids: BTreeMap<&str, i64> = apple_order
         .iter()
         .enumerate()
@@ -546,8 +556,8 @@ pub fn write_vtk(
                 Ok([parse(r, i)?, parse(r, i + 1)?, parse(r, i + 2)?])
             };
             let id = ids.get(&r[1]).copied().unwrap_or(-1);
-            let radius = match roster.get(&r[1]) {
-                Some(a) => a.radius_m,
+            let radius = match radii.get(&r[1]) {
+                Some(&r) => r,
                 None => {
                     if !unknown.iter().any(|u| u == &r[1]) {
                         unknown.push(r[1].to_string());

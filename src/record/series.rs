@@ -19,7 +19,7 @@ pub struct AppleState {
     /// Total contact force acting at this pose (N).
     pub contact_force: Vec3,
     /// Slip speed of the contact the apple slides or rolls on (m/s; 0 when airborne), when the
-    /// slip/roll detector runs ([`crate::record::transitions`]).
+    /// slip/roll detector runs ([`crate::sim::slip_roll`]).
     pub slip_speed: Option<f64>,
 }
 

@@ -112,8 +112,10 @@ pub struct RunResult {
     pub wall_time_s: f64,
     /// Contact events in order of start (then apple, then other party); open ones have no end.
     pub events: Vec<ContactEvent>,
-    /// Final state per apple.
+    /// Final state per apple (layer order).
     pub apples: Vec<AppleFinal>,
+    /// Every apple of the run in layer order: name, material, radius, mass, where it came from.
+    pub roster: crate::world::Roster,
     /// Slip/roll transitions in order of time (empty when the detector is off).
     pub transitions: Vec<Transition>,
     /// The transitions section of the summary (`None` when the detector is off).
@@ -626,6 +628,7 @@ impl Simulation {
             wall_time_s,
             events,
             apples,
+            roster: std::mem::take(&mut self.world.roster),
             warnings,
         }
     }

@@ -10,7 +10,7 @@ use super::check::{Check, Criterion, Unit};
 use super::reference::{self, Eq12Sign, ImpactOutcome};
 use super::runs::{self, Executed, Run};
 use super::{write_chart, Chart, Figure, Table, ValidateError};
-use crate::analysis::apple_roster;
+use crate::world::Roster;
 use crate::contact::theory::{self, SlipToRoll};
 use crate::contact::Material;
 use crate::output::plot::{LineChart, Series};
@@ -223,8 +223,9 @@ fn impact(
         .iter()
         .find(|a| a.name == apple)
         .ok_or_else(|| shape(ex, format!("run {}: no apple '{apple}'", run.index)))?;
-    let mass_kg = apple_roster(sc)
-        .get(apple)
+    let mass_kg = Roster::resolve(sc)
+        .ok()
+        .and_then(|r| r.get(apple).cloned())
         .map(|a| a.mass_kg)
         .filter(|m| m.is_finite())
         .ok_or_else(|| shape(ex, format!("apple '{apple}' has no mass")))?;
@@ -1070,9 +1071,10 @@ fn roll(ex: &Executed, run: &Run, label: String) -> Result<RollRun, ValidateErro
     let r = spec.diameter_m / 2.0;
     // The lever of the closed form, R - u with u the resting sag under eq. 12 (physics.md
     // sections 3 and 6), from the materials and the mass alone, not from the run.
-    let mass_kg = apple_roster(sc)
-        .get(&spec.name)
-        .map_or(f64::NAN, |a| a.mass_kg);
+    let mass_kg = Roster::resolve(sc)
+        .ok()
+        .and_then(|r| r.get(&spec.name).map(|a| a.mass_kg))
+        .unwrap_or(f64::NAN);
     let k = reference::flat_stiffness(
         &material(ex, sc, &spec.material)?,
         &material(ex, sc, &plate)?,

@@ -81,6 +81,26 @@ impl Roster {
         self.apples.iter().map(|a| (a.name.as_str(), a)).collect()
     }
 
+    /// The roster a scenario's run will hold, resolved without building a world: its apples
+    /// present at t = 0, then its planned feeds (in planned order; a run lists fed-in apples in the
+    /// order they entered). For readers of a finished run's folder, which keeps no roster.
+    pub fn resolve(sc: &Scenario) -> Result<Self, ScenarioError> {
+        let p = plan(sc)?;
+        let density = |m: &str| sc.materials.get(m).and_then(|m| m.density_kg_m3);
+        let mut r = Self::default();
+        for (a, origin) in &p.initial {
+            r.push(entry(a, density(&a.material), *origin));
+        }
+        for (t, k, a) in &p.feeds {
+            let origin = Origin::Fed {
+                source: *k,
+                time_s: *t,
+            };
+            r.push(entry(a, density(&a.material), origin));
+        }
+        Ok(r)
+    }
+
     pub(super) fn push(&mut self, apple: RosterApple) {
         self.apples.push(apple);
     }

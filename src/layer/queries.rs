@@ -1,0 +1,157 @@
+//! What the layer can tell about its apples, surfaces and contacts: read-only queries of the
+//! facade, apart from the registration and the stepping in `mod.rs`.
+
+use super::{
+    AppleId, ContactEvent, ContactLayer, Names, OpenContact, Party, SlipSample, StepStats,
+    SurfaceId, SurfaceShape,
+};
+use crate::math::Vec3;
+
+impl ContactLayer {
+    /// Number of apples.
+    pub fn apple_count(&self) -> usize {
+        self.registry.apples.len()
+    }
+
+    /// Name of an apple.
+    pub fn apple_name(&self, id: AppleId) -> &str {
+        &self.registry.apples[id.0 as usize].name
+    }
+
+    /// Radius of an apple (m).
+    pub fn apple_radius(&self, id: AppleId) -> f64 {
+        self.registry.apples[id.0 as usize].radius
+    }
+
+    /// Mass of an apple (kg).
+    pub fn apple_mass(&self, id: AppleId) -> f64 {
+        self.registry.apples[id.0 as usize].mass
+    }
+
+    /// Number of surfaces.
+    pub fn surface_count(&self) -> usize {
+        self.registry.surfaces.len()
+    }
+
+    /// Name of a surface.
+    pub fn surface_name(&self, id: SurfaceId) -> &str {
+        &self.registry.surfaces[id.0 as usize].name
+    }
+
+    /// Name of a surface's material.
+    pub fn surface_material_name(&self, id: SurfaceId) -> &str {
+        let m = self.registry.surfaces[id.0 as usize].material;
+        self.registry.material_name(m)
+    }
+
+    /// How a surface's geometry is computed.
+    pub fn surface_shape(&self, id: SurfaceId) -> &SurfaceShape {
+        &self.registry.surfaces[id.0 as usize].shape
+    }
+
+    /// Who a contact is about (the names of an event's parties).
+    pub fn names(&self, i: u32, other: Party) -> Names {
+        self.registry.names(i, other)
+    }
+
+    /// Figures of the last step.
+    pub fn stats(&self) -> StepStats {
+        self.out.stats
+    }
+
+    /// Contacts that ended so far, in the order they ended.
+    pub fn finished_events(&self) -> &[ContactEvent] {
+        &self.out.finished
+    }
+
+    /// Takes the finished events out of the layer.
+    pub fn take_finished_events(&mut self) -> Vec<ContactEvent> {
+        std::mem::take(&mut self.out.finished)
+    }
+
+    /// The contacts still open, as events with no end (sorted by apple, then other party).
+    pub fn open_events(&self) -> Vec<ContactEvent> {
+        let mut out: Vec<ContactEvent> = self
+            .contacts
+            .iter()
+            .filter_map(|c| {
+                let o = c.record.as_ref()?;
+                Some(o.snapshot(self.registry.names(c.i, c.other)))
+            })
+            .collect();
+        out.sort_by(|x, y| {
+            (x.a_index, x.b_party.order(), x.t_start_s.to_bits()).cmp(&(
+                y.a_index,
+                y.b_party.order(),
+                y.t_start_s.to_bits(),
+            ))
+        });
+        out
+    }
+
+    /// Work done so far by the normal forces of the contacts still open (J): the energy the
+    /// contacts hold or have lost so far (see `OpenContact::work_so_far_j`).
+    pub fn open_contact_work_j(&self) -> f64 {
+        self.contacts
+            .iter()
+            .filter_map(|c| c.record.as_ref())
+            .map(OpenContact::work_so_far_j)
+            .sum()
+    }
+
+    /// Open contacts, sleepers' frozen ones included: (all, apple-apple).
+    pub fn contact_counts(&self) -> (usize, usize) {
+        self.contacts.iter().fold((0, 0), |(all, aa), c| {
+            (
+                all + 1,
+                aa + usize::from(matches!(c.other, Party::Apple(_))),
+            )
+        })
+    }
+
+    /// The slip of every contact evaluated at the last force pass, in a fixed order (needs
+    /// [`LayerConfig::record_slips`]). Contacts of sleeping apples are not evaluated.
+    pub fn slips(&self) -> &[SlipSample] {
+        &self.out.slips
+    }
+
+    /// Total contact force on an apple at the last step (N); for a sleeper, the force it carried
+    /// when it fell asleep (its contacts are frozen).
+    pub fn apple_contact_force(&self, id: AppleId) -> Vec3 {
+        let k = id.0 as usize;
+        if self.sleep.is_asleep(k) {
+            return self.sleep.sleep_force(k);
+        }
+        self.loads.force.get(k).copied().unwrap_or(Vec3::ZERO)
+    }
+
+    /// Contact torque on an apple at the last step (N m); zero for a sleeper.
+    pub fn apple_contact_torque(&self, id: AppleId) -> Vec3 {
+        let k = id.0 as usize;
+        if self.sleep.is_asleep(k) {
+            return Vec3::ZERO;
+        }
+        self.loads.torque.get(k).copied().unwrap_or(Vec3::ZERO)
+    }
+
+    /// Centre, velocity and angular velocity of an apple as the last force pass saw them.
+    pub fn apple_motion(&self, id: AppleId) -> (Vec3, Vec3, Vec3) {
+        let k = id.0 as usize;
+        (self.frame.pos[k], self.frame.vel[k], self.frame.angvel[k])
+    }
+
+    /// Whether an apple is asleep.
+    pub fn is_asleep(&self, id: AppleId) -> bool {
+        self.sleep.is_asleep(id.0 as usize)
+    }
+
+    /// Number of apples asleep now.
+    pub fn sleeping_count(&self) -> usize {
+        self.sleep.asleep_count()
+    }
+
+    /// Number of apples awake now.
+    pub fn awake_count(&self) -> usize {
+        self.registry.apples.len() - self.sleep.asleep_count()
+    }
+}
