@@ -13,7 +13,7 @@
 //! wrong and runs the slip/roll detector; what happened is kept in [`record`]s (contact events,
 //! time series, transitions); [`analysis`] says what it means for the fruit (pulse fit, bruise
 //! assessment) and [`output`] writes the run folder (summary, CSV, ParaView, charts). On top:
-//! [`batch`] (sweeps, shards, merge), [`validate`] (the paper's figures), [`bench`] (the cost of
+//! [`batch`] (sweeps, shards, merge), [`validate`] (the paper's figures), [`bench`](mod@bench) (the cost of
 //! a run) and the command line (a thin shell in `src/cli`).
 //!
 //! Code dependencies run one way, each module using only those listed before it: [`math`],

@@ -4,7 +4,7 @@
 //!
 //! Data flow: [`spec`] expands a spec into runs (each an expanded scenario with a stable
 //! [`id`]); [`runner`] runs this [`shard`]'s share of them into `OUT/runs/<id>/`, each folder
-//! appearing whole by a rename; [`merge`] reads `OUT/batch.json` and every run's
+//! appearing whole by a rename; [`merge`](mod@merge) reads `OUT/batch.json` and every run's
 //! `summary.json` into `OUT/merged.csv`.
 
 pub mod id;

@@ -101,7 +101,6 @@ pub use registry::{AppleId, MaterialId, SurfaceId};
 pub use surface::{SurfaceHit, SurfaceShape};
 
 use crate::contact::Material;
-use crate::math::Vec3;
 use crate::record::events::{ContactEvent, Names, OpenContact, Party};
 use clock::StepClock;
 use contacts::ContactStore;
@@ -149,11 +148,6 @@ impl ContactLayer {
     /// The configuration.
     pub fn config(&self) -> &LayerConfig {
         &self.config
-    }
-
-    /// Sets gravity (m/s^2), see [`LayerConfig::gravity`].
-    pub fn set_gravity(&mut self, gravity: Vec3) {
-        self.config.gravity = gravity;
     }
 
     /// The hooks to pass to rapier's `step`.

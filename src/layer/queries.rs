@@ -110,7 +110,7 @@ impl ContactLayer {
     }
 
     /// The slip of every contact evaluated at the last force pass, in a fixed order (needs
-    /// [`LayerConfig::record_slips`]). Contacts of sleeping apples are not evaluated.
+    /// [`super::LayerConfig::record_slips`]). Contacts of sleeping apples are not evaluated.
     pub fn slips(&self) -> &[SlipSample] {
         &self.out.slips
     }

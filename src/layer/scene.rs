@@ -156,8 +156,8 @@ impl SurfaceNow {
         (seen, rebuild)
     }
 
-    /// The hits of an apple (centre, radius) with this surface, keeping those with overlap
-    /// > -margin (see [`surface::surface_hits`]); planes without the shape dispatch
+    /// The hits of an apple (centre, radius) with this surface, keeping those whose overlap
+    /// exceeds -margin (see [`surface::surface_hits`]); planes without the shape dispatch
     /// ([`crate::contact::geometry::sphere_plane`]).
     pub fn hits(
         &self,

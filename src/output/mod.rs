@@ -300,18 +300,6 @@ impl SampleSink for BodiesCsv {
     }
 }
 
-/// Writes the result files of a finished run into `dir` (which must exist).
-pub fn write_results(dir: &Path, sc: &Scenario, r: &RunResult) -> std::io::Result<()> {
-    write_contacts(&dir.join("contacts.csv"), &r.events)?;
-    if r.transition_summary.is_some() {
-        write_transitions(&dir.join("transitions.csv"), &r.transitions)?;
-    }
-    write_scenario(&dir.join("scenario.json"), sc)?;
-    // The summary last: its presence marks a complete run.
-    write_summary(&dir.join("summary.json"), sc, r)?;
-    Ok(())
-}
-
 /// Writes `forces.csv`: every recorded force sample of every contact with a history, one row
 /// each ([`plot::FORCES_HEADER`]; `contact` is the row index in `contacts.csv`).
 pub fn write_forces(path: &Path, events: &[ContactEvent]) -> std::io::Result<()> {
