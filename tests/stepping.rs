@@ -150,11 +150,25 @@ fn the_guard_refuses_a_run_that_blows_up() {
 
 #[test]
 fn too_many_steps_are_refused() {
+    // A fixed step: the count is known, the run is refused before it starts (0.03 s in steps of
+    // 1e-5 s is 3000 steps).
     let mut sc = shipped("scenarios/drop_on_steel.json");
     sc.model.max_steps = 1000;
+    let err = Simulation::new(&sc, &repo("scenarios"))
+        .err()
+        .expect("refused before it starts");
+    let msg = err.to_string();
+    assert!(msg.contains("model.max_steps = 1000"), "{msg}");
+    assert!(msg.contains("3.000e3 steps"), "{msg}");
+    // Adaptive steps: the estimate (0.03 s in steps of at most 1 ms, 30) passes, the run takes
+    // more (the impact is resolved in 20 steps per contact time) and is stopped while running.
+    sc.time_step_s = TimeStep::Adaptive;
+    sc.output.sample_interval_s = 1e-3;
+    sc.model.max_steps = 35;
     let sim = Simulation::new(&sc, &repo("scenarios")).unwrap();
     let err = sim.run(&mut NoSamples, &mut |_| {}).unwrap_err();
-    assert!(err.to_string().contains("model.max_steps = 1000"), "{err}");
+    assert!(matches!(err, SimError::TooManySteps { .. }), "{err:?}");
+    assert!(err.to_string().contains("model.max_steps = 35"), "{err}");
 }
 
 /// Regression (adaptive steps): an apple dropped from rest lands after a few long free-flight

@@ -3,6 +3,7 @@
 //! Every field name carries its unit. Unknown fields are errors (a misspelt field must not be
 //! silently ignored), and every mistake is reported with the JSON path of the field at fault.
 
+pub mod budget;
 pub mod generators;
 pub mod stepping;
 pub mod surfaces;

@@ -209,8 +209,12 @@ struct EnergyGuard {
 impl Simulation {
     /// Builds the world of a validated scenario and plans its steps.
     pub fn new(sc: &Scenario, base_dir: &Path) -> Result<Self, SimError> {
+        // What the run will cost, before anything is built or stepped (refused with the estimate).
+        crate::scenario::budget::check_memory(sc, crate::scenario::budget::DEFAULT_MAX_MEMORY_MB)
+            .map_err(BuildError::from)?;
         let world = world::build(sc, base_dir)?;
         let plan = timestep::plan(sc, &world);
+        timestep::check_steps(sc, &world, &plan).map_err(BuildError::from)?;
         let v_bound = timestep::speed_bound(sc, &world).max(0.01);
         let belt_or_moving = sc.surfaces.iter().any(|s| {
             matches!(s, crate::scenario::SurfaceSpec::Conveyor(c) if c.belt_velocity_m_s != 0.0)

@@ -14,7 +14,7 @@
 use crate::contact::{material::effective_modulus, normal, theory, Material};
 use crate::layer::SurfaceId;
 use crate::math::{vec3, Vec3};
-use crate::scenario::{self, Fidelity, Scenario, SurfaceSpec, TimeStep};
+use crate::scenario::{self, Fidelity, Scenario, ScenarioError, SurfaceSpec, TimeStep};
 use crate::world::{sphere_mass, World};
 
 /// The stiffest contact the scene can produce.
@@ -247,4 +247,72 @@ pub fn plan(sc: &Scenario, world: &World) -> StepPlan {
             stiffest,
         },
     }
+}
+
+/// The number of steps a run of `sc` will take under `plan`, estimated before it starts: a fixed
+/// (or `auto`) step divides the duration; an adaptive run takes at least one largest step at a
+/// time, and resolves any impact in `steps_per_contact` steps (one impact at least, when anything
+/// can touch).
+pub fn estimated_steps(sc: &Scenario, world: &World, plan: &StepPlan) -> f64 {
+    match plan.policy {
+        Policy::Fixed(dt) => sc.duration_s / dt,
+        Policy::Adaptive {
+            steps_per_contact,
+            max_s,
+        } => {
+            let apples = world.roster.len() + sc.sources.iter().map(|s| s.count as usize).sum::<usize>();
+            let can_touch = apples >= 2 || (apples >= 1 && !sc.surfaces.is_empty());
+            (sc.duration_s / max_s).max(if can_touch { steps_per_contact } else { 0.0 })
+        }
+    }
+}
+
+/// Refuses a run whose estimated steps exceed `model.max_steps` before it starts, with the
+/// estimate and the field to change (a step of 1e-300 s would otherwise run for ever).
+pub fn check_steps(sc: &Scenario, world: &World, plan: &StepPlan) -> Result<(), ScenarioError> {
+    let steps = estimated_steps(sc, world, plan);
+    let max = sc.model.max_steps as f64;
+    if steps.is_nan() || steps > max {
+        let (field, how) = match (sc.time_step_s, plan.policy.clone()) {
+            // A step under 10 ns resolves nothing a fruit does: the step is the mistake.
+            (TimeStep::Fixed(dt), _) if dt >= 1e-8 => (
+                "duration_s",
+                format!("{} s of simulated time in steps of {dt:e} s", sc.duration_s),
+            ),
+            (TimeStep::Fixed(dt), _) => (
+                "time_step_s",
+                format!("{} s of simulated time in steps of {dt:e} s", sc.duration_s),
+            ),
+            (_, Policy::Fixed(dt)) if sc.steps_per_contact() > 1000.0 => (
+                "accuracy",
+                format!(
+                    "{} steps per contact make the `auto` step {dt:e} s",
+                    sc.steps_per_contact()
+                ),
+            ),
+            (_, Policy::Fixed(dt)) => (
+                "duration_s",
+                format!("{} s of simulated time in `auto` steps of {dt:e} s", sc.duration_s),
+            ),
+            (_, Policy::Adaptive { .. }) if sc.steps_per_contact() > 1000.0 => (
+                "accuracy",
+                format!("{} steps per contact for every impact", sc.steps_per_contact()),
+            ),
+            (_, Policy::Adaptive { max_s, .. }) => (
+                "duration_s",
+                format!(
+                    "{} s of simulated time in adaptive steps of at most {max_s:e} s",
+                    sc.duration_s
+                ),
+            ),
+        };
+        return Err(ScenarioError::invalid(
+            field,
+            format!(
+                "the run needs about {steps:.3e} steps ({how}), more than model.max_steps = {}; it is refused before it starts",
+                sc.model.max_steps
+            ),
+        ));
+    }
+    Ok(())
 }
