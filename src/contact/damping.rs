@@ -1,9 +1,12 @@
-//! Hysteretic energy loss, paper eq. 12 with the dissipative sign (physics.md section 3).
+//! Energy loss in the normal direction: the paper's eq. 12 with the dissipative sign
+//! (physics.md section 3), a variant of it whose resting contact carries the full Hertz force,
+//! and the viscoelastic Hertz damping of LIGGGHTS `model hertz` / EDEM Hertz-Mindlin
+//! ([`DampingModel`]; docs/physics.md section 11 compares them).
 //!
-//! P(u, du/dt) = P_hertz(u) [1 + ke + (1 - ke) tanh(lambda du/dt)] / 2, du/dt > 0 approaching.
-//! Loading follows the elastic curve, unloading the curve scaled by ke, so the stored energy comes
-//! back multiplied by ke and e -> sqrt(ke) when lambda v0 >> 1. The paper prints tanh(-lambda du/dt),
-//! which creates energy (e = 1/sqrt(ke), erratum 4); never use it.
+//! Eq. 12: P(u, du/dt) = P_hertz(u) [1 + ke + (1 - ke) tanh(lambda du/dt)] / 2, du/dt > 0
+//! approaching. Loading follows the elastic curve, unloading the curve scaled by ke, so the stored
+//! energy comes back multiplied by ke and e -> sqrt(ke) when lambda v0 >> 1. The paper prints
+//! tanh(-lambda du/dt), which creates energy (e = 1/sqrt(ke), erratum 4); never use it.
 
 /// The eq. 12 factor multiplying the Hertz force. Lies in [min(ke,1), max(ke,1)], never negative.
 ///
@@ -113,6 +116,78 @@ pub fn step_mean_tanh(lambda_s_m: f64, s1: f64, s2: f64) -> f64 {
         return (lambda_s_m * 0.5 * (s1 + s2)).tanh();
     }
     ln_cosh_difference(x1, x2) / d
+}
+
+/// Which normal energy-loss sub-model a pair of materials uses.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum DampingModel {
+    /// The paper's eq. 12 (ke, lambda). At rest it carries (1 + ke) / 2 of the Hertz force.
+    #[default]
+    Eq12,
+    /// Eq. 12 loading on the elastic curve and unloading on the ke curve, with the rate part only
+    /// while unloading: P = H [1 - (1 - ke) tanh(lambda max(-du/dt, 0))]. The same restitution
+    /// sqrt(ke) when lambda v0 >> 1, and the full Hertz force at rest (a resting apple sags as
+    /// elastic Hertz says, (m g / k)^(2/3)).
+    Eq12ElasticRest,
+    /// Viscoelastic Hertz (LIGGGHTS `model hertz`, EDEM Hertz-Mindlin): P = k u^(3/2) + c du/dt
+    /// with c = 2 sqrt(5/6) |beta| sqrt(2 E* sqrt(R* u) m*), beta = ln e / sqrt(ln^2 e + pi^2),
+    /// e the coefficient of restitution given; never pulling (LIGGGHTS `limitForce on`).
+    Viscoelastic,
+}
+
+/// sqrt(5/6), the factor of LIGGGHTS's (and Tsuji's) Hertzian damping coefficient.
+pub const SQRT_FIVE_SIXTHS: f64 = 0.912_870_929_175_276_9;
+
+/// LIGGGHTS's damping ratio of a coefficient of restitution `e` in (0, 1]:
+/// beta = ln e / sqrt(ln^2 e + pi^2) (<= 0; 0 when elastic).
+pub fn beta_of_restitution(e: f64) -> f64 {
+    let l = e.ln();
+    l / (l * l + std::f64::consts::PI * std::f64::consts::PI).sqrt()
+}
+
+/// The damping coefficient of LIGGGHTS's viscoelastic Hertz at overlap `u`:
+/// c = -2 sqrt(5/6) beta sqrt(S_n m*), S_n = 2 E* sqrt(R* u) (N s/m). `sqrt_r_star_u` is
+/// sqrt(R* u), the contact radius.
+#[inline]
+pub fn viscoelastic_coefficient(beta: f64, e_star_pa: f64, sqrt_r_star_u: f64, m_eff: f64) -> f64 {
+    -2.0 * SQRT_FIVE_SIXTHS * beta * (2.0 * e_star_pa * sqrt_r_star_u * m_eff).sqrt()
+}
+
+/// The viscoelastic Hertz normal force: elastic `hertz_n` plus `coefficient` du/dt, never
+/// negative.
+#[inline]
+pub fn viscoelastic_force(hertz_n: f64, coefficient: f64, du_dt_m_s: f64) -> f64 {
+    (hertz_n + coefficient * du_dt_m_s).max(0.0)
+}
+
+/// The normal force of [`DampingModel::Eq12ElasticRest`] for an elastic Hertz force `hertz_n`:
+/// H [1 - (1 - ke) g], g the mean over the step of tanh(lambda max(-du/dt, 0)) (see
+/// [`step_mean_tanh`]); the rate part, which only lowers the force while unloading, is bounded by
+/// `kill_rate` |du/dt| for resting contacts as in [`hysteresis_force`]. Lies in [ke H, H].
+#[inline]
+pub fn elastic_rest_force(
+    hertz_n: f64,
+    ke: f64,
+    lambda_s_m: f64,
+    du_dt_m_s: f64,
+    du_dt_next_m_s: f64,
+    kill_rate: f64,
+) -> f64 {
+    if ke == 1.0 || (du_dt_m_s >= 0.0 && du_dt_next_m_s >= 0.0) {
+        return hertz_n;
+    }
+    let amplitude = (1.0 - ke) * hertz_n;
+    // Mean of tanh(lambda min(s, 0)) while s moves linearly from s1 to s2: the unloading part of
+    // the step only (the antiderivative ln cosh(lambda min(s, 0)) / lambda is flat for s > 0).
+    let (s1, s2) = (du_dt_m_s.min(0.0), du_dt_next_m_s.min(0.0));
+    let d = lambda_s_m * (du_dt_next_m_s - du_dt_m_s);
+    let mean = if d.abs() < 0.05 {
+        (lambda_s_m * 0.5 * (du_dt_m_s + du_dt_next_m_s).min(0.0)).tanh()
+    } else {
+        ln_cosh_difference(lambda_s_m * s1, lambda_s_m * s2) / d
+    };
+    let rate_part = (amplitude * mean).max(-kill_rate * du_dt_m_s.abs());
+    (hertz_n + rate_part).max(0.0)
 }
 
 /// Restitution in the limit lambda v0 >> 1: e = sqrt(ke).

@@ -119,6 +119,60 @@ pub fn tangential_force(
     }
 }
 
+/// Which tangential sub-model a pair of materials uses.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum TangentialModel {
+    /// The Mindlin stick spring with a bounded dashpot and the Coulomb cap of
+    /// [`tangential_force`] (applesim's own, tuned for the slip-to-roll closed forms).
+    #[default]
+    Mindlin,
+    /// LIGGGHTS `tangential history`: the same spring k_t = 8 G* a; its history loses its normal
+    /// part as the normal turns; above the Coulomb cap the spring is rescaled to the cap (no
+    /// dashpot while sliding); below it a viscous damping -gamma_t s_t with
+    /// gamma_t = -2 sqrt(5/6) beta sqrt(k_t m*) (see [`history_force`]).
+    History,
+}
+
+/// LIGGGHTS's `tangential history` force on body 1 (tangential_model_history.h): `xi` += s_t dt,
+/// less its normal part; F = -k_t xi; if |F| > mu |P| the force (and the history) is rescaled to
+/// mu |P| (sliding), else the damping -gamma_t s_t is added. `normal_force_n` is the whole normal
+/// force (damping included), as in LIGGGHTS.
+#[inline]
+pub fn history_force(
+    mu: f64,
+    stiffness_n_m: f64,
+    gamma_t: f64,
+    normal_force_n: f64,
+    slip_t: Vec3,
+    n: Vec3,
+    xi: &mut Vec3,
+    dt_s: f64,
+) -> TangentialForce {
+    *xi += slip_t * dt_s;
+    *xi -= n * xi.dot(n);
+    let mut force = -(*xi * stiffness_n_m);
+    let shear = stiffness_n_m * xi.length();
+    let cap = mu * normal_force_n.abs();
+    if shear > cap {
+        if shear > 0.0 {
+            force *= cap / shear;
+            *xi = if stiffness_n_m > 0.0 {
+                -(force / stiffness_n_m)
+            } else {
+                Vec3::ZERO
+            };
+        }
+        return TangentialForce {
+            force,
+            sliding: true,
+        };
+    }
+    TangentialForce {
+        force: force - slip_t * gamma_t,
+        sliding: false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -202,5 +256,25 @@ mod tests {
         let p = project_history(xi, n);
         assert!((p.length() - 5.0).abs() < 1e-12);
         assert!(p.dot(n).abs() < 1e-12);
+    }
+
+    #[test]
+    fn liggghts_history_rescales_and_damps_only_while_sticking() {
+        let n = Vec3::Z;
+        let mut xi = Vec3::ZERO;
+        // Sticking: spring plus damping.
+        let f = history_force(0.5, 1e4, 20.0, 10.0, Vec3::new(0.1, 0.0, 0.0), n, &mut xi, 1e-4);
+        assert!(!f.sliding);
+        assert!((f.force.x - (-1e4 * 1e-5 - 20.0 * 0.1)).abs() < 1e-12);
+        // Sliding: the spring alone rescaled to mu |P|, the history with it.
+        let mut xi = Vec3::new(1.0, 0.0, 0.0);
+        let f = history_force(0.5, 1e4, 20.0, -10.0, Vec3::new(0.1, 0.0, 0.0), n, &mut xi, 1e-4);
+        assert!(f.sliding);
+        assert!((f.force.x + 5.0).abs() < 1e-12);
+        assert!((xi.x - 5e-4).abs() < 1e-15);
+        // The history loses its normal part.
+        let mut xi = Vec3::new(0.0, 0.0, 1e-6);
+        history_force(0.5, 1e4, 0.0, 10.0, Vec3::ZERO, n, &mut xi, 1e-4);
+        assert_eq!(xi, Vec3::ZERO);
     }
 }

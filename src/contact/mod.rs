@@ -1,19 +1,57 @@
 //! The contact law: pure functions of overlap, rates and materials, no rapier.
 //!
 //! Split like LAMMPS's GRANULAR package, each part small and unit-tested against closed forms:
-//! [`material`] (eq. 2), [`normal`] (Hertz, eqs. 1 and 3), [`damping`] (eq. 12, dissipative sign),
-//! [`friction`] (eq. 11 with a Mindlin stick spring), [`geometry`] (overlaps, eq. 8) and
-//! [`theory`] (closed forms of physics.md). [`evaluate`] combines them for one contact.
+//! [`material`] (eq. 2), [`normal`] (Hertz, eqs. 1 and 3), [`damping`] (eq. 12 with the
+//! dissipative sign, its elastic-at-rest variant, viscoelastic Hertz), [`friction`] (eq. 11 with a
+//! Mindlin stick spring, or LIGGGHTS's tangential history), [`rolling`] (rolling resistance),
+//! [`geometry`] (overlaps, eq. 8) and [`theory`] (closed forms of physics.md). Like LAMMPS, the
+//! sub-models are chosen per pair of materials ([`SubModels`]). [`evaluate`] combines them for
+//! one contact; the rolling torque is computed beside it ([`rolling_torque`]).
 
 pub mod damping;
 pub mod friction;
 pub mod geometry;
 pub mod material;
 pub mod normal;
+pub mod rolling;
 pub mod theory;
 
 use crate::math::Vec3;
+pub use damping::DampingModel;
+pub use friction::TangentialModel;
 pub use material::{Material, MaterialError};
+pub use rolling::RollingModel;
+
+/// The sub-models of a pair of materials beyond friction, ke and lambda (docs/physics.md
+/// section 11). The default is the paper's model: eq. 12, the Mindlin spring, no rolling
+/// resistance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SubModels {
+    /// Normal energy loss.
+    pub damping: DampingModel,
+    /// Coefficient of restitution of [`DampingModel::Viscoelastic`] (and of the damping of
+    /// [`TangentialModel::History`]); with the eq. 12 models the tangential damping takes
+    /// e = sqrt(ke).
+    pub restitution: f64,
+    /// Tangential force.
+    pub tangential: TangentialModel,
+    /// Rolling resistance.
+    pub rolling: RollingModel,
+    /// Coefficient of rolling friction mu_r (the torque's lever over R*).
+    pub rolling_friction: f64,
+}
+
+impl Default for SubModels {
+    fn default() -> Self {
+        Self {
+            damping: DampingModel::Eq12,
+            restitution: f64::NAN,
+            tangential: TangentialModel::Mindlin,
+            rolling: RollingModel::None,
+            rolling_friction: 0.0,
+        }
+    }
+}
 
 /// Which parts of the law are on (the fidelity levels of the scenario, see `docs/accuracy.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -55,6 +93,11 @@ pub struct PairLaw {
     pub nu1: f64,
     /// Body 1's shear modulus (eq. 9 patch shift), Pa.
     pub g1_pa: f64,
+    /// The pair's sub-models.
+    pub models: SubModels,
+    /// LIGGGHTS's damping ratio beta = ln e / sqrt(ln^2 e + pi^2) of the pair's restitution (the
+    /// viscoelastic and history dampings).
+    pub beta: f64,
 }
 
 impl PairLaw {
@@ -69,7 +112,21 @@ impl PairLaw {
             lambda_s_m,
             nu1: m1.poisson_ratio,
             g1_pa: m1.shear_modulus_pa,
+            models: SubModels::default(),
+            beta: damping::beta_of_restitution(ke.sqrt()),
         }
+    }
+
+    /// The same law with other sub-models.
+    pub fn with_models(mut self, models: SubModels) -> Self {
+        let e = match models.damping {
+            DampingModel::Viscoelastic => models.restitution,
+            _ if models.restitution.is_finite() => models.restitution,
+            _ => self.ke.sqrt(),
+        };
+        self.beta = damping::beta_of_restitution(e);
+        self.models = models;
+        self
     }
 }
 
@@ -89,6 +146,9 @@ pub struct ContactConstants {
     pub inv_normal_mass: f64,
     /// Tangential effective mass of the contact (kg), for the friction dashpot.
     pub tangential_mass_kg: f64,
+    /// Effective moment of inertia of the relative rolling, 1 / (1/I1 + 1/I2) (kg m^2), for the
+    /// bound of the constant rolling torque (0 until set).
+    pub rolling_inertia_kg_m2: f64,
 }
 
 impl ContactConstants {
@@ -102,6 +162,7 @@ impl ContactConstants {
             normal_mass_kg,
             inv_normal_mass: 1.0 / normal_mass_kg,
             tangential_mass_kg,
+            rolling_inertia_kg_m2: 0.0,
         }
     }
 }
@@ -145,6 +206,8 @@ pub struct ContactResponse {
     pub sliding: bool,
     /// Elastic energy 2/5 k u^(5/2) of the overlap (J).
     pub elastic_energy_j: f64,
+    /// The elastic (Hertz) part k u^(3/2) of the normal force (N).
+    pub hertz_force_n: f64,
 }
 
 /// Evaluates the full law for one contact. `xi` is the contact's stored tangential displacement;
@@ -168,6 +231,7 @@ pub fn evaluate(
     let du_dt = -v_n;
     // sqrt(u) serves the Hertz force k u^(3/2), the contact radius sqrt(R*) sqrt(u) and the energy.
     let (elastic, sqrt_u) = normal::hertz_force_and_root(k.stiffness, u);
+    let a = k.sqrt_r_star * sqrt_u;
     let p = if parts.energy_loss {
         // The normal bound uses twice the tangential share: it stops the relative normal motion
         // within one step (the friction dashpot within two), still stable shared among contacts.
@@ -176,27 +240,58 @@ pub fn evaluate(
         } else {
             f64::INFINITY
         };
-        // The rate at the end of the step, from the contact's own mean force (the static part of
-        // eq. 12) decelerating the approach: the factor is averaged over the step.
-        let decel = 0.5 * (1.0 + law.ke) * elastic * k.inv_normal_mass;
-        let du_dt_next = du_dt - decel * dt_s;
-        damping::hysteresis_force(elastic, law.ke, law.lambda_s_m, du_dt, du_dt_next, kill)
+        match law.models.damping {
+            DampingModel::Eq12 => {
+                // The rate at the end of the step, from the contact's own mean force (the static
+                // part of eq. 12) decelerating the approach: the factor is averaged over the step.
+                let decel = 0.5 * (1.0 + law.ke) * elastic * k.inv_normal_mass;
+                let du_dt_next = du_dt - decel * dt_s;
+                damping::hysteresis_force(elastic, law.ke, law.lambda_s_m, du_dt, du_dt_next, kill)
+            }
+            DampingModel::Eq12ElasticRest => {
+                let du_dt_next = du_dt - elastic * k.inv_normal_mass * dt_s;
+                damping::elastic_rest_force(
+                    elastic,
+                    law.ke,
+                    law.lambda_s_m,
+                    du_dt,
+                    du_dt_next,
+                    kill,
+                )
+            }
+            DampingModel::Viscoelastic => {
+                let c =
+                    damping::viscoelastic_coefficient(law.beta, law.e_star_pa, a, k.normal_mass_kg);
+                damping::viscoelastic_force(elastic, c, du_dt)
+            }
+        }
     } else {
         elastic
     };
-    let a = k.sqrt_r_star * sqrt_u;
     let slip_t = kin.rel_velocity - n * v_n;
     let mut friction_force = Vec3::ZERO;
     let mut sliding = false;
     let mut shift = Vec3::ZERO;
     if parts.friction && law.friction > 0.0 {
-        *xi = friction::project_history(*xi, n);
-        let params = friction::TangentialParams {
-            mu: law.friction,
-            stiffness_n_m: friction::mindlin_stiffness(law.g_star_pa, a),
-            damping_n_s_m: kill_rate * k.tangential_mass_kg,
+        let stiffness_n_m = friction::mindlin_stiffness(law.g_star_pa, a);
+        let t = match law.models.tangential {
+            TangentialModel::Mindlin => {
+                *xi = friction::project_history(*xi, n);
+                let params = friction::TangentialParams {
+                    mu: law.friction,
+                    stiffness_n_m,
+                    damping_n_s_m: kill_rate * k.tangential_mass_kg,
+                };
+                friction::tangential_force(&params, p, slip_t, xi, dt_s)
+            }
+            TangentialModel::History => {
+                let gamma_t = -2.0
+                    * damping::SQRT_FIVE_SIXTHS
+                    * law.beta
+                    * (stiffness_n_m * k.normal_mass_kg).sqrt();
+                friction::history_force(law.friction, stiffness_n_m, gamma_t, p, slip_t, n, xi, dt_s)
+            }
         };
-        let t = friction::tangential_force(&params, p, slip_t, xi, dt_s);
         friction_force = t.force;
         sliding = t.sliding;
         if parts.patch_shift && a > 0.0 {
@@ -217,6 +312,43 @@ pub fn evaluate(
         slip_velocity: slip_t,
         sliding,
         elastic_energy_j: 0.4 * elastic * u,
+        hertz_force_n: elastic,
+    }
+}
+
+/// The rolling-resistance torque on body 1 of a contact (see [`rolling`]); body 2 gets the
+/// opposite. `rel_angular_velocity` is w1 - w2, `resp` the contact's response this step, `spring`
+/// the contact's stored `epsd2` torque, `kill_rate` the share of 1/dt that bounds the `cdt` torque
+/// (as for the friction dashpot).
+#[inline]
+pub fn rolling_torque(
+    law: &PairLaw,
+    k: &ContactConstants,
+    n: Vec3,
+    rel_angular_velocity: Vec3,
+    resp: &ContactResponse,
+    spring: &mut Vec3,
+    kill_rate: f64,
+    dt_s: f64,
+) -> Vec3 {
+    let mu_r = law.models.rolling_friction;
+    let w_t = rolling::rolling_velocity(rel_angular_velocity, n);
+    match law.models.rolling {
+        RollingModel::None => Vec3::ZERO,
+        RollingModel::ConstantTorque => rolling::constant_torque(
+            mu_r,
+            k.r_star_m,
+            resp.hertz_force_n,
+            w_t,
+            kill_rate * k.rolling_inertia_kg_m2,
+        ),
+        RollingModel::ElasticPlastic => {
+            // k_r = k_t R*^2 with k_t = 8 G* a (LIGGGHTS epsd2).
+            let k_r = friction::mindlin_stiffness(law.g_star_pa, resp.contact_radius_m)
+                * k.r_star_m
+                * k.r_star_m;
+            rolling::elastic_plastic(mu_r, k.r_star_m, resp.normal_force_n, k_r, w_t, n, spring, dt_s)
+        }
     }
 }
 

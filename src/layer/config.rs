@@ -1,7 +1,7 @@
 //! The layer's settings, fixed when it is built: which parts of the law are on, the stability
 //! guard, sleeping, step control, and the registration options of a surface.
 
-use crate::contact::LawParts;
+use crate::contact::{LawParts, SubModels};
 use crate::math::Vec3;
 use rapier3d_f64::geometry::Group;
 
@@ -177,4 +177,18 @@ pub struct Coefficients {
     pub ke: f64,
     /// Eq. 12 lambda (s/m).
     pub lambda_s_m: f64,
+    /// Damping, tangential and rolling sub-models and their coefficients (default: the paper's).
+    pub models: SubModels,
+}
+
+impl Coefficients {
+    /// The paper's model with these friction, ke and lambda.
+    pub fn paper(friction: f64, ke: f64, lambda_s_m: f64) -> Self {
+        Self {
+            friction,
+            ke,
+            lambda_s_m,
+            models: SubModels::default(),
+        }
+    }
 }

@@ -33,6 +33,8 @@ pub struct Contact {
     pub curvature2: f64,
     /// Stored tangential displacement of the Mindlin stick spring (see `contact::friction`).
     pub xi: Vec3,
+    /// Stored torque of the `epsd2` rolling spring on apple `i` (see `contact::rolling`).
+    pub rolling: Vec3,
     /// Overlap at the last detection (for the wake rule of a sleeper's contacts).
     pub last_u: f64,
     /// Overlap when one of the two fell asleep (NaN while both are awake).
@@ -63,6 +65,7 @@ impl Contact {
             overlap_m: 0.0,
             curvature2: 0.0,
             xi: Vec3::ZERO,
+            rolling: Vec3::ZERO,
             last_u: 0.0,
             ref_u: f64::NAN,
             record: None,
@@ -73,6 +76,7 @@ impl Contact {
                 normal_mass_kg: 0.0,
                 inv_normal_mass: 0.0,
                 tangential_mass_kg: 0.0,
+                rolling_inertia_kg_m2: 0.0,
             },
             consts_curvature: f64::NAN,
             resting_from_s: f64::NAN,

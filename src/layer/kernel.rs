@@ -41,6 +41,8 @@ pub(super) struct ContactOut {
     elastic_energy_j: f64,
     /// Overlap over the smaller radius.
     overlap_ratio: f64,
+    /// Rolling-resistance torque on apple `i` (N m); the other body gets the opposite.
+    torque: Vec3,
 }
 
 /// Everything one contact's evaluation reads (all of it shared, none of it written): the
@@ -128,6 +130,17 @@ impl Ctx<'_> {
             None => self.config.tangential_relaxation / (f64::from(shared) * self.dt_s),
         };
         let resp = contact::evaluate(law, self.config.parts, &k, &kin, &mut c.xi, kill_rate, self.dt_s);
+        // Rolling resistance (a pure couple), only for the pairs that have it.
+        let torque = if law.models.rolling == contact::RollingModel::None {
+            Vec3::ZERO
+        } else {
+            let w2 = match c.other {
+                Party::Apple(j) => self.frame.angvel[j as usize],
+                Party::Surface(s) => self.surf_now[s as usize].ang,
+            };
+            let w_rel = self.frame.angvel[i] - w2;
+            contact::rolling_torque(law, &k, n, w_rel, &resp, &mut c.rolling, kill_rate, self.dt_s)
+        };
         if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
             return Err(Box::new(LayerError::NonFinite {
                 body: ai.name.to_string(),
@@ -192,6 +205,7 @@ impl Ctx<'_> {
             },
             elastic_energy_j: resp.elastic_energy_j,
             overlap_ratio: ratio,
+            torque,
         })
     }
 
@@ -200,7 +214,7 @@ impl Ctx<'_> {
         let i = c.i as usize;
         let ai = &self.registry.apples[i];
         let ri = self.frame.radius[i];
-        let (m2, inv_t2, inv_n2, r_min) = match c.other {
+        let (m2, inv_t2, inv_n2, r_min, inv_i2) = match c.other {
             Party::Apple(j) => {
                 let aj = &self.registry.apples[j as usize];
                 (
@@ -208,11 +222,12 @@ impl Ctx<'_> {
                     aj.inv_tangential_mass,
                     1.0 / aj.mass,
                     ri.min(self.frame.radius[j as usize]),
+                    1.0 / aj.inertia,
                 )
             }
             Party::Surface(s) => {
                 let inv = self.surf_now[s as usize].inv_mass;
-                (self.registry.surfaces[s as usize].material, inv, inv, ri)
+                (self.registry.surfaces[s as usize].material, inv, inv, ri, 0.0)
             }
         };
         let Some(r_star) = contact::normal::effective_radius(1.0 / ri, c.curvature2) else {
@@ -234,6 +249,7 @@ impl Ctx<'_> {
             1.0 / (1.0 / ai.mass + inv_n2),
             1.0 / (ai.inv_tangential_mass + inv_t2),
         );
+        c.consts.rolling_inertia_kg_m2 = 1.0 / (1.0 / ai.inertia + inv_i2);
         c.consts_curvature = c.curvature2;
         c.inv_r_min = 1.0 / r_min;
         Ok(())
@@ -303,6 +319,13 @@ impl Ctx<'_> {
             loads.kicked_force[ii] += fk;
             loads.kicked_torque[ii] += arm_i.cross(fk);
         }
+        let couple = o.torque != Vec3::ZERO;
+        if couple {
+            loads.torque[ii] += o.torque;
+            if control {
+                loads.kicked_torque[ii] += o.torque * o.kick;
+            }
+        }
         match other {
             Party::Apple(j) => {
                 let j = j as usize;
@@ -319,6 +342,12 @@ impl Ctx<'_> {
                 if control {
                     loads.kicked_force[j] -= fk;
                     loads.kicked_torque[j] -= arm_j.cross(fk);
+                }
+                if couple {
+                    loads.torque[j] -= o.torque;
+                    if control {
+                        loads.kicked_torque[j] -= o.torque * o.kick;
+                    }
                 }
             }
             Party::Surface(s) => {

@@ -164,11 +164,13 @@ impl ContactLayer {
 
     /// Friction, ke and lambda for every pair without its own setting.
     pub fn set_default_coefficients(&mut self, friction: f64, ke: f64, lambda_s_m: f64) {
-        self.registry.set_default_coefficients(Coefficients {
-            friction,
-            ke,
-            lambda_s_m,
-        });
+        self.registry
+            .set_default_coefficients(Coefficients::paper(friction, ke, lambda_s_m));
+    }
+
+    /// The coefficients and sub-models of every pair without its own setting.
+    pub fn set_default_pair_law(&mut self, c: Coefficients) {
+        self.registry.set_default_coefficients(c);
     }
 
     /// Friction, ke and lambda for one pair of materials (either order).

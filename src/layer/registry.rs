@@ -44,6 +44,8 @@ pub(super) struct AppleEntry {
     pub mass: f64,
     /// 1/m + r^2/I: inverse mass of the surface point in a tangential direction.
     pub inv_tangential_mass: f64,
+    /// Moment of inertia about the centre (kg m^2).
+    pub inertia: f64,
 }
 
 /// A surface as the layer knows it.
@@ -78,11 +80,7 @@ impl Registry {
     pub fn new() -> Self {
         Self {
             materials: Vec::new(),
-            default_coeffs: Coefficients {
-                friction: 0.0,
-                ke: 1.0,
-                lambda_s_m: 0.0,
-            },
+            default_coeffs: Coefficients::paper(0.0, 1.0, 0.0),
             pair_coeffs: HashMap::new(),
             laws: Vec::new(),
             laws_dirty: true,
@@ -130,13 +128,16 @@ impl Registry {
         for a in 0..n {
             for b in 0..n {
                 let c = self.coefficients(MaterialId(a as u16), MaterialId(b as u16));
-                self.laws.push(PairLaw::new(
-                    &self.materials[a].1,
-                    &self.materials[b].1,
-                    c.friction,
-                    c.ke,
-                    c.lambda_s_m,
-                ));
+                self.laws.push(
+                    PairLaw::new(
+                        &self.materials[a].1,
+                        &self.materials[b].1,
+                        c.friction,
+                        c.ke,
+                        c.lambda_s_m,
+                    )
+                    .with_models(c.models),
+                );
             }
         }
         self.laws_dirty = false;
@@ -202,6 +203,7 @@ impl Registry {
             material,
             mass,
             inv_tangential_mass: 1.0 / mass + radius * radius / inertia,
+            inertia,
         });
         self.hooks.set(collider, Role::Apple, id.0);
         Ok(id)
@@ -246,6 +248,7 @@ impl Registry {
             material,
             mass,
             inv_tangential_mass: 1.0 / mass + radius_m * radius_m / inertia,
+            inertia,
         }))
     }
 

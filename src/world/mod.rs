@@ -142,11 +142,11 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         layer.set_pair_coefficients(
             a,
             b,
-            Coefficients {
-                friction: p.friction.unwrap_or(sc.contact.friction),
-                ke: p.ke.unwrap_or(sc.contact.ke),
-                lambda_s_m: p.lambda_s_m.unwrap_or(sc.contact.lambda_s_m),
-            },
+            Coefficients::paper(
+                p.friction.unwrap_or(sc.contact.friction),
+                p.ke.unwrap_or(sc.contact.ke),
+                p.lambda_s_m.unwrap_or(sc.contact.lambda_s_m),
+            ),
         );
     }
     let mut world = World {
