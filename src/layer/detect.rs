@@ -10,7 +10,7 @@
 //! seen this step); what it finds goes into the contact slab, the frame's contact counts, the
 //! finished events and the step statistics, which it borrows for the pass ([`Parts`]).
 
-use super::adaptive::{limit_in_contact, time_to_touch};
+use super::adaptive::{limit_in_contact, stick_half_period, time_to_touch};
 use super::clock::{StepClock, StepLimit};
 use super::config::LayerConfig;
 use super::contacts::{Contact, ContactStore};
@@ -168,6 +168,7 @@ impl Detection {
         let gravity = cx.config.gravity;
         let horizon = cx.clock.horizon_s;
         let energy_loss = cx.config.parts.energy_loss;
+        let friction = cx.config.parts.friction;
         let (registry, frame) = (cx.registry, &mut *cx.frame);
         let apples = &registry.apples;
         let epoch = self.epoch;
@@ -251,7 +252,14 @@ impl Detection {
                         slot => cx.contacts.get_mut(slot).record.as_mut(),
                     };
                     let ke = if energy_loss { law.ke } else { 1.0 };
-                    let lim = limit_in_contact(&c, record, m_n, k_n, u, rate, ke, time_s);
+                    let t_stick = if friction && law.friction > 0.0 {
+                        let m_t = 1.0
+                            / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
+                        stick_half_period(law.g_star_pa, r_star, u, m_t)
+                    } else {
+                        f64::INFINITY
+                    };
+                    let lim = limit_in_contact(&c, record, m_n, k_n, u, rate, ke, time_s, t_stick);
                     cx.out.stats.limit(lim.0, lim.1);
                 }
             }
@@ -302,6 +310,7 @@ impl Detection {
         let horizon = cx.clock.horizon_s;
         let ahead = control.map_or(dt_s, |_| horizon.max(dt_s));
         let energy_loss = cx.config.parts.energy_loss;
+        let friction = cx.config.parts.friction;
         let registry = cx.registry;
         let epoch = self.epoch;
         let mut touching = 0;
@@ -384,6 +393,12 @@ impl Detection {
                             let record =
                                 best.and_then(|(k, _)| cx.contacts.get_mut(k).record.as_mut());
                             let ke = if energy_loss { law.ke } else { 1.0 };
+                            let t_stick = if friction && law.friction > 0.0 {
+                                let m_t = 1.0 / registry.apples[a].inv_tangential_mass;
+                                stick_half_period(law.g_star_pa, r_star, hit.overlap_m, m_t)
+                            } else {
+                                f64::INFINITY
+                            };
                             let lim = limit_in_contact(
                                 &c,
                                 record,
@@ -393,6 +408,7 @@ impl Detection {
                                 rate,
                                 ke,
                                 time_s,
+                                t_stick,
                             );
                             cx.out.stats.limit(lim.0, lim.1);
                         }
