@@ -11,9 +11,9 @@ use super::reference::{self, Eq12Sign, ImpactOutcome};
 use super::runs::{self, Executed, Run};
 use super::{write_chart, Chart, Figure, Table, ValidateError};
 use crate::analysis::apple_roster;
+use crate::chart::{LineChart, Series};
 use crate::contact::theory::{self, SlipToRoll};
 use crate::contact::Material;
-use crate::output::plot::{LineChart, Series};
 use crate::scenario::{AppleSpec, Scenario, SurfaceSpec};
 use std::path::PathBuf;
 

@@ -20,8 +20,9 @@ pub mod reference;
 pub mod report;
 pub mod runs;
 
+use crate::chart::{ChartError, LineChart};
 use crate::output::atomic;
-use crate::output::plot::{LineChart, PlotError};
+use crate::output::plot::PlotError;
 use check::Check;
 use std::path::{Path, PathBuf};
 
@@ -39,9 +40,12 @@ pub enum ValidateError {
         /// What was wrong.
         message: String,
     },
-    /// A chart could not be read or drawn.
+    /// A run's curves could not be read back for a chart.
     #[error(transparent)]
     Plot(#[from] PlotError),
+    /// A chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
     /// A report file could not be written.
     #[error("writing {path}: {source}")]
     Io {
