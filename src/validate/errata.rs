@@ -3,10 +3,8 @@
 
 use super::check::Check;
 use super::figures::{self, Context, ImpactRun};
-use super::reference::{self, Eq12Sign, FIG1_QUOTED};
+use super::reference::{self, Elastic, Eq12Sign, FIG1_QUOTED};
 use super::{Chart, Figure, Table, ValidateError};
-use crate::contact::theory;
-use crate::contact::Material;
 
 /// One inconsistency of the paper and what our numbers say about it.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,17 +28,17 @@ pub struct Erratum {
 const G_M_S2: f64 = 9.81;
 const FIG1_MASS_KG: f64 = 0.107;
 
-fn steel() -> Material {
-    Material::from_shear(8.1e10, 0.28, None).expect("valid constants")
+fn steel() -> Elastic {
+    Elastic::from_shear(8.1e10, 0.28)
 }
 
-fn apple(g_pa: f64) -> Material {
-    Material::from_shear(g_pa, 0.18, None).expect("valid constants")
+fn apple(g_pa: f64) -> Elastic {
+    Elastic::from_shear(g_pa, 0.18)
 }
 
 /// k of the Fig. 1 apple (D 80 mm, nu 0.18) of shear modulus `g_pa` on steel.
 fn fig1_stiffness(g_pa: f64) -> f64 {
-    reference::flat_stiffness(&apple(g_pa), &steel(), 0.04)
+    reference::flat_stiffness(apple(g_pa), steel(), 0.04)
 }
 
 fn row(cells: Vec<String>) -> Vec<String> {
@@ -252,7 +250,7 @@ pub fn errata(ctx: &mut Context, figs: &[Figure]) -> Result<Vec<Erratum>, Valida
         .iter()
         .map(|&d: &f64| {
             let m = FIG1_MASS_KG * (d / 0.08).powi(3);
-            let k = reference::flat_stiffness(&apple(1.1e6), &steel(), d / 2.0);
+            let k = reference::flat_stiffness(apple(1.1e6), steel(), d / 2.0);
             let o = reference::elastic_impact_with_gravity(m, 1.0, k, G_M_S2);
             format!(
                 "{} mm: {:.3} N in {:.3} ms",
@@ -304,11 +302,12 @@ pub fn errata(ctx: &mut Context, figs: &[Figure]) -> Result<Vec<Erratum>, Valida
     let apple_apple = {
         // Two real 80 mm apples (0.214 kg each) meeting head on: m* = 0.107 kg, R* = 0.02 m,
         // E* of apple on apple.
-        let k = crate::contact::normal::stiffness(
-            crate::contact::material::effective_modulus(&apple(1.1e6), &apple(1.1e6)),
+        let k = reference::stiffness(
+            reference::effective_modulus(&apple(1.1e6), &apple(1.1e6)),
             0.02,
         );
-        theory::elastic_impact(theory::reduced_mass(0.214, 0.214), 1.0, k, 0.02).contact_time_s
+        reference::elastic_impact(reference::reduced_mass(0.214, 0.214), 1.0, k, 0.02)
+            .contact_time_s
     };
     out.push(Erratum {
         title: "7. 'Contact time does not exceed 0.001 s'".into(),

@@ -7,13 +7,11 @@
 //! slip-to-roll transition against physics.md section 6.
 
 use super::check::{Check, Criterion, Unit};
-use super::reference::{self, Eq12Sign, ImpactOutcome};
+use super::reference::{self, Elastic, Eq12Sign, ImpactOutcome, SlipToRoll};
 use super::runs::{self, Executed, Run};
 use super::{write_chart, Chart, Figure, Table, ValidateError};
 use crate::analysis::apple_roster;
 use crate::chart::{LineChart, Series};
-use crate::contact::theory::{self, SlipToRoll};
-use crate::contact::Material;
 use crate::scenario::{AppleSpec, Scenario, SurfaceSpec};
 use std::path::PathBuf;
 
@@ -99,7 +97,7 @@ pub struct ImpactRun {
     /// The reference integration of the same impact (same mass, speed, law, gravity).
     pub reference: ImpactOutcome,
     /// The no-gravity elastic closed form (physics.md section 4), for comparison.
-    pub closed_form: theory::ElasticImpact,
+    pub closed_form: reference::ElasticImpact,
 }
 
 impl ImpactRun {
@@ -147,18 +145,18 @@ fn shape(ex: &Executed, message: impl Into<String>) -> ValidateError {
     }
 }
 
-/// The material `name` of a scenario.
-fn material(ex: &Executed, sc: &Scenario, name: &str) -> Result<Material, ValidateError> {
+/// The material `name` of a scenario, as the reference reads it (physics.md section 1): by the
+/// modulus the scenario gives, never through the product's conversion.
+fn material(ex: &Executed, sc: &Scenario, name: &str) -> Result<Elastic, ValidateError> {
     let m = sc
         .materials
         .get(name)
         .ok_or_else(|| shape(ex, format!("no material '{name}'")))?;
-    let built = match (m.shear_modulus_pa, m.youngs_modulus_pa) {
-        (Some(g), _) => Material::from_shear(g, m.poisson_ratio, m.density_kg_m3),
-        (None, Some(e)) => Material::from_youngs(e, m.poisson_ratio, m.density_kg_m3),
-        (None, None) => return Err(shape(ex, format!("material '{name}' has no modulus"))),
-    };
-    built.map_err(|e| shape(ex, format!("material '{name}': {e}")))
+    match (m.shear_modulus_pa, m.youngs_modulus_pa) {
+        (Some(g), _) => Ok(Elastic::from_shear(g, m.poisson_ratio)),
+        (None, Some(e)) => Ok(Elastic::from_youngs(e, m.poisson_ratio)),
+        (None, None) => Err(shape(ex, format!("material '{name}' has no modulus"))),
+    }
 }
 
 /// (friction, ke, lambda) of a material pair: its `pairs` entry, else `contact`.
@@ -232,7 +230,7 @@ fn impact(
     let a = material(ex, sc, &spec.material)?;
     let p = material(ex, sc, &plate_material)?;
     let r = spec.diameter_m / 2.0;
-    let k = reference::flat_stiffness(&a, &p, r);
+    let k = reference::flat_stiffness(a, p, r);
     let (_, ke, lambda) = coefficients(sc, &spec.material, &plate_material);
     let g = -sc.gravity_m_s2[2];
     // Touch speed: the launch speed plus the fall through the starting gap, v^2 = v0^2 + 2 g h.
@@ -257,7 +255,7 @@ fn impact(
     // no-gravity contact time (physics.md section 4), lengthened for eq. 12's slower unloading
     // (section 3: t_c = t_H / 2 (1 + 1/sqrt(ke))).
     let scale =
-        theory::elastic_impact(mass_kg, v0, k, r).contact_time_s * 0.5 * (1.0 + 1.0 / ke.sqrt());
+        reference::elastic_impact(mass_kg, v0, k, r).contact_time_s * 0.5 * (1.0 + 1.0 / ke.sqrt());
     let reference = if ke == 1.0 {
         reference::integrate_impact(mass_kg, v0, g, scale, |u, _| reference::hertz(k, u))
     } else {
@@ -293,7 +291,7 @@ fn impact(
         restitution: row.restitution,
         approach_speed_m_s: row.approach_speed_m_s,
         reference,
-        closed_form: theory::elastic_impact(mass_kg, v0, k, r),
+        closed_form: reference::elastic_impact(mass_kg, v0, k, r),
     })
 }
 
@@ -900,11 +898,9 @@ pub fn fig4(ctx: &mut Context) -> Result<Figure, ValidateError> {
     if let (Some(i), Some(s)) = (impacts.first(), steel) {
         // How much the platforms' Poisson ratio (not given by the paper) matters at G2 = G1.
         let change = |nu2: f64| -> Result<f64, ValidateError> {
-            let a = Material::from_shear(i.apple_shear_modulus_pa, 0.18, None)
-                .map_err(|e| shape(&ex, e.to_string()))?;
-            let p = Material::from_shear(i.apple_shear_modulus_pa, nu2, None)
-                .map_err(|e| shape(&ex, e.to_string()))?;
-            let k = reference::flat_stiffness(&a, &p, i.diameter_m / 2.0);
+            let a = Elastic::from_shear(i.apple_shear_modulus_pa, 0.18);
+            let p = Elastic::from_shear(i.apple_shear_modulus_pa, nu2);
+            let k = reference::flat_stiffness(a, p, i.diameter_m / 2.0);
             let o = reference::elastic_impact_with_gravity(i.mass_kg, i.v0_m_s, k, i.gravity_m_s2);
             Ok(o.peak_force_n / s.reference.peak_force_n - 1.0)
         };
@@ -1074,8 +1070,8 @@ fn roll(ex: &Executed, run: &Run, label: String) -> Result<RollRun, ValidateErro
         .get(&spec.name)
         .map_or(f64::NAN, |a| a.mass_kg);
     let k = reference::flat_stiffness(
-        &material(ex, sc, &spec.material)?,
-        &material(ex, sc, &plate)?,
+        material(ex, sc, &spec.material)?,
+        material(ex, sc, &plate)?,
         r,
     );
     let sag = reference::resting_overlap(mass_kg, g, k, ke);
@@ -1118,8 +1114,8 @@ fn roll(ex: &Executed, run: &Run, label: String) -> Result<RollRun, ValidateErro
         lever_m: lever,
         friction: mu,
         resting_overlap_m: sag,
-        closed: theory::slip_to_roll_with_lever(v0, w0, r, r - sag, mu, g),
-        closed_plain: theory::slip_to_roll(v0, w0, r, mu, g),
+        closed: reference::slip_to_roll_with_lever(v0, w0, r, r - sag, mu, g),
+        closed_plain: reference::slip_to_roll(v0, w0, r, mu, g),
     })
 }
 

@@ -162,6 +162,16 @@ impl Validation {
     }
 }
 
+/// The product's materials handed to the reference (tests build them with
+/// `Material::from_shear`, as the scenarios give them): the reference reads only their shear
+/// modulus and Poisson ratio and derives E itself (physics.md section 1), so none of the
+/// product's formulas enters a reference value.
+impl From<&crate::contact::Material> for reference::Elastic {
+    fn from(m: &crate::contact::Material) -> Self {
+        reference::Elastic::from_shear(m.shear_modulus_pa, m.poisson_ratio)
+    }
+}
+
 /// The report file name.
 pub const REPORT: &str = "report.md";
 
