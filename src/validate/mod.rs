@@ -9,13 +9,18 @@
 //! ([`check::Check`]). The report holds no wall-clock time or path of the run folders, so the
 //! same code gives the same report, byte for byte.
 //!
-//! Modules: [`runs`] runs a spec and reads its run folders back; [`reference`] the independent
-//! reference values; [`figures`] what each figure measures and checks; [`errata`] the evidence
-//! for the paper's errata; [`report`] the Markdown.
+//! Modules, in the order the data flows: `paper.json` ([`paper`]) holds the paper's words and
+//! numbers and what each figure runs and checks; [`runs`] runs a spec and reads its run folders
+//! back; [`measure`] measures each run and sets it beside its [`reference`], the independent
+//! reference values (self-contained: no formula of the product); [`figures`] builds every figure
+//! from its spec with one builder; [`errata`] the evidence for the paper's errata; [`check`] one
+//! row of a check table; [`report`] the Markdown.
 
 pub mod check;
 pub mod errata;
 pub mod figures;
+pub mod measure;
+mod paper;
 pub mod reference;
 pub mod report;
 pub mod runs;
@@ -119,9 +124,9 @@ pub struct Figure {
     /// The checks.
     pub checks: Vec<Check>,
     /// The impacts measured (Figs. 1-5), in run order.
-    pub impacts: Vec<figures::ImpactRun>,
+    pub impacts: Vec<measure::ImpactRun>,
     /// The slip-to-roll runs (Figs. 6-7), in run order.
-    pub rolls: Vec<figures::RollRun>,
+    pub rolls: Vec<measure::RollRun>,
 }
 
 /// What the validation found.
@@ -189,19 +194,10 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Validation,
         jobs: opts.jobs.max(1),
         written: Vec::new(),
     };
-    type Build = fn(&mut figures::Context) -> Result<Figure, ValidateError>;
-    let builds: [(&str, Build); 7] = [
-        ("fig1", figures::fig1),
-        ("fig2", figures::fig2),
-        ("fig3", figures::fig3),
-        ("fig4", figures::fig4),
-        ("fig5", figures::fig5),
-        ("fig6", figures::fig6),
-        ("fig7", figures::fig7),
-    ];
     let mut figs = Vec::new();
-    for (id, build) in builds {
-        let f = build(&mut ctx)?;
+    for spec in &paper::paper().figures {
+        let f = figures::build(&mut ctx, spec)?;
+        let id = &f.id;
         let pass = f.checks.iter().filter(|c| c.pass).count();
         progress(&format!(
             "{id}: {} runs, {pass} of {} checks pass",
