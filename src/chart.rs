@@ -87,6 +87,17 @@ fn padded_range(lo: f64, hi: f64, pad_lo: bool) -> std::ops::Range<f64> {
 }
 
 impl LineChart {
+    /// A chart of `series` without markers, which is what most charts are.
+    pub fn new(title: &str, x_label: &str, y_label: &str, series: Vec<Series>) -> LineChart {
+        LineChart {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series,
+            markers: Vec::new(),
+        }
+    }
+
     /// The chart as an SVG document of `size` pixels; the error is plotters' message.
     pub fn to_svg(&self, size: (u32, u32)) -> Result<String, String> {
         let (mut x0, mut x1, mut y0, mut y1) = (

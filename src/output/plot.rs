@@ -144,6 +144,19 @@ pub fn run_labels(dirs: &[PathBuf]) -> Vec<String> {
         .collect()
 }
 
+/// Writes `chart` as `file` into `out_dir` and records it in `summary`.
+fn write(
+    out_dir: &Path,
+    file: &str,
+    chart: &LineChart,
+    summary: &mut PlotSummary,
+) -> Result<(), PlotError> {
+    let path = out_dir.join(file);
+    chart.write_svg(&path)?;
+    summary.written.push(path);
+    Ok(())
+}
+
 /// Draws `force_time.svg`, `linear_velocity.svg` and `angular_velocity.svg` of the run folders
 /// `dirs` into `out_dir` (created if missing). With several runs each curve's legend starts with
 /// its run's folder name; each run gets an equal share of `max_series`.
@@ -253,16 +266,13 @@ pub fn plot_runs(
                 s.points.retain(|p| p.0 <= window);
             }
         }
-        let path = out_dir.join(FORCE_CHART);
-        LineChart {
-            title: "Normal contact force".into(),
-            x_label: "time since first touch (ms)".into(),
-            y_label: "normal force P (N)".into(),
-            series: force_series,
-            markers: Vec::new(),
-        }
-        .write_svg(&path)?;
-        summary.written.push(path);
+        let chart = LineChart::new(
+            "Normal contact force",
+            "time since first touch (ms)",
+            "normal force P (N)",
+            force_series,
+        );
+        write(out_dir, FORCE_CHART, &chart, &mut summary)?;
     }
 
     // Figs. 6-7: speed and angular speed against time.
@@ -330,31 +340,26 @@ pub fn plot_runs(
         }
     }
     if !slip.is_empty() {
-        let path = out_dir.join(SLIP_CHART);
-        LineChart {
-            title: "Slip speed at the contact the apple is on".into(),
-            x_label: "time (s)".into(),
-            y_label: "slip speed (m/s)".into(),
-            series: slip,
-            markers: marks
-                .into_iter()
-                .map(|(label, points)| Series { label, points })
-                .collect(),
-        }
-        .write_svg(&path)?;
-        summary.written.push(path);
+        let mut chart = LineChart::new(
+            "Slip speed at the contact the apple is on",
+            "time (s)",
+            "slip speed (m/s)",
+            slip,
+        );
+        chart.markers = marks
+            .into_iter()
+            .map(|(label, points)| Series { label, points })
+            .collect();
+        write(out_dir, SLIP_CHART, &chart, &mut summary)?;
     }
     if !starts.is_empty() {
-        let path = out_dir.join(ROLLING_STARTS_CHART);
-        LineChart {
-            title: "Where apples start rolling".into(),
-            x_label: "distance along the surface from its start (m)".into(),
-            y_label: "rolling starts".into(),
-            series: starts,
-            markers: Vec::new(),
-        }
-        .write_svg(&path)?;
-        summary.written.push(path);
+        let chart = LineChart::new(
+            "Where apples start rolling",
+            "distance along the surface from its start (m)",
+            "rolling starts",
+            starts,
+        );
+        write(out_dir, ROLLING_STARTS_CHART, &chart, &mut summary)?;
     }
     if !speed.is_empty() {
         for (file, title, y, series) in [
@@ -366,16 +371,8 @@ pub fn plot_runs(
                 spin,
             ),
         ] {
-            let path = out_dir.join(file);
-            LineChart {
-                title: title.into(),
-                x_label: "time (s)".into(),
-                y_label: y.into(),
-                series,
-                markers: Vec::new(),
-            }
-            .write_svg(&path)?;
-            summary.written.push(path);
+            let chart = LineChart::new(title, "time (s)", y, series);
+            write(out_dir, file, &chart, &mut summary)?;
         }
     }
     if summary.written.is_empty() {

@@ -255,10 +255,7 @@ fn impact_checks(
                 ),
                 None => (format!("{id}/trend/{key}"), what.clone()),
             };
-            out.push(match goes {
-                Direction::Up => rises(key, what, &ys, source),
-                Direction::Down => falls(key, what, &ys, source),
-            });
+            out.push(trend(key, what, &ys, *goes, source));
         }
         CheckSpec::PerSpeed { checks } => {
             let mut speeds: Vec<f64> = impacts.iter().map(|i| sweep.speed(i)).collect();
@@ -353,22 +350,13 @@ fn quoted_checks(id: &str, impacts: &[&ImpactRun], source: &str, out: &mut Vec<C
             ));
             continue;
         };
-        out.push(Check::relative(
-            format!("{id}/paper/peak_force/{}", q.v0_m_s),
-            format!("peak force at {} m/s", q.v0_m_s),
-            i.peak_force_n,
-            q.peak_force_n,
+        out.extend(force_and_time(
+            &format!("{id}/paper"),
+            &format!("{}", q.v0_m_s),
+            |what| format!("{what} at {} m/s", q.v0_m_s),
+            i,
+            (q.peak_force_n, q.contact_time_s),
             source,
-            Unit::Newton,
-            PAPER_TOLERANCE,
-        ));
-        out.push(Check::relative(
-            format!("{id}/paper/contact_time/{}", q.v0_m_s),
-            format!("contact time at {} m/s", q.v0_m_s),
-            i.contact_time_s,
-            q.contact_time_s,
-            source,
-            Unit::Millisecond,
             PAPER_TOLERANCE,
         ));
     }
@@ -446,26 +434,55 @@ fn restitution_checks(id: &str, i: &ImpactRun) -> Vec<Check> {
 
 /// The peak-force and contact-time checks of one impact against its reference integration.
 fn reference_checks(id: &str, case: &str, i: &ImpactRun, source: &str) -> [Check; 2] {
+    force_and_time(
+        &format!("{id}/reference"),
+        case,
+        |what| format!("{what}, {}", i.label),
+        i,
+        (i.reference.peak_force_n, i.reference.contact_time_s),
+        source,
+        CLOSED_FORM_TOLERANCE,
+    )
+}
+
+/// Impact `i`'s peak force and contact time against `(peak force, contact time)`, keyed
+/// `PREFIX/peak_force/CASE` and `PREFIX/contact_time/CASE`; `what` words each measure.
+fn force_and_time(
+    prefix: &str,
+    case: &str,
+    what: impl Fn(&str) -> String,
+    i: &ImpactRun,
+    against: (f64, f64),
+    source: &str,
+    tolerance: f64,
+) -> [Check; 2] {
     [
-        Check::relative(
-            format!("{id}/reference/peak_force/{case}"),
-            format!("peak force, {}", i.label),
+        (
+            "peak_force",
+            "peak force",
             i.peak_force_n,
-            i.reference.peak_force_n,
-            source,
+            against.0,
             Unit::Newton,
-            CLOSED_FORM_TOLERANCE,
         ),
-        Check::relative(
-            format!("{id}/reference/contact_time/{case}"),
-            format!("contact time, {}", i.label),
+        (
+            "contact_time",
+            "contact time",
             i.contact_time_s,
-            i.reference.contact_time_s,
-            source,
+            against.1,
             Unit::Millisecond,
-            CLOSED_FORM_TOLERANCE,
         ),
     ]
+    .map(|(key, measure, ours, reference, unit)| {
+        Check::relative(
+            format!("{prefix}/{key}/{case}"),
+            what(measure),
+            ours,
+            reference,
+            source,
+            unit,
+            tolerance,
+        )
+    })
 }
 
 /// Source text of the reference integration.
@@ -481,38 +498,23 @@ fn reference_source(i: &ImpactRun) -> String {
     }
 }
 
-/// A trend check: `ys` rises at every step, by the smallest relative step `ys[i+1] / ys[i] - 1`
-/// (> 0 when it does).
-fn rises(key: String, what: String, ys: &[f64], source: &str) -> Check {
-    let smallest = ys
-        .windows(2)
-        .map(|w| w[1] / w[0] - 1.0)
-        .fold(f64::INFINITY, f64::min);
-    Check::bound(
-        key,
-        what,
-        smallest,
-        format!("{source}; smallest rise between neighbours"),
-        Unit::Percent,
-        Criterion::Above { limit: 0.0 },
-    )
-}
-
-/// A trend check: `ys` falls at every step, by the largest relative step `ys[i+1] / ys[i] - 1`
-/// (< 0 when it does).
-fn falls(key: String, what: String, ys: &[f64], source: &str) -> Check {
-    let largest = ys
-        .windows(2)
-        .map(|w| w[1] / w[0] - 1.0)
-        .fold(f64::NEG_INFINITY, f64::max);
-    Check::bound(
-        key,
-        what,
-        largest,
-        format!("{source}; largest change between neighbours"),
-        Unit::Percent,
-        Criterion::Below { limit: 0.0 },
-    )
+/// A trend check: `ys` rises (falls) at every step, held by the smallest (largest) relative
+/// step `ys[i+1] / ys[i] - 1` between neighbours, which is > 0 (< 0) when it does.
+fn trend(key: String, what: String, ys: &[f64], goes: Direction, source: &str) -> Check {
+    let steps = ys.windows(2).map(|w| w[1] / w[0] - 1.0);
+    let (worst, source, criterion) = match goes {
+        Direction::Up => (
+            steps.fold(f64::INFINITY, f64::min),
+            format!("{source}; smallest rise between neighbours"),
+            Criterion::Above { limit: 0.0 },
+        ),
+        Direction::Down => (
+            steps.fold(f64::NEG_INFINITY, f64::max),
+            format!("{source}; largest change between neighbours"),
+            Criterion::Below { limit: 0.0 },
+        ),
+    };
+    Check::bound(key, what, worst, source, Unit::Percent, criterion)
 }
 
 /// The run on the stiffest platform (steel in Fig. 4), the one the others are compared with.
@@ -654,24 +656,33 @@ fn roll_figure(
             Unit::Second,
             Criterion::Below { limit: s.within_s },
         ));
-        fig.checks.push(Check::relative(
-            format!("{id}/closed_form/time/{case}"),
-            format!("{}: time to rolling", rr.label),
-            rr.t_roll_s,
-            rr.closed.time_s,
-            "physics.md section 6, lever R - u",
-            Unit::Millisecond,
-            CLOSED_FORM_TOLERANCE,
-        ));
-        fig.checks.push(Check::relative(
-            format!("{id}/closed_form/speed/{case}"),
-            format!("{}: rolling speed", rr.label),
-            rr.rolling_speed_m_s,
-            rr.closed.speed_m_s,
-            "physics.md section 6, lever R - u",
-            Unit::MetrePerSecond,
-            CLOSED_FORM_TOLERANCE,
-        ));
+        let closed_forms = [
+            (
+                "time",
+                "time to rolling",
+                rr.t_roll_s,
+                rr.closed.time_s,
+                Unit::Millisecond,
+            ),
+            (
+                "speed",
+                "rolling speed",
+                rr.rolling_speed_m_s,
+                rr.closed.speed_m_s,
+                Unit::MetrePerSecond,
+            ),
+        ];
+        for (key, what, ours, closed, unit) in closed_forms {
+            fig.checks.push(Check::relative(
+                format!("{id}/closed_form/{key}/{case}"),
+                format!("{}: {what}", rr.label),
+                ours,
+                closed,
+                "physics.md section 6, lever R - u",
+                unit,
+                CLOSED_FORM_TOLERANCE,
+            ));
+        }
     }
     // Charts: centre speed and angular speed against time.
     let mut speed = Vec::new();
@@ -695,13 +706,7 @@ fn roll_figure(
     ] {
         let file = format!("{id}_{suffix}.svg");
         let caption = format!("{}: {what}", fig.title);
-        let chart = LineChart {
-            title: caption.clone(),
-            x_label: "time (s)".into(),
-            y_label: y.into(),
-            series,
-            markers: Vec::new(),
-        };
+        let chart = LineChart::new(&caption, "time (s)", y, series);
         write_chart(ctx, &file, &chart)?;
         fig.charts.push(Chart { file, caption });
     }
@@ -766,13 +771,12 @@ fn force_chart(
             points: curve.points.iter().map(|&(t, p)| (t * 1e3, p)).collect(),
         });
     }
-    let chart = LineChart {
-        title: title.into(),
-        x_label: "time since first touch (ms)".into(),
-        y_label: "normal force P (N)".into(),
+    let chart = LineChart::new(
+        title,
+        "time since first touch (ms)",
+        "normal force P (N)",
         series,
-        markers: Vec::new(),
-    };
+    );
     write_chart(ctx, file, &chart)?;
     Ok(Chart {
         file: file.into(),

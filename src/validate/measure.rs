@@ -53,7 +53,7 @@ pub struct ImpactRun {
     /// The reference integration of the same impact (same mass, speed, law, gravity).
     pub reference: ImpactOutcome,
     /// The no-gravity elastic closed form (physics.md section 4), for comparison.
-    pub closed_form: reference::ElasticImpact,
+    pub closed_form: ImpactOutcome,
 }
 
 impl ImpactRun {
@@ -210,7 +210,7 @@ pub(super) fn impact(
     // no-gravity contact time (physics.md section 4), lengthened for eq. 12's slower unloading
     // (section 3: t_c = t_H / 2 (1 + 1/sqrt(ke))).
     let scale =
-        reference::elastic_impact(mass_kg, v0, k, r).contact_time_s * 0.5 * (1.0 + 1.0 / ke.sqrt());
+        reference::elastic_impact(mass_kg, v0, k).contact_time_s * 0.5 * (1.0 + 1.0 / ke.sqrt());
     let reference = if ke == 1.0 {
         reference::integrate_impact(mass_kg, v0, g, scale, |u, _| reference::hertz(k, u))
     } else {
@@ -246,7 +246,7 @@ pub(super) fn impact(
         restitution: row.restitution,
         approach_speed_m_s: row.approach_speed_m_s,
         reference,
-        closed_form: reference::elastic_impact(mass_kg, v0, k, r),
+        closed_form: reference::elastic_impact(mass_kg, v0, k),
     })
 }
 

@@ -25,7 +25,7 @@ pub mod reference;
 pub mod report;
 pub mod runs;
 
-use crate::chart::{ChartError, LineChart};
+use crate::chart::LineChart;
 use crate::output::atomic;
 use crate::output::plot::PlotError;
 use check::Check;
@@ -45,12 +45,9 @@ pub enum ValidateError {
         /// What was wrong.
         message: String,
     },
-    /// A run's curves could not be read back for a chart.
+    /// A run's curves could not be read back for a chart, or a chart drawn or written.
     #[error(transparent)]
     Plot(#[from] PlotError),
-    /// A chart could not be drawn or written.
-    #[error(transparent)]
-    Chart(#[from] ChartError),
     /// A report file could not be written.
     #[error("writing {path}: {source}")]
     Io {
@@ -241,7 +238,7 @@ fn write_chart(
     chart: &LineChart,
 ) -> Result<(), ValidateError> {
     let path = ctx.out_dir.join(file);
-    chart.write_svg(&path)?;
+    chart.write_svg(&path).map_err(PlotError::from)?;
     ctx.written.push(path);
     Ok(())
 }

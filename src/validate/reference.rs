@@ -82,29 +82,20 @@ pub fn reduced_mass(m1_kg: f64, m2_kg: f64) -> f64 {
     m1_kg * m2_kg / (m1_kg + m2_kg)
 }
 
-/// One elastic Hertz impact without gravity, in closed form (physics.md section 4).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ElasticImpact {
-    /// u_max = (5 m v0^2 / (4 k))^(2/5) (m).
-    pub max_overlap_m: f64,
-    /// P_max = k u_max^(3/2) (N).
-    pub peak_force_n: f64,
-    /// t_H = 2 * 1.4716376 u_max / v0 (s).
-    pub contact_time_s: f64,
-    /// a_max = sqrt(R* u_max) (m).
-    pub max_contact_radius_m: f64,
-}
-
-/// The elastic impact of a body of (effective) mass `mass_kg` approaching at `v0_m_s` on a Hertz
-/// contact of stiffness `k` and effective radius `r_star_m` (physics.md section 4); also the time
-/// scale of the reference integration's step.
-pub fn elastic_impact(mass_kg: f64, v0_m_s: f64, k: f64, r_star_m: f64) -> ElasticImpact {
+/// The elastic impact of a body of (effective) mass `mass_kg` approaching a Hertz contact of
+/// stiffness `k` at `v0_m_s`, without gravity, in closed form (physics.md section 4): the outcome
+/// the integration gives, from the energy balance 1/2 m v0^2 = 2/5 k u_max^(5/2). It is also the
+/// time scale of the integration's step.
+pub fn elastic_impact(mass_kg: f64, v0_m_s: f64, k: f64) -> ImpactOutcome {
     let u_max = (5.0 * mass_kg * v0_m_s * v0_m_s / (4.0 * k)).powf(0.4);
-    ElasticImpact {
-        max_overlap_m: u_max,
+    ImpactOutcome {
+        // P_max = k u_max^(3/2).
         peak_force_n: k * u_max.powf(1.5),
+        // t_H = 2 * 1.4716376 u_max / v0.
         contact_time_s: 2.0 * HERTZ_TIME_INTEGRAL * u_max / v0_m_s,
-        max_contact_radius_m: (r_star_m * u_max).sqrt(),
+        max_overlap_m: u_max,
+        // Elastic: it leaves as fast as it came.
+        separation_speed_m_s: v0_m_s,
     }
 }
 
@@ -274,7 +265,7 @@ pub fn elastic_impact_with_gravity(
     k: f64,
     g_m_s2: f64,
 ) -> ImpactOutcome {
-    let scale = elastic_impact(mass_kg, v0_m_s, k, 1.0).contact_time_s;
+    let scale = elastic_impact(mass_kg, v0_m_s, k).contact_time_s;
     integrate_impact(mass_kg, v0_m_s, g_m_s2, scale, |u, _| hertz(k, u))
         .expect("an elastic impact always lifts off: its energy is conserved")
 }
@@ -313,7 +304,7 @@ pub fn eq12_restitution(ke: f64, lambda_v0: f64, sign: Eq12Sign) -> f64 {
     let lambda = lambda_v0 / v0;
     // The unloading on the ke curve lasts 1/sqrt(ke) times the elastic half; the printed sign
     // unloads on the stiff curve. Either way the elastic time is the right scale for the step.
-    let scale = elastic_impact(m, v0, k, 1.0).contact_time_s * 0.5 * (1.0 + 1.0 / ke.sqrt());
+    let scale = elastic_impact(m, v0, k).contact_time_s * 0.5 * (1.0 + 1.0 / ke.sqrt());
     integrate_impact(m, v0, 0.0, scale, |u, w| eq12(k, ke, lambda, sign, u, w))
         .map(|o| o.restitution(v0))
         .expect("without gravity every eq. 12 impact lifts off")
@@ -524,18 +515,17 @@ mod tests {
     fn closed_forms_follow_section_4() {
         let k = fig1_k(1.1e6);
         // physics.md section 8: without gravity the 0.2 m/s point is 9.52 N in 8.27 ms.
-        let a = elastic_impact(0.107, 0.2, k, 0.04);
+        let a = elastic_impact(0.107, 0.2, k);
         assert!((a.peak_force_n - 9.52).abs() < 0.005, "{a:?}");
         assert!((a.contact_time_s - 8.27e-3).abs() < 0.005e-3, "{a:?}");
         // Section 10: t_H = 5.6 ms for the Fig. 1 apple at 1.4 m/s.
-        let b = elastic_impact(0.107, 1.4, k, 0.04);
+        let b = elastic_impact(0.107, 1.4, k);
         assert!((b.contact_time_s - 5.6e-3).abs() < 0.05e-3, "{b:?}");
         for (v0, o) in [(0.2, a), (1.4, b)] {
             // The energy balance 1/2 m v0^2 = 2/5 k u_max^(5/2) and P_max = k u_max^(3/2).
             let stored = 0.4 * k * o.max_overlap_m.powf(2.5);
             assert!((stored / (0.5 * 0.107 * v0 * v0) - 1.0).abs() < 1e-12);
             assert!((o.peak_force_n / (k * o.max_overlap_m.powf(1.5)) - 1.0).abs() < 1e-15);
-            assert!((o.max_contact_radius_m / (0.04 * o.max_overlap_m).sqrt() - 1.0).abs() < 1e-15);
             // k_P = impulse / (P_max t_H) = 2 m v0 / (P_max t_H) = 0.5436121.
             let kp = 2.0 * 0.107 * v0 / (o.peak_force_n * o.contact_time_s);
             assert!((kp - 0.543_612_1).abs() < 5e-8, "{kp}");
@@ -569,7 +559,7 @@ mod tests {
     fn without_gravity_the_integration_is_the_closed_form() {
         let k = fig1_k(1.1e6);
         for v0 in [0.2, 1.4] {
-            let cf = elastic_impact(0.107, v0, k, 0.04);
+            let cf = elastic_impact(0.107, v0, k);
             let o = elastic_impact_with_gravity(0.107, v0, k, 0.0);
             // The closed form's constant 1.4716376 has 8 digits.
             assert!((o.contact_time_s / cf.contact_time_s - 1.0).abs() < 1e-7);
@@ -641,7 +631,7 @@ mod tests {
         let k2 = stiffness_for_contact_time(0.107, 1.0, 9.81, t);
         assert!((k2 / k - 1.0).abs() < 1e-9);
         // Closed form inverted: the speed at which the Fig. 1 impact lasts its own t_H.
-        let cf = elastic_impact(0.107, 1.4, k, 0.04);
+        let cf = elastic_impact(0.107, 1.4, k);
         let v = speed_for_contact_time(0.107, k, cf.contact_time_s);
         assert!((v - 1.4).abs() < 1e-9);
     }

@@ -72,11 +72,17 @@ pub struct RunCurves {
     pub transitions: Vec<TransitionMark>,
 }
 
-fn reader(path: &Path) -> Result<csv::Reader<std::fs::File>, PlotError> {
-    csv::Reader::from_path(path).map_err(|e| PlotError::Parse {
+/// A CSV error of the file at `path`, named so a user finds the broken file.
+fn parse_error(path: &Path, e: impl std::fmt::Display) -> PlotError {
+    PlotError::Parse {
         path: path.to_path_buf(),
         message: e.to_string(),
-    })
+    }
+}
+
+/// A CSV reader of the file at `path`.
+fn reader(path: &Path) -> Result<csv::Reader<std::fs::File>, PlotError> {
+    csv::Reader::from_path(path).map_err(|e| parse_error(path, e))
 }
 
 /// Column indices of `names` in a CSV header.
@@ -85,31 +91,24 @@ fn columns(
     rd: &mut csv::Reader<std::fs::File>,
     names: &[&str],
 ) -> Result<Vec<usize>, PlotError> {
-    let h = rd.headers().map_err(|e| PlotError::Parse {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
+    let h = rd.headers().map_err(|e| parse_error(path, e))?;
     names
         .iter()
         .map(|n| {
             h.iter()
                 .position(|c| c == *n)
-                .ok_or_else(|| PlotError::Parse {
-                    path: path.to_path_buf(),
-                    message: format!("no column '{n}'"),
-                })
+                .ok_or_else(|| parse_error(path, format!("no column '{n}'")))
         })
         .collect()
 }
 
+/// A number of a CSV cell; an empty cell (a value a run did not have) reads as NaN.
 fn num(path: &Path, s: &str) -> Result<f64, PlotError> {
     if s.is_empty() {
         return Ok(f64::NAN);
     }
-    s.parse().map_err(|_| PlotError::Parse {
-        path: path.to_path_buf(),
-        message: format!("'{s}' is not a number"),
-    })
+    s.parse()
+        .map_err(|_| parse_error(path, format!("'{s}' is not a number")))
 }
 
 /// Reads the curves of a run folder.
@@ -127,10 +126,7 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
         )?;
         let mut by_index = Vec::new();
         for rec in rd.records() {
-            let rec = rec.map_err(|e| PlotError::Parse {
-                path: contacts_path.clone(),
-                message: e.to_string(),
-            })?;
+            let rec = rec.map_err(|e| parse_error(&contacts_path, e))?;
             let t0 = num(&contacts_path, &rec[c[2]])?;
             let t1 = num(&contacts_path, &rec[c[3]])?;
             by_index.push(ForceCurve {
@@ -150,13 +146,9 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
         let c = columns(&forces_path, &mut rd, &["contact", "time_s", "force_n"])?;
         let mut curves: BTreeMap<usize, Vec<(f64, f64)>> = BTreeMap::new();
         for rec in rd.records() {
-            let rec = rec.map_err(|e| PlotError::Parse {
-                path: forces_path.clone(),
-                message: e.to_string(),
-            })?;
-            let k: usize = rec[c[0]].parse().map_err(|_| PlotError::Parse {
-                path: forces_path.clone(),
-                message: format!("bad contact index '{}'", &rec[c[0]]),
+            let rec = rec.map_err(|e| parse_error(&forces_path, e))?;
+            let k: usize = rec[c[0]].parse().map_err(|_| {
+                parse_error(&forces_path, format!("bad contact index '{}'", &rec[c[0]]))
             })?;
             curves.entry(k).or_default().push((
                 num(&forces_path, &rec[c[1]])?,
@@ -165,10 +157,10 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
         }
         for (k, pts) in curves {
             let Some(fc) = by_index.get_mut(k) else {
-                return Err(PlotError::Parse {
-                    path: forces_path.clone(),
-                    message: format!("contact {k} is not in contacts.csv"),
-                });
+                return Err(parse_error(
+                    &forces_path,
+                    format!("contact {k} is not in contacts.csv"),
+                ));
             };
             let end = fc.points.pop();
             let t0 = fc.t_start_s;
@@ -196,10 +188,7 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
         .and_then(|h| h.iter().position(|c| c == "slip_m_s"));
     let mut order: BTreeMap<String, usize> = BTreeMap::new();
     for rec in rd.records() {
-        let rec = rec.map_err(|e| PlotError::Parse {
-            path: bodies_path.clone(),
-            message: e.to_string(),
-        })?;
+        let rec = rec.map_err(|e| parse_error(&bodies_path, e))?;
         let t = num(&bodies_path, &rec[c[0]])?;
         let g = |i: usize| num(&bodies_path, &rec[c[i]]);
         let v = (g(2)?.powi(2) + g(3)?.powi(2) + g(4)?.powi(2)).sqrt();
@@ -231,10 +220,7 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
             &["apple", "to", "surface", "time_s", "slip_m_s", "along_m"],
         )?;
         for rec in rd.records() {
-            let rec = rec.map_err(|e| PlotError::Parse {
-                path: tr_path.clone(),
-                message: e.to_string(),
-            })?;
+            let rec = rec.map_err(|e| parse_error(&tr_path, e))?;
             out.transitions.push(TransitionMark {
                 apple: rec[c[0]].to_string(),
                 to: rec[c[1]].to_string(),
