@@ -11,7 +11,8 @@ use super::paper::paper;
 use super::reference::{self, Elastic, Eq12Sign, FIG1_QUOTED};
 use super::{Chart, Figure, Table, ValidateError};
 
-/// One inconsistency of the paper and what our numbers say about it.
+/// One inconsistency of the paper (physics.md section 9) and what our numbers say about it: a
+/// section of the report under "The paper's inconsistencies".
 #[derive(Debug, Clone, PartialEq)]
 pub struct Erratum {
     /// Heading.
@@ -112,7 +113,7 @@ pub fn errata(ctx: &mut Context, figs: &[Figure]) -> Result<Vec<Erratum>, Valida
         .collect())
 }
 
-/// 1. Eq. 4's factor pi: the masses that would reproduce each quoted number.
+/// Erratum 1: eq. 4's factor pi: the masses that would reproduce each quoted number.
 fn eq4_factor_pi(x: &Inputs) -> Found {
     let k_eq4 = x.k11 / std::f64::consts::PI;
     let mut t = Table {
@@ -174,7 +175,7 @@ fn eq4_factor_pi(x: &Inputs) -> Found {
     }
 }
 
-/// 3. K_i = R_i: the stiffness it would give, and the impact with it.
+/// Erratum 3: K_i = R_i: the stiffness it would give, and the impact with it.
 fn curvature(x: &Inputs) -> Found {
     let k_wrong = x.k11 * 25.0; // 1/sqrt(K) with K = R = 0.04 m instead of 1/K: 1/0.2 vs 0.2.
     let q = FIG1_QUOTED[1];
@@ -192,7 +193,8 @@ fn curvature(x: &Inputs) -> Found {
     }
 }
 
-/// 4. Eq. 12's printed sign: its restitution against the simulator's with the dissipative one.
+/// Erratum 4: eq. 12's printed sign: its restitution against the simulator's with the
+/// dissipative one.
 fn eq12_sign(x: &Inputs) -> Found {
     let lambda_v0 = 1000.0;
     let mut t = Table {
@@ -230,7 +232,7 @@ fn eq12_sign(x: &Inputs) -> Found {
     }
 }
 
-/// 5. ke = 0.8-0.95 against e = 0.25-0.35, from the eq. 12 runs.
+/// Erratum 5: ke = 0.8-0.95 against e = 0.25-0.35, from the eq. 12 runs.
 fn ke_range(x: &Inputs) -> Found {
     let e_of = |ke: f64| {
         x.eq12
@@ -252,7 +254,7 @@ fn ke_range(x: &Inputs) -> Found {
     }
 }
 
-/// 6. Which G1 and which diameters the paper's figures were computed with.
+/// Erratum 6: which G1 and which diameters the paper's figures were computed with.
 fn modulus_and_diameters(x: &Inputs) -> Found {
     let mut t = Table {
         header: header(&[
@@ -340,7 +342,8 @@ fn modulus_and_diameters(x: &Inputs) -> Found {
     }
 }
 
-/// 7. "Contact time does not exceed 0.001 s": our shortest contact, and what 1 ms would need.
+/// Erratum 7: "contact time does not exceed 0.001 s": our shortest contact, and what 1 ms
+/// would need.
 fn contact_time(x: &Inputs) -> Found {
     let shortest = x
         .figs
@@ -372,8 +375,8 @@ fn contact_time(x: &Inputs) -> Found {
     }
 }
 
-/// 8. "One-two times less": the force and time on platforms softer than the apple (Fig. 4), and
-/// the platform modulus at which the impact lasts the 10 ms the sentence asks for.
+/// Erratum 8: "one-two times less": the force and time on platforms softer than the apple
+/// (Fig. 4), and the platform modulus at which the impact lasts the 10 ms the sentence asks for.
 fn platform_modulus(x: &Inputs) -> Found {
     let fig4 = x.figs.iter().find(|f| f.id == "fig4");
     let mut t = Table {

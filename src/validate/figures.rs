@@ -29,7 +29,8 @@ pub const CLOSED_FORM_TOLERANCE: f64 = 0.005;
 /// section 8 reproduces them within 3.1 % with m = 0.107 kg).
 pub const PAPER_TOLERANCE: f64 = 0.04;
 
-/// What the figure builders share: where specs are, where runs and charts go.
+/// What the figure builders share: where specs are, where runs and charts go, and the charts
+/// written so far (the validation returns them with the report).
 #[derive(Debug)]
 pub struct Context {
     /// Folder of the specs.
@@ -485,7 +486,7 @@ fn force_and_time(
     })
 }
 
-/// Source text of the reference integration.
+/// How the report names the reference integration of an impact: the equation it integrates.
 fn reference_source(i: &ImpactRun) -> String {
     if i.ke == 1.0 {
         if i.gravity_m_s2 != 0.0 {

@@ -92,7 +92,8 @@ pub struct RollRun {
     pub closed_plain: SlipToRoll,
 }
 
-/// The error for a spec whose scenes are not what the validation measures.
+/// The error for a spec whose scenes are not what the validation measures (the specs under
+/// scenarios/paper/ edited out of shape): a validation must stop rather than check the wrong thing.
 pub(super) fn shape(ex: &Executed, message: impl Into<String>) -> ValidateError {
     ValidateError::Shape {
         spec: ex.spec.display().to_string(),

@@ -67,7 +67,8 @@ pub enum ValidateError {
     },
 }
 
-/// Where the validation reads and writes.
+/// Where the validation reads and writes. The report names the specs folder as given and
+/// neither output folder, so it is the same bytes wherever it is written.
 #[derive(Debug, Clone)]
 pub struct Options {
     /// Folder of the figure specs (`fig1.json` ... `fig7.json`, `eq12_restitution.json`); the
@@ -81,7 +82,8 @@ pub struct Options {
     pub jobs: usize,
 }
 
-/// A table of the report: header and rows of text cells.
+/// A table of the report: header and rows of text cells, already formatted, so the Markdown
+/// writer ([`report`]) knows nothing of units or precision.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Table {
     /// Column captions.
@@ -90,7 +92,8 @@ pub struct Table {
     pub rows: Vec<Vec<String>>,
 }
 
-/// A chart of the report, written beside it.
+/// A chart of the report, written beside it (SVG, so the committed copy in docs/validation/
+/// can be compared byte for byte).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chart {
     /// File name in the output folder.
@@ -99,7 +102,8 @@ pub struct Chart {
     pub caption: String,
 }
 
-/// One figure of the paper as the validation ran it.
+/// One figure of the paper as the validation ran it: one section of the report, and what the
+/// tests of the validation look into.
 #[derive(Debug, Clone)]
 pub struct Figure {
     /// `fig1`, ..., `fig7`.
@@ -126,7 +130,7 @@ pub struct Figure {
     pub rolls: Vec<measure::RollRun>,
 }
 
-/// What the validation found.
+/// What the validation found: every figure and erratum with its checks, and the files written.
 #[derive(Debug, Clone)]
 pub struct Validation {
     /// The figures, in order.
@@ -148,7 +152,8 @@ impl Validation {
             .chain(self.errata.iter().flat_map(|e| e.checks.iter()))
     }
 
-    /// The check with this key.
+    /// The check with this key (`fig1/paper/peak_force/0.2`): keys are stable, so a test can hold
+    /// one particular claim.
     pub fn check(&self, key: &str) -> Option<&Check> {
         self.checks().find(|c| c.key == key)
     }
@@ -158,7 +163,7 @@ impl Validation {
         self.figures.iter().find(|f| f.id == id)
     }
 
-    /// Checks that failed.
+    /// Checks that failed: the command exits non-zero when there is any.
     pub fn failed(&self) -> Vec<&Check> {
         self.checks().filter(|c| !c.pass).collect()
     }
@@ -174,7 +179,7 @@ impl From<&crate::contact::Material> for reference::Elastic {
     }
 }
 
-/// The report file name.
+/// The report file name in the output folder (docs/validation/report.md for the committed copy).
 pub const REPORT: &str = "report.md";
 
 /// Runs every figure, writes the report and its charts into `opts.out_dir`, returns what was
