@@ -2,7 +2,7 @@
 //! the reference integration ([`super::reference`]) and from the validation's own runs.
 //!
 //! The errata's titles and the paper's words are data (`paper.json`, [`super::paper`]); each
-//! erratum's numbers come from one function of [`EVIDENCE`], in the same order.
+//! erratum's numbers come from one function of a table, in the same order.
 
 use super::check::Check;
 use super::figures::{self, Context};

@@ -11,7 +11,7 @@
 //!
 //! Modules, in the order the data flows: `paper.json` ([`paper`]) holds the paper's words and
 //! numbers and what each figure runs and checks; [`runs`] runs a spec and reads its run folders
-//! back; [`measure`] measures each run and sets it beside its [`reference`], the independent
+//! back; [`measure`] measures each run and sets it beside its [`mod@reference`], the independent
 //! reference values (self-contained: no formula of the product); [`figures`] builds every figure
 //! from its spec with one builder; [`errata`] the evidence for the paper's errata; [`check`] one
 //! row of a check table; [`report`] the Markdown.
@@ -20,7 +20,7 @@ pub mod check;
 pub mod errata;
 pub mod figures;
 pub mod measure;
-mod paper;
+pub mod paper;
 pub mod reference;
 pub mod report;
 pub mod runs;
