@@ -25,6 +25,7 @@
 pub mod analysis;
 pub mod batch;
 pub mod bench;
+pub mod chart;
 pub mod contact;
 pub mod layer;
 pub mod math;

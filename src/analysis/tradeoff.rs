@@ -462,8 +462,8 @@ impl TradeoffTable {
     }
 
     /// Error against wall time, one series per error measure (log10 of both).
-    pub fn chart(&self, title: &str) -> crate::output::plot::LineChart {
-        use crate::output::plot::{LineChart, Series};
+    pub fn chart(&self, title: &str) -> crate::chart::LineChart {
+        use crate::chart::{LineChart, Series};
         let mut series = Vec::new();
         for (label, get) in [
             (

@@ -21,7 +21,6 @@ use crate::scenario::Scenario;
 use crate::sim::{AppleFinal, RunResult};
 use atomic::AtomicFile;
 use serde::Serialize;
-use std::io::Write;
 use std::path::Path;
 
 /// The `summary.json` document.
@@ -425,11 +424,6 @@ pub fn write_bruise(path: &Path, a: &Analysis) -> std::io::Result<()> {
     }
     let f = w.into_inner().map_err(|e| e.into_error())?;
     f.commit()
-}
-
-/// Flushes a writer, mapping the error (helper for sinks).
-pub fn flush(w: &mut dyn Write) -> std::io::Result<()> {
-    w.flush()
 }
 
 /// Errors of [`run_to_dir`].

@@ -4,20 +4,20 @@
 //! `transitions.csv`, the slip speed against time with the transitions marked and, per surface, a
 //! histogram of where apples start rolling.
 //!
-//! Charts are drawn from the files of the run folders (`contacts.csv`, `forces.csv`,
-//! `bodies.csv`), so saved runs can be compared at any time. plotters' SVG backend writes text
-//! as SVG `<text>` and needs no font files. Every chart is written whole or not at all.
+//! Charts are drawn from the files of the run folders, read by [`run_folder`], so saved runs can
+//! be compared at any time; the drawing itself is [`crate::chart`]'s. Every chart is written
+//! whole or not at all.
 
-use super::atomic;
-use plotters::prelude::*;
+pub mod run_folder;
+
+pub use run_folder::{read_run, ForceCurve, Kinematics, RunCurves, TransitionMark, FORCES_HEADER};
+
+use crate::chart::{decimate, histogram_outline, ChartError, LineChart, Series};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Header of `forces.csv`: one row per recorded force sample of a contact (`contact` is the
-/// contact's row index in `contacts.csv`, from 0).
-pub const FORCES_HEADER: [&str; 5] = ["contact", "a", "b", "time_s", "force_n"];
-
-/// Chart file names.
+/// Force chart (the paper's Figs. 1-5). The chart file names are fixed so that a script, a test or
+/// a reader of the report finds the same chart in every run folder.
 pub const FORCE_CHART: &str = "force_time.svg";
 /// Linear speed chart.
 pub const SPEED_CHART: &str = "linear_velocity.svg";
@@ -28,11 +28,11 @@ pub const SLIP_CHART: &str = "slip_speed.svg";
 /// Where apples start rolling, per surface.
 pub const ROLLING_STARTS_CHART: &str = "rolling_starts.svg";
 
-/// Most points drawn per curve; longer series are reduced keeping each bucket's min and max, so
-/// short impact spikes survive.
+/// Most points drawn per curve; longer series are reduced by [`decimate`], which keeps each
+/// bucket's min and max, so short impact spikes survive.
 pub const MAX_POINTS_PER_SERIES: usize = 4000;
 
-/// Errors of the charts.
+/// Errors of the run charts: reading a run folder, or drawing and writing a chart.
 #[derive(Debug, thiserror::Error)]
 pub enum PlotError {
     /// A file could not be read or written.
@@ -54,438 +54,9 @@ pub enum PlotError {
     /// Nothing to draw.
     #[error("{0}")]
     Empty(String),
-    /// plotters failed.
-    #[error("drawing {chart}: {message}")]
-    Draw {
-        /// Chart file.
-        chart: String,
-        /// plotters' message.
-        message: String,
-    },
-}
-
-/// One curve of a chart.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Series {
-    /// Legend text.
-    pub label: String,
-    /// (x, y) points in drawing order.
-    pub points: Vec<(f64, f64)>,
-}
-
-/// A line chart.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LineChart {
-    /// Title.
-    pub title: String,
-    /// x axis caption, with unit.
-    pub x_label: String,
-    /// y axis caption, with unit.
-    pub y_label: String,
-    /// Curves.
-    pub series: Vec<Series>,
-    /// Marked points (drawn as circles, one legend entry per group), e.g. transitions.
-    pub markers: Vec<Series>,
-}
-
-/// Ten well-separated colours (the "tab10" palette), cycled.
-const COLOURS: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
-
-fn padded_range(lo: f64, hi: f64, pad_lo: bool) -> std::ops::Range<f64> {
-    let (lo, hi) = if lo.is_finite() && hi.is_finite() {
-        (lo, hi)
-    } else {
-        (0.0, 1.0)
-    };
-    let span = if hi > lo { hi - lo } else { lo.abs().max(1.0) };
-    let lo2 = if pad_lo { lo - 0.03 * span } else { lo };
-    lo2..hi + 0.05 * span
-}
-
-impl LineChart {
-    /// The chart as an SVG document.
-    pub fn to_svg(&self, size: (u32, u32)) -> Result<String, String> {
-        let (mut x0, mut x1, mut y0, mut y1) = (
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        );
-        for s in self.series.iter().chain(&self.markers) {
-            for &(x, y) in &s.points {
-                if x.is_finite() && y.is_finite() {
-                    x0 = x0.min(x);
-                    x1 = x1.max(x);
-                    y0 = y0.min(y);
-                    y1 = y1.max(y);
-                }
-            }
-        }
-        // Forces and speeds are >= 0: start the y axis at 0 as the paper's figures do.
-        let y0 = y0.min(0.0);
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-            root.fill(&WHITE).map_err(|e| e.to_string())?;
-            let mut chart = ChartBuilder::on(&root)
-                .caption(&self.title, ("sans-serif", 20))
-                .margin(12)
-                .x_label_area_size(48)
-                .y_label_area_size(70)
-                .build_cartesian_2d(padded_range(x0, x1, false), padded_range(y0, y1, y0 < 0.0))
-                .map_err(|e| e.to_string())?;
-            chart
-                .configure_mesh()
-                .x_desc(&self.x_label)
-                .y_desc(&self.y_label)
-                .axis_desc_style(("sans-serif", 16))
-                .label_style(("sans-serif", 13))
-                .light_line_style(RGBColor(235, 235, 235))
-                .draw()
-                .map_err(|e| e.to_string())?;
-            for (i, s) in self.series.iter().enumerate() {
-                let colour = COLOURS[i % COLOURS.len()];
-                chart
-                    .draw_series(LineSeries::new(
-                        s.points
-                            .iter()
-                            .copied()
-                            .filter(|p| p.0.is_finite() && p.1.is_finite()),
-                        colour.stroke_width(2),
-                    ))
-                    .map_err(|e| e.to_string())?
-                    .label(s.label.as_str())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 22, y)], colour.stroke_width(2))
-                    });
-            }
-            for (i, m) in self.markers.iter().enumerate() {
-                // Dark, distinct from the curves' colours.
-                let colour = [BLACK, RGBColor(200, 0, 0), RGBColor(0, 120, 0)][i % 3];
-                chart
-                    .draw_series(
-                        m.points
-                            .iter()
-                            .filter(|p| p.0.is_finite() && p.1.is_finite())
-                            .map(|&p| Circle::new(p, 5, colour.stroke_width(2))),
-                    )
-                    .map_err(|e| e.to_string())?
-                    .label(m.label.as_str())
-                    .legend(move |(x, y)| Circle::new((x + 11, y), 5, colour.stroke_width(2)));
-            }
-            if !self.series.is_empty() {
-                chart
-                    .configure_series_labels()
-                    .position(SeriesLabelPosition::UpperRight)
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(RGBColor(160, 160, 160))
-                    .label_font(("sans-serif", 13))
-                    .draw()
-                    .map_err(|e| e.to_string())?;
-            }
-            root.present().map_err(|e| e.to_string())?;
-        }
-        Ok(svg)
-    }
-
-    /// Writes the chart to `path` (atomically).
-    pub fn write_svg(&self, path: &Path) -> Result<(), PlotError> {
-        let svg = self.to_svg((960, 600)).map_err(|message| PlotError::Draw {
-            chart: path.display().to_string(),
-            message,
-        })?;
-        atomic::write_file(path, svg.as_bytes()).map_err(|source| PlotError::Io {
-            path: path.to_path_buf(),
-            source,
-        })
-    }
-}
-
-/// Reduces a series to at most about `max` points, keeping the minimum and maximum of each bucket.
-pub fn decimate(points: &[(f64, f64)], max: usize) -> Vec<(f64, f64)> {
-    if points.len() <= max || max < 4 {
-        return points.to_vec();
-    }
-    let buckets = max / 2;
-    let size = points.len().div_ceil(buckets);
-    let mut out = Vec::with_capacity(2 * buckets + 1);
-    for chunk in points.chunks(size) {
-        let (mut imin, mut imax) = (0, 0);
-        for (i, p) in chunk.iter().enumerate() {
-            if p.1 < chunk[imin].1 {
-                imin = i;
-            }
-            if p.1 > chunk[imax].1 {
-                imax = i;
-            }
-        }
-        let (a, b) = (imin.min(imax), imin.max(imax));
-        out.push(chunk[a]);
-        if b != a {
-            out.push(chunk[b]);
-        }
-    }
-    out
-}
-
-/// One contact's force curve read from a run folder.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ForceCurve {
-    /// Row index in `contacts.csv`.
-    pub contact: usize,
-    /// Apple.
-    pub a: String,
-    /// Other body.
-    pub b: String,
-    /// First touch (s).
-    pub t_start_s: f64,
-    /// Peak force (N).
-    pub peak_force_n: f64,
-    /// (time since first touch s, force N), with the zero-force touch and parting instants.
-    pub points: Vec<(f64, f64)>,
-}
-
-/// One apple's kinematics read from `bodies.csv`.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Kinematics {
-    /// (time s, centre speed m/s).
-    pub speed: Vec<(f64, f64)>,
-    /// (time s, angular speed rad/s).
-    pub spin: Vec<(f64, f64)>,
-    /// (time s, slip speed m/s) when `bodies.csv` has the `slip_m_s` column filled.
-    pub slip: Vec<(f64, f64)>,
-}
-
-/// One row of `transitions.csv` as the charts need it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TransitionMark {
-    /// Apple.
-    pub apple: String,
-    /// New state (`sliding`, `rolling`, `airborne`).
-    pub to: String,
-    /// Surface it is on after (empty when airborne).
-    pub surface: String,
-    /// Time (s).
-    pub time_s: f64,
-    /// Slip speed then (m/s).
-    pub slip_m_s: f64,
-    /// Distance along the surface (m; NaN when none).
-    pub along_m: f64,
-}
-
-/// What the charts need from one run folder.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct RunCurves {
-    /// Contacts with a recorded force curve (empty without `forces.csv`).
-    pub forces: Vec<ForceCurve>,
-    /// Apples in order of first appearance in `bodies.csv`.
-    pub apples: Vec<(String, Kinematics)>,
-    /// Whether `forces.csv` was there.
-    pub has_forces: bool,
-    /// Rows of `transitions.csv` (empty without it).
-    pub transitions: Vec<TransitionMark>,
-}
-
-fn reader(path: &Path) -> Result<csv::Reader<std::fs::File>, PlotError> {
-    csv::Reader::from_path(path).map_err(|e| PlotError::Parse {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })
-}
-
-/// Column indices of `names` in a CSV header.
-fn columns(
-    path: &Path,
-    rd: &mut csv::Reader<std::fs::File>,
-    names: &[&str],
-) -> Result<Vec<usize>, PlotError> {
-    let h = rd.headers().map_err(|e| PlotError::Parse {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
-    names
-        .iter()
-        .map(|n| {
-            h.iter()
-                .position(|c| c == *n)
-                .ok_or_else(|| PlotError::Parse {
-                    path: path.to_path_buf(),
-                    message: format!("no column '{n}'"),
-                })
-        })
-        .collect()
-}
-
-fn num(path: &Path, s: &str) -> Result<f64, PlotError> {
-    if s.is_empty() {
-        return Ok(f64::NAN);
-    }
-    s.parse().map_err(|_| PlotError::Parse {
-        path: path.to_path_buf(),
-        message: format!("'{s}' is not a number"),
-    })
-}
-
-/// Reads the curves of a run folder.
-pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
-    let mut out = RunCurves::default();
-    let contacts_path = dir.join("contacts.csv");
-    let forces_path = dir.join("forces.csv");
-    if forces_path.exists() {
-        out.has_forces = true;
-        let mut rd = reader(&contacts_path)?;
-        let c = columns(
-            &contacts_path,
-            &mut rd,
-            &["a", "b", "t_start_s", "t_end_s", "peak_force_n"],
-        )?;
-        let mut by_index = Vec::new();
-        for rec in rd.records() {
-            let rec = rec.map_err(|e| PlotError::Parse {
-                path: contacts_path.clone(),
-                message: e.to_string(),
-            })?;
-            let t0 = num(&contacts_path, &rec[c[2]])?;
-            let t1 = num(&contacts_path, &rec[c[3]])?;
-            by_index.push(ForceCurve {
-                contact: by_index.len(),
-                a: rec[c[0]].to_string(),
-                b: rec[c[1]].to_string(),
-                t_start_s: t0,
-                peak_force_n: num(&contacts_path, &rec[c[4]])?,
-                points: if t1.is_finite() {
-                    vec![(t1 - t0, 0.0)]
-                } else {
-                    vec![]
-                },
-            });
-        }
-        let mut rd = reader(&forces_path)?;
-        let c = columns(&forces_path, &mut rd, &["contact", "time_s", "force_n"])?;
-        let mut curves: BTreeMap<usize, Vec<(f64, f64)>> = BTreeMap::new();
-        for rec in rd.records() {
-            let rec = rec.map_err(|e| PlotError::Parse {
-                path: forces_path.clone(),
-                message: e.to_string(),
-            })?;
-            let k: usize = rec[c[0]].parse().map_err(|_| PlotError::Parse {
-                path: forces_path.clone(),
-                message: format!("bad contact index '{}'", &rec[c[0]]),
-            })?;
-            curves.entry(k).or_default().push((
-                num(&forces_path, &rec[c[1]])?,
-                num(&forces_path, &rec[c[2]])?,
-            ));
-        }
-        for (k, pts) in curves {
-            let Some(fc) = by_index.get_mut(k) else {
-                return Err(PlotError::Parse {
-                    path: forces_path.clone(),
-                    message: format!("contact {k} is not in contacts.csv"),
-                });
-            };
-            let end = fc.points.pop();
-            let t0 = fc.t_start_s;
-            fc.points.push((0.0, 0.0));
-            fc.points.extend(pts.into_iter().map(|(t, p)| (t - t0, p)));
-            fc.points.extend(end);
-        }
-        out.forces = by_index
-            .into_iter()
-            .filter(|f| f.points.len() > 2)
-            .collect();
-    }
-    let bodies_path = dir.join("bodies.csv");
-    let mut rd = reader(&bodies_path)?;
-    let c = columns(
-        &bodies_path,
-        &mut rd,
-        &[
-            "time_s", "apple", "vx_m_s", "vy_m_s", "vz_m_s", "wx_rad_s", "wy_rad_s", "wz_rad_s",
-        ],
-    )?;
-    let slip_col = rd
-        .headers()
-        .ok()
-        .and_then(|h| h.iter().position(|c| c == "slip_m_s"));
-    let mut order: BTreeMap<String, usize> = BTreeMap::new();
-    for rec in rd.records() {
-        let rec = rec.map_err(|e| PlotError::Parse {
-            path: bodies_path.clone(),
-            message: e.to_string(),
-        })?;
-        let t = num(&bodies_path, &rec[c[0]])?;
-        let g = |i: usize| num(&bodies_path, &rec[c[i]]);
-        let v = (g(2)?.powi(2) + g(3)?.powi(2) + g(4)?.powi(2)).sqrt();
-        let w = (g(5)?.powi(2) + g(6)?.powi(2) + g(7)?.powi(2)).sqrt();
-        let name = &rec[c[1]];
-        let k = match order.get(name) {
-            Some(&k) => k,
-            None => {
-                order.insert(name.to_string(), out.apples.len());
-                out.apples.push((name.to_string(), Kinematics::default()));
-                out.apples.len() - 1
-            }
-        };
-        out.apples[k].1.speed.push((t, v));
-        out.apples[k].1.spin.push((t, w));
-        if let Some(sc) = slip_col {
-            let x = num(&bodies_path, rec.get(sc).unwrap_or(""))?;
-            if x.is_finite() {
-                out.apples[k].1.slip.push((t, x));
-            }
-        }
-    }
-    let tr_path = dir.join("transitions.csv");
-    if tr_path.exists() {
-        let mut rd = reader(&tr_path)?;
-        let c = columns(
-            &tr_path,
-            &mut rd,
-            &["apple", "to", "surface", "time_s", "slip_m_s", "along_m"],
-        )?;
-        for rec in rd.records() {
-            let rec = rec.map_err(|e| PlotError::Parse {
-                path: tr_path.clone(),
-                message: e.to_string(),
-            })?;
-            out.transitions.push(TransitionMark {
-                apple: rec[c[0]].to_string(),
-                to: rec[c[1]].to_string(),
-                surface: rec[c[2]].to_string(),
-                time_s: num(&tr_path, &rec[c[3]])?,
-                slip_m_s: num(&tr_path, &rec[c[4]])?,
-                along_m: num(&tr_path, &rec[c[5]])?,
-            });
-        }
-    }
-    Ok(out)
-}
-
-/// The outline of a histogram as a staircase curve: (edges, counts) -> points.
-pub fn histogram_outline(edges: &[f64], counts: &[u32]) -> Vec<(f64, f64)> {
-    let mut pts = Vec::with_capacity(2 * counts.len() + 2);
-    if edges.len() != counts.len() + 1 || counts.is_empty() {
-        return pts;
-    }
-    pts.push((edges[0], 0.0));
-    for (k, &c) in counts.iter().enumerate() {
-        pts.push((edges[k], c as f64));
-        pts.push((edges[k + 1], c as f64));
-    }
-    pts.push((edges[counts.len()], 0.0));
-    pts
+    /// A chart could not be drawn or written.
+    #[error(transparent)]
+    Chart(#[from] ChartError),
 }
 
 /// Choices of [`plot_runs`].
@@ -571,6 +142,19 @@ pub fn run_labels(dirs: &[PathBuf]) -> Vec<String> {
             }
         })
         .collect()
+}
+
+/// Writes `chart` as `file` into `out_dir` and records it in `summary`.
+fn write(
+    out_dir: &Path,
+    file: &str,
+    chart: &LineChart,
+    summary: &mut PlotSummary,
+) -> Result<(), PlotError> {
+    let path = out_dir.join(file);
+    chart.write_svg(&path)?;
+    summary.written.push(path);
+    Ok(())
 }
 
 /// Draws `force_time.svg`, `linear_velocity.svg` and `angular_velocity.svg` of the run folders
@@ -682,16 +266,13 @@ pub fn plot_runs(
                 s.points.retain(|p| p.0 <= window);
             }
         }
-        let path = out_dir.join(FORCE_CHART);
-        LineChart {
-            title: "Normal contact force".into(),
-            x_label: "time since first touch (ms)".into(),
-            y_label: "normal force P (N)".into(),
-            series: force_series,
-            markers: Vec::new(),
-        }
-        .write_svg(&path)?;
-        summary.written.push(path);
+        let chart = LineChart::new(
+            "Normal contact force",
+            "time since first touch (ms)",
+            "normal force P (N)",
+            force_series,
+        );
+        write(out_dir, FORCE_CHART, &chart, &mut summary)?;
     }
 
     // Figs. 6-7: speed and angular speed against time.
@@ -759,31 +340,26 @@ pub fn plot_runs(
         }
     }
     if !slip.is_empty() {
-        let path = out_dir.join(SLIP_CHART);
-        LineChart {
-            title: "Slip speed at the contact the apple is on".into(),
-            x_label: "time (s)".into(),
-            y_label: "slip speed (m/s)".into(),
-            series: slip,
-            markers: marks
-                .into_iter()
-                .map(|(label, points)| Series { label, points })
-                .collect(),
-        }
-        .write_svg(&path)?;
-        summary.written.push(path);
+        let mut chart = LineChart::new(
+            "Slip speed at the contact the apple is on",
+            "time (s)",
+            "slip speed (m/s)",
+            slip,
+        );
+        chart.markers = marks
+            .into_iter()
+            .map(|(label, points)| Series { label, points })
+            .collect();
+        write(out_dir, SLIP_CHART, &chart, &mut summary)?;
     }
     if !starts.is_empty() {
-        let path = out_dir.join(ROLLING_STARTS_CHART);
-        LineChart {
-            title: "Where apples start rolling".into(),
-            x_label: "distance along the surface from its start (m)".into(),
-            y_label: "rolling starts".into(),
-            series: starts,
-            markers: Vec::new(),
-        }
-        .write_svg(&path)?;
-        summary.written.push(path);
+        let chart = LineChart::new(
+            "Where apples start rolling",
+            "distance along the surface from its start (m)",
+            "rolling starts",
+            starts,
+        );
+        write(out_dir, ROLLING_STARTS_CHART, &chart, &mut summary)?;
     }
     if !speed.is_empty() {
         for (file, title, y, series) in [
@@ -795,16 +371,8 @@ pub fn plot_runs(
                 spin,
             ),
         ] {
-            let path = out_dir.join(file);
-            LineChart {
-                title: title.into(),
-                x_label: "time (s)".into(),
-                y_label: y.into(),
-                series,
-                markers: Vec::new(),
-            }
-            .write_svg(&path)?;
-            summary.written.push(path);
+            let chart = LineChart::new(title, "time (s)", y, series);
+            write(out_dir, file, &chart, &mut summary)?;
         }
     }
     if summary.written.is_empty() {

@@ -38,7 +38,9 @@ impl Unit {
     }
 }
 
-/// What makes a check pass.
+/// What makes a check pass: a relative error against a reference (closed forms, the reference
+/// integration, the paper's numbers), or a bound for what the paper states only as a trend or
+/// a limit ("less than 0.1 s").
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum Criterion {
@@ -86,7 +88,7 @@ pub struct Check {
 }
 
 impl Check {
-    /// A relative comparison with a reference value.
+    /// A relative comparison with a reference value: |ours / reference - 1| <= `tolerance`.
     pub fn relative(
         key: impl Into<String>,
         what: impl Into<String>,
@@ -160,7 +162,7 @@ impl Check {
         self.reference.map(|r| self.ours / r - 1.0)
     }
 
-    /// The tolerance or limit as the report shows it.
+    /// The tolerance or limit as the report shows it, so a reader sees what each row was held to.
     pub fn tolerance_text(&self) -> String {
         match self.criterion {
             Criterion::Relative { tolerance } => format!("± {} %", trim(tolerance * 100.0)),

@@ -9,19 +9,25 @@
 //! ([`check::Check`]). The report holds no wall-clock time or path of the run folders, so the
 //! same code gives the same report, byte for byte.
 //!
-//! Modules: [`runs`] runs a spec and reads its run folders back; [`reference`] the independent
-//! reference values; [`figures`] what each figure measures and checks; [`errata`] the evidence
-//! for the paper's errata; [`report`] the Markdown.
+//! Modules, in the order the data flows: `paper.json` ([`paper`]) holds the paper's words and
+//! numbers and what each figure runs and checks; [`runs`] runs a spec and reads its run folders
+//! back; [`measure`] measures each run and sets it beside its [`mod@reference`], the independent
+//! reference values (self-contained: no formula of the product); [`figures`] builds every figure
+//! from its spec with one builder; [`errata`] the evidence for the paper's errata; [`check`] one
+//! row of a check table; [`report`] the Markdown.
 
 pub mod check;
 pub mod errata;
 pub mod figures;
+pub mod measure;
+pub mod paper;
 pub mod reference;
 pub mod report;
 pub mod runs;
 
+use crate::chart::LineChart;
 use crate::output::atomic;
-use crate::output::plot::{LineChart, PlotError};
+use crate::output::plot::PlotError;
 use check::Check;
 use std::path::{Path, PathBuf};
 
@@ -39,7 +45,7 @@ pub enum ValidateError {
         /// What was wrong.
         message: String,
     },
-    /// A chart could not be read or drawn.
+    /// A run's curves could not be read back for a chart, or a chart drawn or written.
     #[error(transparent)]
     Plot(#[from] PlotError),
     /// A report file could not be written.
@@ -61,7 +67,8 @@ pub enum ValidateError {
     },
 }
 
-/// Where the validation reads and writes.
+/// Where the validation reads and writes. The report names the specs folder as given and
+/// neither output folder, so it is the same bytes wherever it is written.
 #[derive(Debug, Clone)]
 pub struct Options {
     /// Folder of the figure specs (`fig1.json` ... `fig7.json`, `eq12_restitution.json`); the
@@ -75,7 +82,8 @@ pub struct Options {
     pub jobs: usize,
 }
 
-/// A table of the report: header and rows of text cells.
+/// A table of the report: header and rows of text cells, already formatted, so the Markdown
+/// writer ([`report`]) knows nothing of units or precision.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Table {
     /// Column captions.
@@ -84,7 +92,8 @@ pub struct Table {
     pub rows: Vec<Vec<String>>,
 }
 
-/// A chart of the report, written beside it.
+/// A chart of the report, written beside it (SVG, so the committed copy in docs/validation/
+/// can be compared byte for byte).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chart {
     /// File name in the output folder.
@@ -93,7 +102,8 @@ pub struct Chart {
     pub caption: String,
 }
 
-/// One figure of the paper as the validation ran it.
+/// One figure of the paper as the validation ran it: one section of the report, and what the
+/// tests of the validation look into.
 #[derive(Debug, Clone)]
 pub struct Figure {
     /// `fig1`, ..., `fig7`.
@@ -115,12 +125,12 @@ pub struct Figure {
     /// The checks.
     pub checks: Vec<Check>,
     /// The impacts measured (Figs. 1-5), in run order.
-    pub impacts: Vec<figures::ImpactRun>,
+    pub impacts: Vec<measure::ImpactRun>,
     /// The slip-to-roll runs (Figs. 6-7), in run order.
-    pub rolls: Vec<figures::RollRun>,
+    pub rolls: Vec<measure::RollRun>,
 }
 
-/// What the validation found.
+/// What the validation found: every figure and erratum with its checks, and the files written.
 #[derive(Debug, Clone)]
 pub struct Validation {
     /// The figures, in order.
@@ -142,7 +152,8 @@ impl Validation {
             .chain(self.errata.iter().flat_map(|e| e.checks.iter()))
     }
 
-    /// The check with this key.
+    /// The check with this key (`fig1/paper/peak_force/0.2`): keys are stable, so a test can hold
+    /// one particular claim.
     pub fn check(&self, key: &str) -> Option<&Check> {
         self.checks().find(|c| c.key == key)
     }
@@ -152,13 +163,23 @@ impl Validation {
         self.figures.iter().find(|f| f.id == id)
     }
 
-    /// Checks that failed.
+    /// Checks that failed: the command exits non-zero when there is any.
     pub fn failed(&self) -> Vec<&Check> {
         self.checks().filter(|c| !c.pass).collect()
     }
 }
 
-/// The report file name.
+/// The product's materials handed to the reference (tests build them with
+/// `Material::from_shear`, as the scenarios give them): the reference reads only their shear
+/// modulus and Poisson ratio and derives E itself (physics.md section 1), so none of the
+/// product's formulas enters a reference value.
+impl From<&crate::contact::Material> for reference::Elastic {
+    fn from(m: &crate::contact::Material) -> Self {
+        reference::Elastic::from_shear(m.shear_modulus_pa, m.poisson_ratio)
+    }
+}
+
+/// The report file name in the output folder (docs/validation/report.md for the committed copy).
 pub const REPORT: &str = "report.md";
 
 /// Runs every figure, writes the report and its charts into `opts.out_dir`, returns what was
@@ -175,19 +196,10 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Validation,
         jobs: opts.jobs.max(1),
         written: Vec::new(),
     };
-    type Build = fn(&mut figures::Context) -> Result<Figure, ValidateError>;
-    let builds: [(&str, Build); 7] = [
-        ("fig1", figures::fig1),
-        ("fig2", figures::fig2),
-        ("fig3", figures::fig3),
-        ("fig4", figures::fig4),
-        ("fig5", figures::fig5),
-        ("fig6", figures::fig6),
-        ("fig7", figures::fig7),
-    ];
     let mut figs = Vec::new();
-    for (id, build) in builds {
-        let f = build(&mut ctx)?;
+    for spec in &paper::paper().figures {
+        let f = figures::build(&mut ctx, spec)?;
+        let id = &f.id;
         let pass = f.checks.iter().filter(|c| c.pass).count();
         progress(&format!(
             "{id}: {} runs, {pass} of {} checks pass",
@@ -231,7 +243,7 @@ fn write_chart(
     chart: &LineChart,
 ) -> Result<(), ValidateError> {
     let path = ctx.out_dir.join(file);
-    chart.write_svg(&path)?;
+    chart.write_svg(&path).map_err(PlotError::from)?;
     ctx.written.push(path);
     Ok(())
 }

@@ -6,28 +6,13 @@
 use super::check::{Check, Criterion};
 use super::errata::Erratum;
 use super::figures::CLOSED_FORM_TOLERANCE;
+use super::paper::paper;
 use super::{Figure, Options, Table};
 use std::fmt::Write;
 
 /// The command that regenerates the committed copy in docs/validation/.
 pub const COMMAND: &str =
     "cargo run --release -- validate --out docs/validation --runs out/validation-runs";
-
-/// The parameters the paper leaves out, what we chose and why (physics.md section 8).
-const DECISIONS: [[&str; 4]; 12] = [
-    ["apple mass, Figs. 1, 3, 4, 6, 7", "not given", "0.107 kg", "reproduces both quoted Fig. 1 points within 3.1 % (physics.md section 8); half of an 80 mm apple at 800 kg/m^3, most likely the reduced mass of two equal apples. Figs. 3-4 and 6-7 are the same apple in the paper, so they keep it (the mass drops out of the Figs. 6-7 closed forms)"],
-    ["apple mass, Fig. 2", "not given", "0.107 kg x (D / 80 mm)^3", "the Fig. 1 mass scaled with the volume (physics.md section 8)"],
-    ["apple mass, Fig. 5", "not given", "from 800 kg/m^3: 0.214 kg", "layered apples press on each other with their real weight (the shipped Fig. 5 scenarios)"],
-    ["apple modulus, Figs. 1-3", "1.1 MPa (text), 1 MPa (captions)", "1.1 MPa", "reproduces the quoted points; 1 MPa does not (erratum 6); Fig. 2 keeps 'the same characteristics', Fig. 3 varies it"],
-    ["apple modulus, Figs. 4-7", "1 MPa", "1 MPa", "the captions"],
-    ["energy loss, Figs. 1-5", "ke = 0.8-0.95 (eq. 12)", "elastic (ke = 1)", "the quoted Fig. 1 points are elastic Hertz impacts (physics.md section 8); the paper's k_P = 0.53-0.54 is the elastic pulse's 0.5436 (section 4)"],
-    ["gravity, Figs. 1-4", "not stated", "on, 9.81 m/s^2", "the quoted 11.5 N at 0.2 m/s needs it: 9.52 N without (physics.md section 8)"],
-    ["start of an impact, Figs. 1-4", "'speed at the moment of contact'", "touching (gap 0) at v0", "the approach speed is v0 exactly; our reference integrates from the touch"],
-    ["impact speed and platform Poisson ratio, Fig. 4", "not given", "1.0 m/s, nu2 = 0.28", "Fig. 3's speed; steel's ratio for every platform, so G2 is the only variable (the sensitivity to nu2 is in the Fig. 4 notes)"],
-    ["overlap guard, Fig. 4", "-", "default max_overlap_ratio 0.5", "every run stays under it (the deepest overlap, on the softest platform, is in the Fig. 4 notes); Hertz assumes u << R, so the softest platforms are flagged as the model's answer rather than the guard raised"],
-    ["friction", "not given", "0.3 everywhere", "every Fig. 6-7 case rolls within 0.1 s only if mu >= 2 v0 / (7 g 0.1 s) = 0.29 for 1 m/s (physics.md section 8); it plays no part in the head-on impacts of Figs. 1-4"],
-    ["energy loss and start, Figs. 6-7", "'without impact'", "ke = 0.09, lambda 1000 s/m, at the resting sag", "apple-like loss (e = 0.3); it does not enter the slip-to-roll closed forms; placed at the eq. 12 resting sag so it neither bounces nor settles"],
-];
 
 /// Markdown table.
 fn table(out: &mut String, t: &Table) {
@@ -157,9 +142,17 @@ pub fn markdown(opts: &Options, figs: &[Figure], errata: &[Erratum]) -> String {
         header: ["parameter", "paper", "ours", "why"]
             .map(String::from)
             .to_vec(),
-        rows: DECISIONS
+        rows: paper()
+            .decisions
             .iter()
-            .map(|r| r.iter().map(|c| c.to_string()).collect())
+            .map(|d| {
+                vec![
+                    d.parameter.clone(),
+                    d.paper.clone(),
+                    d.ours.clone(),
+                    d.why.clone(),
+                ]
+            })
             .collect(),
     };
     table(&mut s, &t);

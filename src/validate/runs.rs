@@ -61,10 +61,7 @@ pub struct Run {
 impl Run {
     /// The value of parameter `name` (NaN when the batch has no such parameter).
     pub fn param(&self, name: &str) -> f64 {
-        self.params
-            .iter()
-            .find(|(n, _)| n == name)
-            .map_or(f64::NAN, |(_, v)| *v)
+        param(&self.params, name)
     }
 
     /// The contact between `a` and `b` with the largest peak force.
@@ -96,6 +93,15 @@ impl Run {
     pub fn bodies(&self, name: &str) -> Result<Vec<BodySample>, ValidateError> {
         read_bodies(&self.dir.join("bodies.csv"), name)
     }
+}
+
+/// The value of `name` among a run's batch parameters, NaN when the batch has none: a trend over
+/// a parameter the batch does not vary then fails visibly instead of comparing zeros.
+pub fn param(params: &[(String, f64)], name: &str) -> f64 {
+    params
+        .iter()
+        .find(|(n, _)| n == name)
+        .map_or(f64::NAN, |(_, v)| *v)
 }
 
 /// A figure's batch after it ran.
