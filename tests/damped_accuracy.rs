@@ -33,7 +33,12 @@ fn t_h(v0: f64) -> f64 {
 }
 
 /// The shipped Fig. 1 drop at `v0` with ke = 0.09, touching the plate at t = 0.
-fn drop(v0: f64, gravity: bool, step: TimeStep, accuracy: Option<Accuracy>) -> applesim::sim::RunResult {
+fn drop(
+    v0: f64,
+    gravity: bool,
+    step: TimeStep,
+    accuracy: Option<Accuracy>,
+) -> applesim::sim::RunResult {
     let mut sc = shipped("scenarios/drop_on_steel.json");
     sc.contact.ke = KE;
     sc.contact.lambda_s_m = LAMBDA;
@@ -67,7 +72,10 @@ fn check(r: &applesim::sim::RunResult, want: &ode::Impact, v0: f64, row: &Row) {
     let e = &r.events[0];
     let t_want = want.contact_time_s.unwrap();
     let e_want = want.rebound_m_s.unwrap() / v0;
-    println!("{}: {} steps in contact (stated {})", row.label, e.steps, row.steps);
+    println!(
+        "{}: {} steps in contact (stated {})",
+        row.label, e.steps, row.steps
+    );
     // Each error within twice the stated one (docs/accuracy.md); the reference is RK4.
     assert_ref(
         &format!("{}: peak force", row.label),
@@ -103,11 +111,56 @@ fn fixed_steps_against_rk4_without_gravity() {
     // e = sqrt(ke) = 0.3 to the table's three digits).
     assert!((want.rebound_m_s.unwrap() / v0 - 0.3).abs() < 5e-4);
     let rows = [
-        (10.0, Row { label: "t_H/10", steps: 17, peak: -6.790, time: -18.610, restitution: 10.187 }),
-        (20.0, Row { label: "t_H/20", steps: 39, peak: -1.769, time: -9.568, restitution: 2.714 }),
-        (50.0, Row { label: "t_H/50", steps: 104, peak: -0.287, time: -3.731, restitution: 0.446 }),
-        (100.0, Row { label: "t_H/100", steps: 212, peak: -0.069, time: -1.756, restitution: 0.110 }),
-        (1000.0, Row { label: "t_H/1000", steps: 2162, peak: 0.0005, time: 0.022, restitution: -0.0007 }),
+        (
+            10.0,
+            Row {
+                label: "t_H/10",
+                steps: 17,
+                peak: -6.790,
+                time: -18.610,
+                restitution: 10.187,
+            },
+        ),
+        (
+            20.0,
+            Row {
+                label: "t_H/20",
+                steps: 39,
+                peak: -1.769,
+                time: -9.568,
+                restitution: 2.714,
+            },
+        ),
+        (
+            50.0,
+            Row {
+                label: "t_H/50",
+                steps: 104,
+                peak: -0.287,
+                time: -3.731,
+                restitution: 0.446,
+            },
+        ),
+        (
+            100.0,
+            Row {
+                label: "t_H/100",
+                steps: 212,
+                peak: -0.069,
+                time: -1.756,
+                restitution: 0.110,
+            },
+        ),
+        (
+            1000.0,
+            Row {
+                label: "t_H/1000",
+                steps: 2162,
+                peak: 0.0005,
+                time: 0.022,
+                restitution: -0.0007,
+            },
+        ),
     ];
     for (n, row) in rows {
         let r = drop(v0, false, TimeStep::Fixed(t_h(v0) / n), None);
@@ -124,14 +177,78 @@ fn auto_and_adaptive_against_rk4_with_gravity() {
     println!("RK4: {want:?}");
     // The RK4 reference against physics.md section 8 (the loading is elastic Hertz up to the
     // turn: 99.97 N with gravity at 1.4 m/s).
-    assert!((want.peak_force_n - 99.97).abs() < 0.01, "{}", want.peak_force_n);
+    assert!(
+        (want.peak_force_n - 99.97).abs() < 0.01,
+        "{}",
+        want.peak_force_n
+    );
     let rows = [
-        (TimeStep::Auto, Accuracy::Preview, Row { label: "auto, preview", steps: 25, peak: -0.873, time: -0.460, restitution: -0.852 }),
-        (TimeStep::Auto, Accuracy::Balanced, Row { label: "auto, balanced", steps: 46, peak: 0.262, time: -9.981, restitution: 3.050 }),
-        (TimeStep::Auto, Accuracy::Precise, Row { label: "auto, precise", steps: 126, peak: -0.064, time: -1.414, restitution: 0.046 }),
-        (TimeStep::Adaptive, Accuracy::Preview, Row { label: "adaptive, preview", steps: 11, peak: 0.882, time: -18.969, restitution: 10.485 }),
-        (TimeStep::Adaptive, Accuracy::Balanced, Row { label: "adaptive, balanced", steps: 21, peak: 0.151, time: -8.133, restitution: 1.091 }),
-        (TimeStep::Adaptive, Accuracy::Precise, Row { label: "adaptive, precise", steps: 53, peak: -0.015, time: -0.989, restitution: 0.285 }),
+        (
+            TimeStep::Auto,
+            Accuracy::Preview,
+            Row {
+                label: "auto, preview",
+                steps: 25,
+                peak: -0.873,
+                time: -0.460,
+                restitution: -0.852,
+            },
+        ),
+        (
+            TimeStep::Auto,
+            Accuracy::Balanced,
+            Row {
+                label: "auto, balanced",
+                steps: 46,
+                peak: 0.262,
+                time: -9.981,
+                restitution: 3.050,
+            },
+        ),
+        (
+            TimeStep::Auto,
+            Accuracy::Precise,
+            Row {
+                label: "auto, precise",
+                steps: 126,
+                peak: -0.064,
+                time: -1.414,
+                restitution: 0.046,
+            },
+        ),
+        (
+            TimeStep::Adaptive,
+            Accuracy::Preview,
+            Row {
+                label: "adaptive, preview",
+                steps: 11,
+                peak: 0.882,
+                time: -18.969,
+                restitution: 10.485,
+            },
+        ),
+        (
+            TimeStep::Adaptive,
+            Accuracy::Balanced,
+            Row {
+                label: "adaptive, balanced",
+                steps: 21,
+                peak: 0.151,
+                time: -8.133,
+                restitution: 1.091,
+            },
+        ),
+        (
+            TimeStep::Adaptive,
+            Accuracy::Precise,
+            Row {
+                label: "adaptive, precise",
+                steps: 53,
+                peak: -0.015,
+                time: -0.989,
+                restitution: 0.285,
+            },
+        ),
     ];
     for (step, acc, row) in rows {
         let r = drop(v0, true, step, Some(acc));

@@ -124,12 +124,33 @@ fn check(g1: f64, nu1: f64) {
         // Tolerances: docs/claims.md states the measured agreement (1e-6 on alpha, 0.0001 % on
         // the transition time, 0.001 % on the speed); each is checked at twice that.
         let what = format!("{fidelity:?}");
-        assert_ref(&format!("{what}: spin-up alpha"), alpha, alpha_cf, 2e-6, "closed form");
-        assert_ref(&format!("{what}: time to rolling"), t, t_cf, 2e-6, "closed form");
-        assert_ref(&format!("{what}: rolling speed"), v, v_cf, 2e-5, "closed form");
+        assert_ref(
+            &format!("{what}: spin-up alpha"),
+            alpha,
+            alpha_cf,
+            2e-6,
+            "closed form",
+        );
+        assert_ref(
+            &format!("{what}: time to rolling"),
+            t,
+            t_cf,
+            2e-6,
+            "closed form",
+        );
+        assert_ref(
+            &format!("{what}: rolling speed"),
+            v,
+            v_cf,
+            2e-5,
+            "closed form",
+        );
         // The other closed form is far outside: the test sees the shift.
         let (alpha_other, t_other, _) = s.predict(!on);
-        assert!(rel(alpha, alpha_other) > 20.0 * 2e-6, "alpha does not tell the shift");
+        assert!(
+            rel(alpha, alpha_other) > 20.0 * 2e-6,
+            "alpha does not tell the shift"
+        );
         assert!(rel(t, t_other) > 20.0 * 2e-6, "t does not tell the shift");
     }
 }
