@@ -198,3 +198,26 @@ impl Setup {
         fine
     }
 }
+
+/// Compliance (1 - nu^2) / E of a material given by (G, nu): its share of an overlap is
+/// c1 / (c1 + c2) (physics.md section 5).
+pub fn compliance(g_pa: f64, nu: f64) -> f64 {
+    (1.0 - nu * nu) / youngs(g_pa, nu)
+}
+
+/// The friction lever arm of an apple (G1, nu1, radius r, mass m) resting on a flat of (G2, nu2)
+/// under gravity g with eq. 12's ke, from the closed form alone: the contact point lies
+/// r - u c1 / (c1 + c2) from the centre (physics.md section 5), u the resting sag
+/// k u^(3/2) (1 + ke)/2 = m g (sections 2-3).
+pub fn resting_lever(apple: (f64, f64), flat: (f64, f64), r: f64, m: f64, g: f64, ke: f64) -> f64 {
+    let k = hertz_k(apple.0, apple.1, flat.0, flat.1, r);
+    let u = resting_sag(k, ke, m * g);
+    let (c1, c2) = (compliance(apple.0, apple.1), compliance(flat.0, flat.1));
+    r - u * c1 / (c1 + c2)
+}
+
+/// The lever arm of the Figs. 6-7 apple (G 1 MPa, nu 0.18, D 80 mm, 0.107 kg) resting on steel
+/// under 9.81 m/s^2 with ke = 0.09 (scenarios/slip_to_roll.json): 39.7938 mm.
+pub fn fig6_lever() -> f64 {
+    resting_lever((1.0e6, 0.18), (8.1e10, 0.28), 0.04, 0.107, 9.81, 0.09)
+}
