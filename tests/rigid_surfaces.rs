@@ -42,7 +42,10 @@ fn rigid_surface_rebounds_at_sqrt_ke() {
         for dt in [1e-5, 1e-4, 1e-3] {
             for v0 in [0.3, 1.0] {
                 let (e, n) = bounce(&scene(ke, v0, 0.0, dt));
-                println!("ke {ke}, dt {dt:e}, v0 {v0}: e = {e:.9} (sqrt(ke) {:.9})", ke.sqrt());
+                println!(
+                    "ke {ke}, dt {dt:e}, v0 {v0}: e = {e:.9} (sqrt(ke) {:.9})",
+                    ke.sqrt()
+                );
                 assert_eq!(n, 0, "a rigid surface records nothing");
                 // Measured: exact to the last digits; checked at 1e-9.
                 assert!((e - ke.sqrt()).abs() < 1e-9, "e = {e}");
@@ -53,7 +56,10 @@ fn rigid_surface_rebounds_at_sqrt_ke() {
         let dt = 1e-5;
         let (e, _) = bounce(&scene(ke, 1.0, 9.81, dt));
         println!("ke {ke}, with gravity: e = {e:.6}");
-        assert!((e - ke.sqrt()).abs() <= 2.0 * 9.81 * dt / 1.0, "with gravity e = {e}");
+        assert!(
+            (e - ke.sqrt()).abs() <= 2.0 * 9.81 * dt / 1.0,
+            "with gravity e = {e}"
+        );
     }
 }
 

@@ -221,3 +221,16 @@ pub fn resting_lever(apple: (f64, f64), flat: (f64, f64), r: f64, m: f64, g: f64
 pub fn fig6_lever() -> f64 {
     resting_lever((1.0e6, 0.18), (8.1e10, 0.28), 0.04, 0.107, 9.81, 0.09)
 }
+
+/// The elastic impact's closed forms of physics.md section 4 (no gravity), written here:
+/// (u_max, P_max, t_H, a_max) for a body of (effective) mass m at v0 on a Hertz contact of
+/// stiffness k and effective radius r_star.
+pub fn elastic_closed_form(m: f64, v0: f64, k: f64, r_star: f64) -> (f64, f64, f64, f64) {
+    let u = (5.0 * m * v0 * v0 / (4.0 * k)).powf(0.4);
+    (
+        u,
+        k * u.powf(1.5),
+        2.0 * 1.471_637_6 * u / v0,
+        (r_star * u).sqrt(),
+    )
+}
