@@ -255,3 +255,40 @@ fn auto_and_adaptive_against_rk4_with_gravity() {
         check(&r, &want, v0, &row);
     }
 }
+
+/// physics.md section 3: for lambda v0 >> 1 the contact lasts t_c = t_H / 2 (1 + 1/sqrt(ke)),
+/// peaks at tau = 1 / (1 + 1/sqrt(ke)) of it, with P_max unchanged (the elastic one). Measured at
+/// lambda v0 = 1e4, no gravity, dt = 1e-5 s: docs/physics.md ("How applesim implements this
+/// reference") states the agreement; checked at twice each figure.
+#[test]
+fn sqrt_ke_limit_of_contact_time_and_peak() {
+    let v0 = 1.0;
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.contact.ke = KE;
+    sc.contact.lambda_s_m = 1e4;
+    sc.apples[0].position_m = [0.0, 0.0, R];
+    sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
+    sc.gravity_m_s2 = [0.0; 3];
+    sc.duration_s = 0.04;
+    sc.model.sleep.enabled = false;
+    let e = run(&sc).0.events[0].clone();
+    let (_, p_max, t_h, _) = ode::elastic_closed_form(M, v0, ode::fig1_k(), R);
+    let t_c = 0.5 * t_h * (1.0 + 1.0 / KE.sqrt());
+    let tau = 1.0 / (1.0 + 1.0 / KE.sqrt());
+    let t = e.duration_s.unwrap();
+    assert_ref("contact time", t, t_c, 2.0 * 0.05e-2, "closed form");
+    assert_ref(
+        "peak force",
+        e.peak_force_n,
+        p_max,
+        2.0 * 0.001e-2,
+        "closed form",
+    );
+    assert_ref(
+        "tau",
+        (e.t_peak_s - e.t_start_s) / t,
+        tau,
+        2.0 * 0.15e-2,
+        "closed form",
+    );
+}
