@@ -72,5 +72,8 @@ fn rigid_fidelity_rebounds_at_sqrt_ke() {
     let (e, n) = bounce(&sc);
     println!("fidelity rigid, ke 0.25: e = {e:.9}");
     assert_eq!(n, 0, "no contact forces, no events");
+    // docs/transitions.md: the slip/roll detector is off for fidelity rigid.
+    let (r, _) = run(&sc);
+    assert!(r.transitions.is_empty() && r.transition_summary.is_none());
     assert!((e - 0.5).abs() < 1e-9, "e = {e}");
 }

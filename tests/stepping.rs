@@ -82,6 +82,14 @@ fn auto_is_refined_by_the_accuracy_target() {
             100.0 * rel(e.duration_s.unwrap(), cf.contact_time_s)
         );
         assert_eq!(e.steps, steps, "{acc:?}: steps in contact");
+        // docs/accuracy.md: `auto` is one fixed step, t_H / N of the stiffest impact the scene can
+        // produce (here the apple's own 1.4 m/s: no gravity, no other body).
+        assert_rel(
+            "auto step = t_H / N",
+            r.time_step_s,
+            cf.contact_time_s / acc.steps_per_contact(),
+            1e-9,
+        );
         assert!(e.steps as f64 >= acc.steps_per_contact() * 0.95);
         assert_rel(
             "peak force",
@@ -218,7 +226,8 @@ fn fidelity_levels_do_what_they_say() {
     let (r, _) = run(&d);
     assert!(r.events[0].restitution.unwrap() < 0.32);
     // full: the eq. 9 patch shift moves the point where the normal force acts, which changes the
-    // moments while the apple slides (a small effect: about 1e-4 on the rolling speed).
+    // moments while the apple slides (a small effect: about 1e-4 on the rolling speed; its size
+    // against a closed form is tests/patch_shift.rs).
     sc.fidelity = Fidelity::HertzDamped;
     let (_, a) = run(&sc);
     sc.fidelity = Fidelity::Full;
