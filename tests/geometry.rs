@@ -224,3 +224,44 @@ fn rolling_in_a_trough_has_the_larger_radius() {
     println!("rolling in trough: R* = {r_star} m");
     assert_rel("trough R*", r_star, 1.0 / (1.0 / R - 1.0 / rs), 1e-6);
 }
+
+/// README, Surfaces: `euler_xyz_deg` rotates about the fixed world x, then y, then z axes.
+/// [90, 0, 90] about fixed axes is Rz(90) Rx(90), the cyclic x -> y -> z map: 120 degrees about
+/// (1, 1, 1). A 0.6 x 0.2 x 0.02 m box so turned stands as a wall across x (long along y); an
+/// apple thrown at it along -x, 0.25 m off its centre, hits it exactly as with the axis-angle
+/// form. (Taken as body-fixed axes, Rx(90) Rz(90), the box would lie across y and be missed.)
+#[test]
+fn euler_angles_are_about_fixed_axes() {
+    let wall = |rotation: Value| {
+        json!([{"name": "wall", "type": "box", "material": "steel", "size_m": [0.6, 0.2, 0.02],
+            "position_m": [0, 0, 0], "rotation": rotation}])
+    };
+    let throw = |surfaces: Value| {
+        let mut sc = base(
+            surfaces,
+            [0.01 + R + 1e-4, 0.25, 0.0],
+            [-1.0, 0.0, 0.0],
+            0.3,
+            1.0,
+        );
+        sc.gravity_m_s2 = [0.0; 3];
+        sc.duration_s = 0.02;
+        run(&sc).0.events
+    };
+    let euler = throw(wall(json!({"euler_xyz_deg": [90, 0, 90]})));
+    let axis = throw(wall(json!({"axis": [1, 1, 1], "angle_deg": 120})));
+    assert_eq!(euler.len(), 1, "the apple hits the wall once");
+    assert_eq!(axis.len(), 1);
+    assert_rel(
+        "same impact",
+        euler[0].peak_force_n,
+        axis[0].peak_force_n,
+        1e-12,
+    );
+    assert_rel(
+        "same contact time",
+        euler[0].duration_s.unwrap(),
+        axis[0].duration_s.unwrap(),
+        1e-12,
+    );
+}
