@@ -293,7 +293,7 @@ fn a_fed_apple_waits_for_its_spot() {
         r.warnings
     );
     assert!(
-        first >= 0.16 - 1e-3 && first <= 0.16 + 2e-3,
+        (0.16 - 1e-3..=0.16 + 2e-3).contains(&first),
         "appears at {first} s, not 0.16 s"
     );
     assert!(
