@@ -10,7 +10,8 @@
 //! - a lone apple on a 20 degree slope cannot rest (no rolling resistance): it rolls down without
 //!   slipping (slip under 0.1 mm/s) at the closed-form acceleration g sin(theta) / (1 + I / (m
 //!   rho^2)), rho = R - u the lever arm of its resting sag (physics.md section 6).
-//! - the resting sag itself against the closed form k u^(3/2) (1 + ke)/2 = m g.
+//! - the resting sag itself against the closed form k u^(3/2) (1 + ke)/2 = m g, and how slowly a
+//!   disturbed resting contact relaxes to it.
 //!
 //! Each bound is checked at twice its stated figure.
 
@@ -184,10 +185,11 @@ fn a_lone_apple_on_a_slope_rolls_down_without_slipping() {
 }
 
 /// The resting sag of the Figs. 6-7 apple on steel (ke = 0.09) against the closed form
-/// k u^(3/2) (1 + ke)/2 = m g: docs/physics.md ("How applesim implements this reference")
-/// states the measured excess, 2.4 % at dt = 1e-5 s, 1.2 % at 1e-4 s, 0.09 % at 1e-6 s (the
-/// resting force factor 0.526, 0.536, 0.5443 instead of 0.545). Checked: deeper, and within
-/// twice each excess.
+/// k u^(3/2) (1 + ke)/2 = m g, released at rest at (about) that sag. docs/physics.md ("How
+/// applesim implements this reference") states: the rest state is the closed form (at a 1e-4 s
+/// step the sag equals it within 1e-6 after 2.5 s), but a resting eq. 12 contact is overdamped and
+/// relaxes slowly once disturbed: at 1e-5 s the apple first sinks and is still 2.4 % too deep at
+/// 0.5 s and 0.4 % at 3 s. Checked at twice each figure.
 #[test]
 fn resting_sag_against_the_closed_form() {
     let u_cf = ode::resting_sag(
@@ -195,20 +197,44 @@ fn resting_sag_against_the_closed_form() {
         0.09,
         M * G,
     );
-    for (dt, stated) in [(1e-5, 2.4), (1e-4, 1.2), (1e-6, 0.09)] {
+    let sag = |dt: f64, duration: f64| {
         let mut sc = shipped("scenarios/slip_to_roll.json");
         sc.apples[0].velocity_m_s = [0.0; 3];
         sc.time_step_s = TimeStep::Fixed(dt);
-        sc.duration_s = 0.5;
+        sc.duration_s = duration;
         sc.model.sleep.enabled = false;
-        sc.output.sample_interval_s = 0.05;
+        sc.output.sample_interval_s = 0.5;
         let (_, s) = run(&sc);
-        let u = R - s.of(0).last().unwrap().1.position.z;
+        s.of(0)
+            .iter()
+            .map(|(t, a)| (*t, R - a.position.z))
+            .collect::<Vec<_>>()
+    };
+    // At 1e-4 s: settled on the closed form.
+    let settled = sag(1e-4, 2.5);
+    let (_, u) = *settled.last().unwrap();
+    assert_ref(
+        "resting sag at dt 1e-4 s after 2.5 s",
+        u,
+        u_cf,
+        2.0 * 1e-6,
+        "closed form",
+    );
+    // At 1e-5 s: deeper, relaxing towards it (2.4 % at 0.5 s, 0.4 % at 3 s).
+    let relaxing = sag(1e-5, 3.0);
+    for (t, stated) in [(0.5, 2.4), (3.0, 0.4)] {
+        let (_, u) = *relaxing.iter().find(|(x, _)| (x - t).abs() < 1e-9).unwrap();
         let excess = 100.0 * (u / u_cf - 1.0);
-        println!("dt {dt:e}: sag {u:.6e} m, closed form {u_cf:.6e} m: {excess:+.3} %");
-        assert!(
-            excess > 0.0 && excess <= 2.0 * stated,
-            "dt {dt}: {excess} %"
-        );
+        println!("dt 1e-5 s, t {t} s: sag {u:.6e} m, closed form {u_cf:.6e} m: {excess:+.3} %");
+        assert!(excess > 0.0 && excess <= 2.0 * stated, "t {t}: {excess} %");
     }
+    let after: Vec<f64> = relaxing
+        .iter()
+        .filter(|(t, _)| *t >= 0.5)
+        .map(|p| p.1)
+        .collect();
+    assert!(
+        after.windows(2).all(|w| w[1] < w[0]),
+        "relaxes monotonically: {after:?}"
+    );
 }
