@@ -158,11 +158,12 @@ fn flags_exactly_the_apples_over_their_thresholds() {
     for c in &a.bruise.contacts {
         if let Some((_, mat, v)) = DROPS.iter().find(|d| d.0 == &*c.apple) {
             let want = if *mat == "energy" { 1.5 * v } else { 2.0 * v };
+            // The closed forms are met to about 1e-6 at this step (docs/design.md); twice that.
             assert_rel(
                 &format!("{} velocity change", c.apple),
                 c.velocity_change_m_s,
                 want,
-                0.005,
+                2e-6,
             );
         }
     }

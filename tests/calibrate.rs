@@ -50,7 +50,10 @@ fn finds_ke_for_e_0_3_at_1_m_s_with_lambda_1000() {
     // Independent check: the ordinary simulator at its own time step.
     let e = full_run_restitution(c.ke, 1000.0, 1.0, true);
     println!("full run with ke = {:.6}: e = {e:.5}", c.ke);
-    assert!((e - 0.3).abs() <= 0.005, "e = {e}");
+    // docs/analysis.md: under gravity a restitution at dt = 1e-5 s is defined to g dt / v0
+    // (1e-4 at 1 m/s); checked at twice that. The full run gives 0.30005 (golden, as printed).
+    assert!((e - 0.3).abs() <= 2.0 * 9.81 * 1e-5 / 1.0, "e = {e}");
+    assert!((e - 0.30005).abs() <= 1e-5, "e = {e}");
 }
 
 #[test]
@@ -67,6 +70,21 @@ fn refuses_e_0_3_at_lambda_v0_2_without_gravity_with_the_reason() {
     let lo = calibrate::simulate_impact(&s, KE_MIN, 0.2).unwrap();
     let e_lo = lo.restitution.unwrap();
     assert!((e_lo - 0.477).abs() < 0.003, "e(ke = 1e-4) = {e_lo}");
+    // Against the independent RK4 (ke = 1e-4, lambda v0 = 2, no gravity): docs/analysis.md
+    // states 0.2 % below it; checked at twice that.
+    let rk4 = common::ode::Setup {
+        mass_kg: 0.107,
+        k: common::ode::fig1_k(),
+        r_star_m: 0.04,
+        ke: KE_MIN,
+        lambda_s_m: 10.0,
+        g_n: 0.0,
+    }
+    .impact(0.2, 10.0)
+    .rebound_m_s
+    .unwrap()
+        / 0.2;
+    assert_rel("e(ke = 1e-4) against RK4", e_lo, rk4, 2.0 * 0.2e-2);
     assert!(msg.contains(&format!("{e_lo:.4}")), "{msg}");
 }
 
@@ -81,8 +99,9 @@ fn under_gravity_e_0_3_at_lambda_v0_2_is_reachable() {
     assert!((c.restitution - 0.3).abs() <= 1e-4);
     let e = full_run_restitution(c.ke, 10.0, 0.2, true);
     println!("full run: e = {e:.5}");
-    // The full run's time step (1e-5 s) resolves e only to g dt / v0 = 5e-4.
-    assert!((e - 0.3).abs() <= 0.005, "e = {e}");
+    // The full run's time step (1e-5 s) resolves e only to g dt / v0 = 5e-4 (docs/analysis.md);
+    // checked at twice that.
+    assert!((e - 0.3).abs() <= 2.0 * 9.81 * 1e-5 / 0.2, "e = {e}");
 }
 
 #[test]

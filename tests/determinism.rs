@@ -1,19 +1,22 @@
-//! The same scenario gives byte-identical outputs (every file; in summary.json every field but
-//! `wall_time_s`, a measurement of the machine).
+//! The same scenario gives byte-identical outputs (README "Outputs": "The same scenario gives
+//! byte-identical files; only `wall_time_s` is a measurement"): every file a run writes, found by
+//! listing the run folders (sub-folders included), not a fixed list; in summary.json every field
+//! but `wall_time_s`. The runs cover every kind of file: summary.json, contacts.csv, bodies.csv,
+//! transitions.csv, bruise.csv, forces.csv, pulse_fits.csv, scenario.json, the charts of
+//! `--plots` and the ParaView series (scene.pvd, vtk/).
 
-use std::path::Path;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn run_cli(scenario: &str, out: &Path) {
-    let s = Path::new(env!("CARGO_MANIFEST_DIR")).join(scenario);
+fn run_cli(scenario: &Path, out: &Path, extra: &[&str]) {
     let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
-        .args([
-            "run",
-            s.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--quiet",
-        ])
+        .arg("run")
+        .arg(scenario)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(extra)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -25,34 +28,115 @@ fn without_wall_time(p: &Path) -> serde_json::Value {
     v
 }
 
-#[test]
-fn two_runs_write_identical_files() {
-    for sc in [
-        "scenarios/slip_to_roll.json",
-        "scenarios/two_apples_head_on.json",
-    ] {
-        let base = std::env::temp_dir().join(format!("applesim-det-{}", std::process::id()));
-        let (a, b) = (base.join("a"), base.join("b"));
-        run_cli(sc, &a);
-        run_cli(sc, &b);
-        for f in ["contacts.csv", "bodies.csv", "scenario.json"] {
+/// Every file under `dir`, as paths relative to it.
+fn files(dir: &Path) -> BTreeSet<PathBuf> {
+    fn walk(root: &Path, dir: &Path, out: &mut BTreeSet<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(root, &p, out);
+            } else {
+                out.insert(p.strip_prefix(root).unwrap().to_path_buf());
+            }
+        }
+    }
+    let mut out = BTreeSet::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+/// The two run folders hold the same files with the same bytes (summary.json but its wall time).
+/// Returns the file names.
+fn assert_same_files(what: &str, a: &Path, b: &Path) -> BTreeSet<PathBuf> {
+    let (fa, fb) = (files(a), files(b));
+    assert_eq!(fa, fb, "{what}: the two runs wrote different files");
+    for f in &fa {
+        if f == Path::new("summary.json") {
+            assert_eq!(
+                without_wall_time(&a.join(f)),
+                without_wall_time(&b.join(f)),
+                "{what}: summary.json differs"
+            );
+        } else {
             let (x, y) = (
                 std::fs::read(a.join(f)).unwrap(),
                 std::fs::read(b.join(f)).unwrap(),
             );
-            assert!(!x.is_empty());
-            assert!(x == y, "{sc}: {f} differs between two runs");
+            assert!(!x.is_empty(), "{what}: {} is empty", f.display());
+            assert!(x == y, "{what}: {} differs between two runs", f.display());
         }
-        assert_eq!(
-            without_wall_time(&a.join("summary.json")),
-            without_wall_time(&b.join("summary.json"))
-        );
-        let _ = std::fs::remove_dir_all(&base);
     }
+    fa
+}
+
+fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+#[test]
+fn two_runs_write_identical_files() {
+    let base = std::env::temp_dir().join(format!("applesim-det-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    std::fs::create_dir_all(&base).unwrap();
+    // The drop with a ParaView series, so that every kind of file is written.
+    let mut drop: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(repo("scenarios/drop_on_steel.json")).unwrap())
+            .unwrap();
+    drop["output"]["vtk"] = serde_json::json!({ "interval_s": 0.005 });
+    let drop_vtk = base.join("drop_vtk.json");
+    std::fs::write(&drop_vtk, serde_json::to_vec_pretty(&drop).unwrap()).unwrap();
+    let mut seen = BTreeSet::new();
+    for sc in [
+        repo("scenarios/slip_to_roll.json"),
+        repo("scenarios/two_apples_head_on.json"),
+        repo("scenarios/handling_line.json"),
+        drop_vtk,
+    ] {
+        let name = sc.file_stem().unwrap().to_string_lossy().to_string();
+        let (a, b) = (
+            base.join(format!("{name}-a")),
+            base.join(format!("{name}-b")),
+        );
+        run_cli(&sc, &a, &["--plots"]);
+        run_cli(&sc, &b, &["--plots"]);
+        let f = assert_same_files(&name, &a, &b);
+        println!("{name}: {} files identical", f.len());
+        seen.extend(f.into_iter().map(|p| {
+            // vtk/apples_000001.vtp -> vtk/apples_*.vtp
+            let s = p.to_string_lossy().to_string();
+            if s.starts_with("vtk/apples_") {
+                "vtk/apples_*.vtp".to_string()
+            } else {
+                s
+            }
+        }));
+    }
+    // Every kind of output file was compared.
+    for f in [
+        "summary.json",
+        "contacts.csv",
+        "bodies.csv",
+        "transitions.csv",
+        "bruise.csv",
+        "forces.csv",
+        "pulse_fits.csv",
+        "scenario.json",
+        "force_time.svg",
+        "linear_velocity.svg",
+        "angular_velocity.svg",
+        "slip_speed.svg",
+        "rolling_starts.svg",
+        "scene.pvd",
+        "vtk/surfaces.vtp",
+        "vtk/apples_*.vtp",
+    ] {
+        assert!(seen.contains(f), "no run wrote {f}: {seen:?}");
+    }
+    let _ = std::fs::remove_dir_all(&base);
 }
 
 /// The force pass runs in parallel once a step has enough contacts (a pile); its sums are taken
-/// in a fixed order, so one thread and two give the same bytes.
+/// in a fixed order, so one thread and two give the same bytes, in every file.
 #[test]
 fn one_thread_and_two_write_identical_files() {
     let base = std::env::temp_dir().join(format!("applesim-threads-{}", std::process::id()));
@@ -79,33 +163,15 @@ fn one_thread_and_two_write_identical_files() {
     });
     let path = base.join("pile.json");
     std::fs::write(&path, serde_json::to_vec_pretty(&sc).unwrap()).unwrap();
-    let run = |threads: &str, out: &Path| {
-        let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
-            .args(["run", path.to_str().unwrap(), "--out"])
-            .arg(out)
-            .args(["--quiet", "--threads", threads])
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    };
     let (a, b) = (base.join("t1"), base.join("t2"));
-    run("1", &a);
-    run("2", &b);
+    run_cli(&path, &a, &["--threads", "1"]);
+    run_cli(&path, &b, &["--threads", "2"]);
     let contacts = std::fs::read_to_string(a.join("contacts.csv")).unwrap();
     assert!(
         contacts.lines().count() > 300,
         "the pile should produce many contacts"
     );
-    for f in ["contacts.csv", "bodies.csv"] {
-        let (x, y) = (
-            std::fs::read(a.join(f)).unwrap(),
-            std::fs::read(b.join(f)).unwrap(),
-        );
-        assert!(x == y, "{f} differs between --threads 1 and --threads 2");
-    }
-    assert_eq!(
-        without_wall_time(&a.join("summary.json")),
-        without_wall_time(&b.join("summary.json"))
-    );
+    let f = assert_same_files("--threads 1 and 2", &a, &b);
+    assert!(f.len() >= 6, "{f:?}");
     let _ = std::fs::remove_dir_all(&base);
 }

@@ -266,3 +266,41 @@ fn file_generator_values_are_validated() {
     assert!(e.contains("unused.json[1].diameter_m: -0.08"), "{e}");
     assert!(with(vec![apple("a", 0.08, [0.0, 0.0, 0.1])]).is_ok());
 }
+
+/// README, Many apples: a source's apple k appears at start_s + k / rate_per_s; if its spot is
+/// still taken it waits (a warning says so). Here apples of 80 mm leave at 0.5 m/s, every 0.1 s:
+/// the second waits until the first has moved a diameter, 0.16 s.
+#[test]
+fn a_fed_apple_waits_for_its_spot() {
+    let v = json!({
+        "duration_s": 0.3, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, 0],
+        "output": {"sample_interval_s": 1e-3, "force_history": false},
+        "materials": {"apple": {"shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800}},
+        "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
+        "sources": [{"name": "feed", "material": "apple", "diameter_m": 0.08, "position_m": [0, 0, 0],
+            "jitter_m": 0.0, "velocity_m_s": [0.5, 0, 0], "rate_per_s": 10, "start_s": 0.0,
+            "count": 2, "seed": 1}]
+    });
+    let sc = applesim::scenario::from_json(&v.to_string(), "wait").unwrap();
+    let (r, s) = run(&sc);
+    let first = s
+        .of(1)
+        .first()
+        .map(|(t, _)| *t)
+        .expect("the second apple is fed in");
+    println!(
+        "second apple appears at {first} s; warnings {:?}",
+        r.warnings
+    );
+    assert!(
+        (0.16 - 1e-3..=0.16 + 2e-3).contains(&first),
+        "appears at {first} s, not 0.16 s"
+    );
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("waited for their spot")),
+        "{:?}",
+        r.warnings
+    );
+}

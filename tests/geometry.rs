@@ -2,9 +2,10 @@
 //! sliding), mesh floor against a plane, drop into a trough.
 
 mod common;
-use applesim::contact::{material::effective_modulus, normal, theory, Material};
+use applesim::contact::theory;
 use applesim::math::{vec3, Vec3};
 use applesim::scenario::{self, Scenario};
+use common::ode;
 use common::*;
 use serde_json::{json, Value};
 
@@ -29,10 +30,10 @@ fn base(surfaces: Value, apple_pos: [f64; 3], apple_vel: [f64; 3], mu: f64, ke: 
     sc
 }
 
+/// Hertz k of the Fig. 1 apple on steel from physics.md sections 1-2 (tests/common/ode.rs, not
+/// the crate's own helpers).
 fn hertz_k(r_star: f64) -> f64 {
-    let apple = Material::from_shear(1.1e6, 0.18, None).unwrap();
-    let steel = Material::from_shear(8.1e10, 0.28, None).unwrap();
-    normal::stiffness(effective_modulus(&apple, &steel), r_star)
+    ode::hertz_k(1.1e6, 0.18, 8.1e10, 0.28, r_star)
 }
 
 /// Resting sag under a normal load `p` with eq. 12 at rest ((1 + ke)/2 of Hertz), on a flat.
@@ -80,16 +81,23 @@ fn apple_at_rest_on_a_moving_belt() {
     assert_rel("belt: time to stop slipping", t_stick, t_cf, 0.01);
     let v_end = s.last().unwrap().1.velocity.x;
     assert_rel("belt: apple speed", v_end, 2.0 / 7.0 * v_belt, 0.01);
-    // Tight check with the true lever R - u: in the belt's frame the apple slides at -V.
-    let rho = s[..k].iter().map(|(_, a)| a.position.z).sum::<f64>() / k as f64;
+    // Tight check with the true lever R - u from the closed form (the static sag, not the run):
+    // in the belt's frame the apple slides at -V. Within twice README's 0.04 % on the time and
+    // twice docs/transitions.md's 7e-5 m/s on the speed after the transition.
+    let rho = ode::resting_lever((1.1e6, 0.18), (8.1e10, 0.28), R, M, G, 0.09);
     let tight = theory::slip_to_roll_with_lever(-v_belt, 0.0, R, rho, mu, G);
-    assert_rel("belt: time, lever R - u", t_stick, tight.time_s, 0.001);
     assert_rel(
-        "belt: speed, lever R - u",
-        v_end,
-        v_belt + tight.speed_m_s,
-        0.001,
+        "belt: time, lever R - u",
+        t_stick,
+        tight.time_s,
+        2.0 * 0.04e-2,
     );
+    let dv = (v_end - (v_belt + tight.speed_m_s)).abs();
+    println!(
+        "belt: speed after rolling {v_end}, lever R - u {} ({dv:.2e} m/s)",
+        v_belt + tight.speed_m_s
+    );
+    assert!(dv <= 2.0 * 7e-5, "belt: speed {v_end}");
 }
 
 /// Acceleration along the slope of an apple released at rest on a flat chute.
@@ -215,4 +223,45 @@ fn rolling_in_a_trough_has_the_larger_radius() {
     let r_star = e.max_contact_radius_m.powi(2) / e.max_overlap_m;
     println!("rolling in trough: R* = {r_star} m");
     assert_rel("trough R*", r_star, 1.0 / (1.0 / R - 1.0 / rs), 1e-6);
+}
+
+/// README, Surfaces: `euler_xyz_deg` rotates about the fixed world x, then y, then z axes.
+/// [90, 0, 90] about fixed axes is Rz(90) Rx(90), the cyclic x -> y -> z map: 120 degrees about
+/// (1, 1, 1). A 0.6 x 0.2 x 0.02 m box so turned stands as a wall across x (long along y); an
+/// apple thrown at it along -x, 0.25 m off its centre, hits it exactly as with the axis-angle
+/// form. (Taken as body-fixed axes, Rx(90) Rz(90), the box would lie across y and be missed.)
+#[test]
+fn euler_angles_are_about_fixed_axes() {
+    let wall = |rotation: Value| {
+        json!([{"name": "wall", "type": "box", "material": "steel", "size_m": [0.6, 0.2, 0.02],
+            "position_m": [0, 0, 0], "rotation": rotation}])
+    };
+    let throw = |surfaces: Value| {
+        let mut sc = base(
+            surfaces,
+            [0.01 + R + 1e-4, 0.25, 0.0],
+            [-1.0, 0.0, 0.0],
+            0.3,
+            1.0,
+        );
+        sc.gravity_m_s2 = [0.0; 3];
+        sc.duration_s = 0.02;
+        run(&sc).0.events
+    };
+    let euler = throw(wall(json!({"euler_xyz_deg": [90, 0, 90]})));
+    let axis = throw(wall(json!({"axis": [1, 1, 1], "angle_deg": 120})));
+    assert_eq!(euler.len(), 1, "the apple hits the wall once");
+    assert_eq!(axis.len(), 1);
+    assert_rel(
+        "same impact",
+        euler[0].peak_force_n,
+        axis[0].peak_force_n,
+        1e-12,
+    );
+    assert_rel(
+        "same contact time",
+        euler[0].duration_s.unwrap(),
+        axis[0].duration_s.unwrap(),
+        1e-12,
+    );
 }

@@ -60,26 +60,51 @@ fn matches_physics_md_table() {
         (20.0, 1e-6, 0.131),
         (100.0, 1e-6, 0.040),
         (1.0, 0.09, 0.664),
+        (2.0, 0.09, 0.534),
         (5.0, 0.09, 0.394),
+        (10.0, 0.09, 0.332),
         (20.0, 0.09, 0.309),
         (100.0, 0.09, 0.300),
         (1.0, 0.25, 0.738),
+        (2.0, 0.25, 0.631),
+        (5.0, 0.25, 0.536),
         (10.0, 0.25, 0.510),
+        (20.0, 0.25, 0.502),
         (100.0, 0.25, 0.500),
     ];
+    let mut worst: f64 = 0.0;
     for &(lv, ke, want) in &table {
         // Same lambda v0 at two speeds: scale-free.
         for &v0 in &[0.5, 1.0] {
             let e = restitution(ke, lv / v0, v0, 1e-5);
             println!("lambda v0 = {lv}, ke = {ke}, v0 = {v0}: e = {e:.4} (table {want})");
+            worst = worst.max((e - want).abs());
+            // docs/design.md: the simulator meets the table to 0.0015 (measured 0.0011, the
+            // ke -> 0 column at lambda v0 = 20 and 100).
             assert!((e - want).abs() <= 0.0015, "e = {e}, table {want}");
         }
+        // The table itself against the independent RK4 (tests/common/ode.rs, 50 000 steps per
+        // elastic contact time, no gravity), within twice its rounding (0.001): the integral
+        // rounds to every entry but one, lambda v0 = 2, ke -> 0: 0.4765, printed 0.477.
+        let s = common::ode::Setup {
+            mass_kg: 0.107,
+            k: common::ode::fig1_k(),
+            r_star_m: 0.04,
+            ke,
+            lambda_s_m: lv,
+            g_n: 0.0,
+        };
+        let e = s.impact_with(1.0, 5.0e4, 10.0).rebound_m_s.unwrap();
+        assert!((e - want).abs() <= 0.001, "RK4 e = {e}, table {want}");
     }
+    println!("largest difference of the simulator from the table: {worst:.5}");
 }
 
 #[test]
 fn tends_to_sqrt_ke() {
-    for &ke in &[0.09, 0.25, 0.64] {
+    // README, Choosing ke: e = 0.25-0.35 is ke = 0.0625-0.1225 with lambda v0 >> 1; physics.md
+    // section 8: ke 0.8-0.95 gives e = 0.89-0.97.
+    for &ke in &[0.0625, 0.09, 0.1225, 0.25, 0.64, 0.8, 0.95] {
         let e = restitution(ke, 1e4, 1.0, 1e-5);
         println!("ke = {ke}: e = {e:.5}, sqrt(ke) = {:.5}", ke.sqrt());
         assert!((e - ke.sqrt()).abs() < 0.002, "e = {e}");

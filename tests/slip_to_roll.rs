@@ -1,8 +1,11 @@
 //! Slip-to-roll on a steel plate (physics.md section 6, paper Figs. 6-7), issue 2 acceptance:
 //! time to rolling and final speed within 1 % of the 5/7 and 2/7 rules, mu = 0.3.
 //!
-//! A second, tight check (0.15 %) uses the true lever arm R - u of the sagging apple
-//! (`theory::slip_to_roll_with_lever`), which the 1 % rule ignores.
+//! A second, tight check uses the true lever arm R - u of the sagging apple
+//! (`theory::slip_to_roll_with_lever`), which the 1 % rule ignores, with u from the closed form
+//! (the static sag under eq. 12, tests/common/ode.rs), not from the run: within twice README's
+//! 0.04 % on the time ("Slip and roll") and twice docs/transitions.md's 7e-5 m/s on the speed
+//! at the end of the run.
 //!
 //! The transition is taken where the slip speed of the contact point, v - (R - u) w, reaches
 //! zero, interpolated linearly between the last two samples of the sliding phase (the slip falls
@@ -10,11 +13,12 @@
 
 mod common;
 use applesim::contact::theory;
+use common::ode;
 use common::*;
 
 /// Runs the shipped slip-to-roll scenario with the given launch and friction and returns
-/// (transition time, rolling speed, spin at the end, mean lever arm while sliding).
-fn slip_roll(v0: f64, w0: f64, mu: f64) -> (f64, f64, f64, f64) {
+/// (transition time, rolling speed, spin at the end).
+fn slip_roll(v0: f64, w0: f64, mu: f64) -> (f64, f64, f64) {
     let mut sc = shipped("scenarios/slip_to_roll.json");
     sc.apples[0].velocity_m_s = [v0, 0.0, 0.0];
     sc.apples[0].angular_velocity_rad_s = [0.0, w0, 0.0];
@@ -40,12 +44,11 @@ fn slip_roll(v0: f64, w0: f64, mu: f64) -> (f64, f64, f64, f64) {
     let (t2, v2) = slip[k - 1];
     let t_cross = t2 + v2 * (t2 - t1) / (v1 - v2);
     let last = s.last().unwrap().1;
-    let lever = s[..k].iter().map(|(_, a)| a.position.z).sum::<f64>() / k as f64;
-    (t_cross, last.velocity.x, last.angular_velocity.y, lever)
+    (t_cross, last.velocity.x, last.angular_velocity.y)
 }
 
 fn check(v0: f64, w0: f64, mu: f64) {
-    let (t, v, w, lever) = slip_roll(v0, w0, mu);
+    let (t, v, w) = slip_roll(v0, w0, mu);
     let cf = theory::slip_to_roll(v0, w0, 0.04, mu, 9.81);
     println!(
         "v0 {v0} w0 {w0} mu {mu}: t {t:.6} (closed form {:.6}), v {v:.6} ({:.6}), w {w:.4}",
@@ -53,9 +56,25 @@ fn check(v0: f64, w0: f64, mu: f64) {
     );
     assert_rel("time to rolling", t, cf.time_s, 0.01);
     assert_rel("rolling speed", v, cf.speed_m_s, 0.01);
-    let tight = theory::slip_to_roll_with_lever(v0, w0, 0.04, lever, mu, 9.81);
-    assert_rel("time to rolling, lever R - u", t, tight.time_s, 0.0015);
-    assert_rel("rolling speed, lever R - u", v, tight.speed_m_s, 0.0015);
+    let tight = theory::slip_to_roll_with_lever(v0, w0, 0.04, ode::fig6_lever(), mu, 9.81);
+    assert_rel(
+        "time to rolling, lever R - u",
+        t,
+        tight.time_s,
+        2.0 * 0.04e-2,
+    );
+    // The speed at the end of the run: the stick spring takes up the last of the slip after the
+    // transition, which moves the rolling speed by up to 7e-5 m/s (docs/transitions.md).
+    let dv = (v - tight.speed_m_s).abs();
+    println!(
+        "rolling speed at the end, lever R - u: {v} against {} ({dv:.2e} m/s)",
+        tight.speed_m_s
+    );
+    assert!(
+        dv <= 2.0 * 7e-5,
+        "rolling speed {v} m/s, closed form {} m/s",
+        tight.speed_m_s
+    );
 }
 
 #[test]

@@ -1,17 +1,24 @@
 //! Time-step policies, fidelity levels and the stability guard (issue 6).
 
 mod common;
-use applesim::contact::{material::effective_modulus, normal, theory, Material};
 use applesim::record::series::NoSamples;
 use applesim::scenario::{Accuracy, Fidelity, TimeStep};
 use applesim::sim::{SimError, Simulation};
 use common::*;
 
-fn fig1_closed_form(v0: f64) -> theory::ElasticImpact {
-    let apple = Material::from_shear(1.1e6, 0.18, None).unwrap();
-    let steel = Material::from_shear(8.1e10, 0.28, None).unwrap();
-    let k = normal::stiffness(effective_modulus(&apple, &steel), 0.04);
-    theory::elastic_impact(0.107, v0, k, 0.04)
+/// The closed forms of physics.md section 4 for the Fig. 1 apple on steel, written in
+/// tests/common/ode.rs (not the crate's `theory`).
+struct ClosedForm {
+    peak_force_n: f64,
+    contact_time_s: f64,
+}
+
+fn fig1_closed_form(v0: f64) -> ClosedForm {
+    let (_, p, t, _) = common::ode::elastic_closed_form(0.107, v0, common::ode::fig1_k(), 0.04);
+    ClosedForm {
+        peak_force_n: p,
+        contact_time_s: t,
+    }
 }
 
 fn fig1(time_step: TimeStep, accuracy: Option<Accuracy>) -> applesim::sim::RunResult {
@@ -24,6 +31,15 @@ fn fig1(time_step: TimeStep, accuracy: Option<Accuracy>) -> applesim::sim::RunRe
     run(&sc).0
 }
 
+/// docs/accuracy.md, "Steps per contact against error: one elastic impact": (accuracy, steps in
+/// contact, peak force error %, contact time error %) against the closed form of physics.md
+/// section 4 (no gravity). Each error is checked within twice the stated figure.
+const AUTO_ROWS: [(Accuracy, u64, f64, f64); 3] = [
+    (Accuracy::Preview, 10, 0.57, 0.52),
+    (Accuracy::Balanced, 20, 0.024, 0.12),
+    (Accuracy::Precise, 50, 0.017, 0.020),
+];
+
 #[test]
 fn auto_at_balanced_meets_half_a_percent_within_40_steps() {
     let r = fig1(TimeStep::Auto, Some(Accuracy::Balanced));
@@ -34,13 +50,20 @@ fn auto_at_balanced_meets_half_a_percent_within_40_steps() {
         r.time_step_s, e.steps
     );
     assert_eq!(r.step_policy, "auto");
+    // Issue 6's acceptance (within 0.5 % with at most 40 steps per contact), at the tolerance of
+    // the measured figures docs/accuracy.md states: 0.024 % and 0.12 %, twice each.
     assert!(e.steps <= 40, "{} steps per contact", e.steps);
-    assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 0.005);
+    assert_rel(
+        "peak force",
+        e.peak_force_n,
+        cf.peak_force_n,
+        2.0 * 0.024e-2,
+    );
     assert_rel(
         "contact time",
         e.duration_s.unwrap(),
         cf.contact_time_s,
-        0.005,
+        2.0 * 0.12e-2,
     );
 }
 
@@ -48,15 +71,38 @@ fn auto_at_balanced_meets_half_a_percent_within_40_steps() {
 fn auto_is_refined_by_the_accuracy_target() {
     let cf = fig1_closed_form(1.4);
     let mut last_err = f64::INFINITY;
-    for acc in [Accuracy::Preview, Accuracy::Balanced, Accuracy::Precise] {
+    for (acc, steps, peak, time) in AUTO_ROWS {
         let r = fig1(TimeStep::Auto, Some(acc));
-        let err = rel(r.events[0].peak_force_n, cf.peak_force_n);
+        let e = &r.events[0];
+        let err = rel(e.peak_force_n, cf.peak_force_n);
         println!(
-            "{acc:?}: {} steps in contact, peak force error {:.4} %",
-            r.events[0].steps,
-            100.0 * err
+            "{acc:?}: {} steps in contact, peak force error {:.4} %, contact time error {:.4} %",
+            e.steps,
+            100.0 * err,
+            100.0 * rel(e.duration_s.unwrap(), cf.contact_time_s)
         );
-        assert!(r.events[0].steps as f64 >= acc.steps_per_contact() * 0.95);
+        assert_eq!(e.steps, steps, "{acc:?}: steps in contact");
+        // docs/accuracy.md: `auto` is one fixed step, t_H / N of the stiffest impact the scene can
+        // produce (here the apple's own 1.4 m/s: no gravity, no other body).
+        assert_rel(
+            "auto step = t_H / N",
+            r.time_step_s,
+            cf.contact_time_s / acc.steps_per_contact(),
+            1e-9,
+        );
+        assert!(e.steps as f64 >= acc.steps_per_contact() * 0.95);
+        assert_rel(
+            "peak force",
+            e.peak_force_n,
+            cf.peak_force_n,
+            2.0 * peak / 100.0,
+        );
+        assert_rel(
+            "contact time",
+            e.duration_s.unwrap(),
+            cf.contact_time_s,
+            2.0 * time / 100.0,
+        );
         assert!(err < last_err + 1e-6, "finer steps are not more accurate");
         last_err = err;
     }
@@ -72,17 +118,83 @@ fn adaptive_matches_the_closed_form_with_few_steps() {
         r.steps, e.steps, r.step_range_s
     );
     assert_eq!(r.step_policy, "adaptive");
-    assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 0.005);
+    // docs/accuracy.md: 49 steps in the run, 22 in contact, peak force and contact time within
+    // 0.11 %, rebound 0.06 %; checked at twice each.
+    assert_eq!((r.steps, e.steps), (49, 22), "steps in all, in contact");
+    assert_rel("peak force", e.peak_force_n, cf.peak_force_n, 2.0 * 0.11e-2);
     assert_rel(
         "contact time",
         e.duration_s.unwrap(),
         cf.contact_time_s,
-        0.005,
+        2.0 * 0.11e-2,
     );
-    assert_rel("rebound", e.separation_speed_m_s.unwrap(), 1.4, 0.005);
+    assert_rel(
+        "rebound",
+        e.separation_speed_m_s.unwrap(),
+        1.4,
+        2.0 * 0.06e-2,
+    );
     // Free flight at the largest step, impacts at the resolving one.
     assert!(r.step_range_s[1] >= 0.99e-3, "{:?}", r.step_range_s);
-    assert!(r.steps < 100, "{} steps", r.steps);
+}
+
+/// The Fig. 1 apple touching the plate at `phase` of a step after t = step (no gravity), at
+/// fixed steps of t_H / n.
+fn fixed_fraction(n: f64, phase: f64) -> applesim::record::events::ContactEvent {
+    let v0 = 1.4;
+    let h = fig1_closed_form(v0).contact_time_s / n;
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.gravity_m_s2 = [0.0, 0.0, 0.0];
+    sc.apples[0].position_m = [0.0, 0.0, 0.04 + (1.0 + phase) * h * v0];
+    sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
+    sc.time_step_s = TimeStep::Fixed(h);
+    sc.model.min_steps_per_impact = 5.0;
+    sc.output.sample_interval_s = 0.01;
+    run(&sc).0.events[0].clone()
+}
+
+/// physics.md section 10: symplectic Euler on one elastic impact, 10 steps per contact give
+/// 0.9 % error in P_max, 20 steps 0.2 %, 40 steps 0.05 % (touch on a step). Checked at twice
+/// each, against the closed form of section 4.
+#[test]
+fn peak_force_error_per_steps_per_contact_as_physics_md_states() {
+    let cf = fig1_closed_form(1.4);
+    for (n, stated) in [(10.0, 0.9), (20.0, 0.2), (40.0, 0.05)] {
+        let e = fixed_fraction(n, 0.0);
+        assert_rel(
+            &format!("peak force at {n} steps per contact"),
+            e.peak_force_n,
+            cf.peak_force_n,
+            2.0 * stated / 100.0,
+        );
+    }
+}
+
+/// docs/accuracy.md: where the steps fall on the pulse moves the peak force error, over the
+/// touch's phase within a step from -1.3 % to +0.9 % at N = 10 and from -0.34 % to +0.20 % at
+/// N = 20 (20 phases). Checked: every phase within twice the stated bound on its side.
+#[test]
+fn peak_force_error_over_the_phase_of_the_touch() {
+    let cf = fig1_closed_form(1.4);
+    for (n, low, high) in [(10.0, -1.3, 0.9), (20.0, -0.34, 0.20)] {
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        for j in 0..20 {
+            let e = fixed_fraction(n, j as f64 / 20.0);
+            let err = 100.0 * (e.peak_force_n / cf.peak_force_n - 1.0);
+            lo = lo.min(err);
+            hi = hi.max(err);
+        }
+        println!("N = {n}: peak force error from {lo:+.3} % to {hi:+.3} % over the phase");
+        assert!(
+            lo >= 2.0 * low && hi <= 2.0 * high,
+            "N = {n}: {lo} .. {hi} %"
+        );
+        // The stated range is the measured one: both ends are reached (within half the bound).
+        assert!(
+            lo <= 0.5 * low && hi >= 0.5 * high,
+            "N = {n}: {lo} .. {hi} %"
+        );
+    }
 }
 
 #[test]
@@ -104,17 +216,19 @@ fn fidelity_levels_do_what_they_say() {
     d.gravity_m_s2 = [0.0; 3];
     d.fidelity = Fidelity::Hertz;
     let (r, _) = run(&d);
+    // Restitution 1 (README), to the closed forms' 1e-6 (docs/design.md), checked at twice that.
     assert_rel(
         "hertz: rebound",
         r.events[0].restitution.unwrap(),
         1.0,
-        1e-3,
+        2e-6,
     );
     d.fidelity = Fidelity::HertzDamped;
     let (r, _) = run(&d);
     assert!(r.events[0].restitution.unwrap() < 0.32);
     // full: the eq. 9 patch shift moves the point where the normal force acts, which changes the
-    // moments while the apple slides (a small effect: about 1e-4 on the rolling speed).
+    // moments while the apple slides (a small effect: about 1e-4 on the rolling speed; its size
+    // against a closed form is tests/patch_shift.rs).
     sc.fidelity = Fidelity::HertzDamped;
     let (_, a) = run(&sc);
     sc.fidelity = Fidelity::Full;

@@ -25,6 +25,24 @@ fn eq4_needs_two_different_masses() {
     println!("eq. 4, 0.2 m/s, no gravity: {mp:.4} kg for the force, {mt:.4} kg for the time");
     // physics.md quotes two digits.
     assert!((mp - 0.31).abs() < 0.005 && (mt - 0.04).abs() < 0.005);
+    // Against the closed-form inverses of physics.md section 4 (no gravity), written here with
+    // k from tests/common/ode.rs: P = k u^(3/2), u = (5 m v^2 / (4 k))^(2/5) give
+    // m = 4 k u^(5/2) / (5 v^2) with u = (P / k)^(2/3) for the force and u = t v / (2 * 1.4716376)
+    // for the time.
+    let k4 = common::ode::fig1_k() / std::f64::consts::PI;
+    let m_of_u = |u: f64| 4.0 * k4 * u.powf(2.5) / (5.0 * 0.2 * 0.2);
+    assert_rel(
+        "mass for 11.5 N",
+        mp,
+        m_of_u((11.5 / k4).powf(2.0 / 3.0)),
+        1e-6,
+    );
+    assert_rel(
+        "mass for 8.8 ms",
+        mt,
+        m_of_u(8.8e-3 * 0.2 / (2.0 * 1.471_637_6)),
+        1e-6,
+    );
     for q in reference::FIG1_QUOTED {
         for g in [0.0, 9.81] {
             let r = reference::mass_for_peak_force(q.v0_m_s, eq4, g, q.peak_force_n)
@@ -53,7 +71,29 @@ fn eq12_printed_sign_creates_energy() {
         );
         assert_rel("dissipative sign: e vs sqrt(ke)", right, ke.sqrt(), 0.002);
         assert!(printed > 1.0);
+        // Against the independent RK4 of tests/common/ode.rs (lambda v0 = 1000, no gravity). The
+        // printed sign, [1 + ke + (1 - ke) tanh(-lambda u')] / 2, is the dissipative law with
+        // ke' = 1/ke on the stiffness ke k: ke k [1 + 1/ke + (1 - 1/ke) tanh(lambda u')] / 2.
+        let k = common::ode::fig1_k();
+        let rk4 = |k: f64, ke: f64| {
+            common::ode::Setup {
+                mass_kg: 0.107,
+                k,
+                r_star_m: 0.04,
+                ke,
+                lambda_s_m: 1000.0,
+                g_n: 0.0,
+            }
+            .impact(1.0, 0.2)
+            .rebound_m_s
+            .unwrap()
+        };
+        assert_rel("printed sign vs RK4", printed, rk4(ke * k, 1.0 / ke), 1e-3);
+        assert_rel("dissipative sign vs RK4", right, rk4(k, ke), 1e-3);
     }
+    // physics.md section 3: "the same ke = 0.09 returns e = 3.33" (three digits).
+    let e = reference::eq12_restitution(0.09, 1000.0, Eq12Sign::AsPrinted);
+    assert!((e - 3.33).abs() <= 0.01, "e = {e}");
 }
 
 /// Erratum 6: G1 = 1.1 MPa fits the quoted Fig. 1 numbers within 3.1 % at 0.107 kg
@@ -78,9 +118,12 @@ fn one_millisecond_on_steel_needs_an_absurd_speed() {
     let v = reference::speed_for_contact_time(0.107, k, 1e-3);
     println!("1 ms on steel at {v:.0} m/s");
     assert!(v > 1000.0);
-    // Closed form check: at that speed the no-gravity impact lasts 1 ms.
-    let t = applesim::contact::theory::elastic_impact(0.107, v, k, 0.04).contact_time_s;
-    assert_rel("contact time", t, 1e-3, 1e-9);
+    // Against the closed-form inverse of physics.md section 4, written here (not the crate's
+    // forward function): t_H = 2 * 1.4716376 (5 m / (4 k))^(2/5) v^(-1/5), so
+    // v = (2 * 1.4716376 (5 m / (4 k))^(2/5) / t)^5, with k from tests/common/ode.rs.
+    let k_ind = common::ode::fig1_k();
+    let v_closed = (2.0 * 1.471_637_6 * (5.0 * 0.107 / (4.0 * k_ind)).powf(0.4) / 1e-3).powi(5);
+    assert_rel("speed for 1 ms", v, v_closed, 1e-6);
 }
 
 /// Erratum 8: at 1 m/s the Fig. 4 contact passes 10 ms only when the platform is more than

@@ -436,23 +436,53 @@ mod tests {
 
     #[test]
     fn patch_shift_follows_eq9() {
+        // An elastic contact (energy loss off, so P = k u^(3/2) exactly) sliding at 1 m/s: the
+        // shift is delta = F_t nu1 / (4 a G1) along F_t (physics.md section 5), here computed
+        // from the materials and the overlap alone, not from the response: E = 2 G (1 + nu),
+        // 1/E* = sum (1 - nu^2) / E, k = 4/3 E* sqrt(R*), a = sqrt(R* u), F_t = mu P.
         let law = fig1_law();
         let mut xi = Vec3::ZERO;
         let parts = LawParts {
             patch_shift: true,
+            energy_loss: false,
             ..LawParts::default()
         };
+        let u = 1e-3;
         let r = evaluate(
             &law,
             parts,
             &consts(&law),
-            &kin(1e-3, Vec3::new(1.0, 0.0, 0.0)),
+            &kin(u, Vec3::new(1.0, 0.0, 0.0)),
             &mut xi,
             0.5 / 1e-5,
             1e-5,
         );
-        let expect = r.friction_force.length() * law.nu1 / (4.0 * r.contact_radius_m * law.g1_pa);
-        assert!((r.patch_shift.length() - expect).abs() < 1e-15);
-        assert!(r.patch_shift.x < 0.0, "shift along F_t");
+        let c = |g: f64, nu: f64| (1.0 - nu * nu) / (2.0 * g * (1.0 + nu));
+        let e_star = 1.0 / (c(1.1e6, 0.18) + c(8.1e10, 0.28));
+        let p = 4.0 / 3.0 * e_star * 0.04f64.sqrt() * u.powf(1.5);
+        let a = (0.04 * u).sqrt();
+        let delta = 0.3 * p * 0.18 / (4.0 * a * 1.1e6);
+        // 0.3 * 22.6 N * 0.18 / (4 * 6.32 mm * 1.1 MPa) = 43.9 um, against the motion.
+        assert!((delta - 4.39e-5).abs() < 0.01e-5, "delta {delta}");
+        assert!(
+            (r.patch_shift.x + delta).abs() < 1e-12 * delta.max(1.0),
+            "{:?} against {delta}",
+            r.patch_shift
+        );
+        assert_eq!((r.patch_shift.y, r.patch_shift.z), (0.0, 0.0));
+        // Without the `full` level's patch shift there is none.
+        let plain = evaluate(
+            &law,
+            LawParts {
+                energy_loss: false,
+                ..LawParts::default()
+            },
+            &consts(&law),
+            &kin(u, Vec3::new(1.0, 0.0, 0.0)),
+            &mut xi,
+            0.5 / 1e-5,
+            1e-5,
+        );
+        assert_eq!(plain.patch_shift, Vec3::ZERO);
     }
 }

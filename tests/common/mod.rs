@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod ode;
+
 use applesim::record::series::MemorySeries;
 use applesim::scenario::{self, Scenario};
 use applesim::sim::{self, RunResult};
@@ -41,6 +43,24 @@ pub fn assert_rel(what: &str, got: f64, want: f64, tol: f64) {
     assert!(
         e <= tol,
         "{what}: got {got}, want {want} (error {:.4} % > {:.4} %)",
+        100.0 * e,
+        100.0 * tol
+    );
+}
+
+/// Asserts |got - want| <= tol |want|, printing both numbers and naming the reference kind
+/// ("closed form", "RK4", "golden value").
+#[track_caller]
+pub fn assert_ref(what: &str, got: f64, want: f64, tol: f64, kind: &str) {
+    let e = rel(got, want);
+    println!(
+        "{what}: got {got:.8e}, {kind} {want:.8e}, error {:+.5} % (tolerance {:.5} %)",
+        100.0 * (got - want) / want.abs(),
+        100.0 * tol
+    );
+    assert!(
+        e <= tol,
+        "{what}: got {got}, {kind} {want} (error {:.5} % > {:.5} %)",
         100.0 * e,
         100.0 * tol
     );

@@ -1,0 +1,432 @@
+//! The file promises of README ("Scenario format", "Outputs", "Slip and roll"), docs/analysis.md
+//! ("What a run writes", pulse fits, bruise) and docs/transitions.md ("Outputs", "Settings"):
+//! every column and key as the docs list them, the documented defaults as they appear in the
+//! files a run writes (scenario.json is the scenario as run, defaults filled in), and the
+//! sampling rules. The lists below are the docs' own, in their order.
+
+mod common;
+use common::*;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+fn cli_run(scenario: &Path, name: &str) -> PathBuf {
+    let out = std::env::temp_dir().join(format!("applesim-files-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .arg("run")
+        .arg(scenario)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    out
+}
+
+fn header(path: &Path) -> Vec<String> {
+    let mut rd = csv::Reader::from_path(path).unwrap();
+    rd.headers().unwrap().iter().map(String::from).collect()
+}
+
+fn rows(path: &Path) -> Vec<csv::StringRecord> {
+    csv::Reader::from_path(path)
+        .unwrap()
+        .records()
+        .map(|r| r.unwrap())
+        .collect()
+}
+
+fn json_file(path: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+/// The keys of a JSON object, sorted (serde_json's map is sorted when read back).
+fn keys(v: &Value) -> Vec<String> {
+    let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
+    k.sort();
+    k
+}
+
+fn sorted(v: &[&str]) -> Vec<String> {
+    let mut k: Vec<String> = v.iter().map(|s| s.to_string()).collect();
+    k.sort();
+    k
+}
+
+fn has_all(what: &str, got: &[String], want: &[&str]) {
+    for w in want {
+        assert!(got.iter().any(|g| g == w), "{what}: no '{w}' in {got:?}");
+    }
+}
+
+#[test]
+fn csv_columns_are_as_documented() {
+    let drop = cli_run(&repo("scenarios/drop_on_steel.json"), "drop");
+    let slip = cli_run(&repo("scenarios/slip_to_roll.json"), "slip");
+    // README, Outputs.
+    assert_eq!(
+        header(&drop.join("contacts.csv")),
+        [
+            "a",
+            "b",
+            "t_start_s",
+            "t_end_s",
+            "duration_s",
+            "peak_force_n",
+            "t_peak_s",
+            "impulse_n_s",
+            "max_overlap_m",
+            "max_contact_radius_m",
+            "max_pressure_pa",
+            "approach_speed_m_s",
+            "separation_speed_m_s",
+            "restitution",
+            "absorbed_energy_j",
+            "steps",
+            "contact_point_m"
+        ]
+    );
+    assert_eq!(
+        header(&drop.join("bodies.csv")),
+        [
+            "time_s", "apple", "x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s", "wx_rad_s",
+            "wy_rad_s", "wz_rad_s", "fx_n", "fy_n", "fz_n", "slip_m_s"
+        ]
+    );
+    // README, Slip and roll; docs/transitions.md, Outputs.
+    assert_eq!(
+        header(&slip.join("transitions.csv")),
+        [
+            "apple",
+            "from",
+            "to",
+            "from_surface",
+            "surface",
+            "time_s",
+            "x_m",
+            "y_m",
+            "z_m",
+            "along_m",
+            "speed_m_s",
+            "spin_rad_s",
+            "slip_m_s",
+            "slid_m",
+            "sliding_time_s",
+            "since_previous_s"
+        ]
+    );
+    // docs/analysis.md.
+    assert_eq!(
+        header(&drop.join("forces.csv")),
+        ["contact", "a", "b", "time_s", "force_n"]
+    );
+    assert_eq!(
+        header(&drop.join("bruise.csv")),
+        [
+            "contact",
+            "apple",
+            "other",
+            "t_start_s",
+            "t_peak_s",
+            "contact_point_m",
+            "peak_force_n",
+            "force_threshold_n",
+            "mean_pressure_pa",
+            "pressure_threshold_pa",
+            "absorbed_energy_j",
+            "energy_threshold_j",
+            "velocity_change_m_s",
+            "approach_speed_m_s",
+            "at_risk",
+            "exceeded",
+            "apple_at_risk",
+            "apple_peak_force_n"
+        ]
+    );
+    assert_eq!(
+        header(&drop.join("pulse_fits.csv")),
+        [
+            "contact",
+            "a",
+            "b",
+            "samples",
+            "fit_peak_force_n",
+            "fit_contact_time_s",
+            "fit_eps",
+            "fit_tau",
+            "rms_residual_n",
+            "converged",
+            "k_p",
+            "k_p_shape",
+            "peak_force_n",
+            "contact_time_s",
+            "restitution",
+            "effective_mass_kg",
+            "eq15_peak_force_n",
+            "eq15_error"
+        ]
+    );
+    // summary.json's pulse_fits carry k_p_measured (docs/analysis.md).
+    let s = json_file(&drop.join("summary.json"));
+    has_all(
+        "summary pulse_fits",
+        &keys(&s["pulse_fits"][0]),
+        &["k_p", "k_p_shape", "k_p_measured", "eq15_peak_force_n"],
+    );
+    let mut csv_cols = header(&drop.join("pulse_fits.csv"));
+    csv_cols.retain(|c| c != "eq15_error");
+    csv_cols.push("k_p_measured".into());
+    csv_cols.sort();
+    assert_eq!(
+        keys(&s["pulse_fits"][0]),
+        csv_cols,
+        "summary pulse_fits: the CSV's fields but eq15_error, plus k_p_measured"
+    );
+
+    // contacts.csv semantics: restitution is the ratio of the speeds, empty for a contact that
+    // starts at rest (the slip-to-roll apple rests on its plate from t = 0); contact_point_m at
+    // the peak force lies on the plate under the apple.
+    let c = &rows(&drop.join("contacts.csv"))[0];
+    let f = |i: usize| c[i].parse::<f64>().unwrap();
+    assert_rel(
+        "restitution = separation / approach",
+        f(13),
+        f(12) / f(11),
+        1e-12,
+    );
+    let p: Vec<f64> = c[16].split(' ').map(|x| x.parse().unwrap()).collect();
+    // (The plate takes 1e-5 of the overlap: the point is 32 nm below its surface.)
+    assert!(
+        p[0].abs() < 1e-9 && p[1].abs() < 1e-9 && p[2].abs() < 1e-6,
+        "contact point {p:?}"
+    );
+    let at_rest = &rows(&slip.join("contacts.csv"))[0];
+    assert_eq!(
+        &at_rest[13], "",
+        "a contact that starts at rest has no restitution"
+    );
+    // bodies.csv: slip_m_s is 0 in the air (the drop's first sample, above the plate).
+    assert_eq!(
+        rows(&drop.join("bodies.csv"))[0][14]
+            .parse::<f64>()
+            .unwrap(),
+        0.0
+    );
+    // transitions.csv: along_m is empty on a plane (no running direction).
+    assert_eq!(&rows(&slip.join("transitions.csv"))[0][9], "");
+    // bruise.csv: the default peak-force threshold is 80 N (docs/analysis.md).
+    assert_eq!(
+        rows(&drop.join("bruise.csv"))[0][7].parse::<f64>().unwrap(),
+        80.0
+    );
+    for d in [drop, slip] {
+        let _ = std::fs::remove_dir_all(d);
+    }
+}
+
+#[test]
+fn summary_keys_are_as_documented() {
+    let slip = cli_run(&repo("scenarios/slip_to_roll.json"), "summary");
+    let s = json_file(&slip.join("summary.json"));
+    // README, Outputs.
+    has_all(
+        "summary",
+        &keys(&s),
+        &[
+            "steps",
+            "simulated_time_s",
+            "time_step_s",
+            "wall_time_s",
+            "contacts",
+            "apples",
+            "warnings",
+            "metrics",
+            "bruise",
+            "pulse_fits",
+            "transitions",
+        ],
+    );
+    assert_eq!(
+        keys(&s["apples"][0]),
+        sorted(&[
+            "name",
+            "final_position_m",
+            "final_velocity_m_s",
+            "final_angular_velocity_rad_s",
+            "peak_force_n",
+            "peak_pressure_pa",
+            "contacts"
+        ])
+    );
+    let mut h = header(&slip.join("contacts.csv"));
+    h.sort();
+    assert_eq!(keys(&s["contacts"][0]), h);
+    // docs/analysis.md: metrics and the bruise section.
+    let m = keys(&s["metrics"]);
+    has_all(
+        "metrics",
+        &m,
+        &[
+            "bruised_apples",
+            "bruising_contacts",
+            "max_absorbed_energy_j",
+            "total_absorbed_energy_j",
+            "max_velocity_change_m_s",
+        ],
+    );
+    // docs/batch.md: the metrics a batch's merged.csv copies (the drop: a contact that ends).
+    let drop = cli_run(&repo("scenarios/drop_on_steel.json"), "summary-drop");
+    let ds = json_file(&drop.join("summary.json"));
+    let dm = keys(&ds["metrics"]);
+    let _ = std::fs::remove_dir_all(drop);
+    has_all(
+        "metrics",
+        &dm,
+        &[
+            "contact_events",
+            "max_peak_force_n",
+            "max_pressure_pa",
+            "max_overlap_m",
+            "max_contact_duration_s",
+            "mean_contact_duration_s",
+            "max_final_speed_m_s",
+            "mean_final_speed_m_s",
+        ],
+    );
+    // README Slip and roll; docs/transitions.md: metrics and the transitions section.
+    has_all(
+        "metrics",
+        &m,
+        &[
+            "transitions",
+            "slip_episodes",
+            "apples_rolling_at_end",
+            "mean_first_rolling_s",
+            "max_first_rolling_s",
+            "mean_slide_distance_m",
+            "max_slide_distance_m",
+        ],
+    );
+    assert_eq!(
+        keys(&s["bruise"]),
+        sorted(&["apples_at_risk", "apples", "contacts_at_risk"])
+    );
+    has_all(
+        "bruise apples",
+        // The drop's apple is at risk (100 N > 80 N): it has the first_risk_* fields too.
+        &keys(&ds["bruise"]["apples"][0]),
+        &[
+            "material",
+            "thresholds",
+            "contacts",
+            "peak_force_n",
+            "peak_mean_pressure_pa",
+            "absorbed_energy_j",
+            "max_velocity_change_m_s",
+            "at_risk",
+            "contacts_at_risk",
+            "first_risk_with",
+            "first_risk_t_s",
+            "first_risk_point_m",
+        ],
+    );
+    let t = &s["transitions"];
+    assert_eq!(
+        keys(t),
+        sorted(&["settings", "transitions", "apples", "surfaces"])
+    );
+    has_all(
+        "transitions apples",
+        &keys(&t["apples"][0]),
+        &[
+            "first_rolling_s",
+            "slide_distance_m",
+            "slip_episodes",
+            "final_state",
+            "surfaces",
+        ],
+    );
+    // (rolling_start_along_m only on surfaces with a running direction: a plane has none; the
+    // belt's and chute's are tests/handling_line.rs.)
+    assert!(t["surfaces"][0].get("rolling_start_along_m").is_none());
+    has_all(
+        "transitions surfaces",
+        &keys(&t["surfaces"][0]),
+        &[
+            "rolling_starts",
+            "sliding_starts",
+            "histogram_edges_m",
+            "histogram_counts",
+        ],
+    );
+    // README / docs/transitions.md, Settings: the defaults.
+    assert_eq!(
+        t["settings"],
+        json!({"enabled": true, "slip_speed_m_s": 0.005, "relative_tolerance": 0.01, "hysteresis": 2.0, "min_dwell_s": 0.01, "histogram_bin_m": 0.05})
+    );
+    // The scenario as run, model defaults filled in (README, Scenario format): overlap 0.5,
+    // 10 steps per impact, energy 5 %, 2e8 steps, sleeping on at 5 mm/s for 0.2 s; the default
+    // fidelity is hertz-damped.
+    let sc = json_file(&slip.join("scenario.json"));
+    assert_eq!(
+        sc["model"],
+        json!({"max_overlap_ratio": 0.5, "min_steps_per_impact": 10.0, "sleep": {"enabled": true, "speed_m_s": 0.005, "time_s": 0.2}, "energy_tolerance": 0.05, "max_steps": 200_000_000})
+    );
+    assert_eq!(sc["fidelity"], "hertz-damped");
+    assert!(s["fidelity"].as_str().unwrap().starts_with("hertz-damped"));
+    let _ = std::fs::remove_dir_all(slip);
+}
+
+/// One apple in free flight (no surface): the step policies' caps and the sampling rules.
+fn flight(time_step: &str, sample: Option<f64>) -> (applesim::sim::RunResult, Vec<f64>) {
+    let mut v = json!({
+        "duration_s": 0.5, "time_step_s": time_step, "gravity_m_s2": [0, 0, -9.81],
+        "output": {},
+        "materials": {"apple": {"shear_modulus_pa": 1.0e5, "poisson_ratio": 0.18, "density_kg_m3": 800}},
+        "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 0.08, "position_m": [0, 0, 10]}]
+    });
+    if let Some(x) = sample {
+        v["output"]["sample_interval_s"] = json!(x);
+    }
+    let sc = applesim::scenario::from_json(&v.to_string(), "flight").unwrap();
+    let (r, s) = run(&sc);
+    let times = s.of(0).iter().map(|(t, _)| *t).collect();
+    (r, times)
+}
+
+#[test]
+fn step_caps_and_sampling_are_as_documented() {
+    // README: max_time_step_s defaults to the output interval, at most 1 ms for auto, 10 ms for
+    // adaptive.
+    let (r, _) = flight("auto", Some(0.1));
+    assert_eq!(r.time_step_s, 1e-3, "auto is capped at 1 ms");
+    let (r, _) = flight("adaptive", Some(0.1));
+    assert!(
+        (r.step_range_s[1] - 1e-2).abs() < 1e-12,
+        "adaptive is capped at 10 ms: {:?}",
+        r.step_range_s
+    );
+    let (r, _) = flight("auto", Some(2e-4));
+    assert_eq!(r.time_step_s, 2e-4, "capped by the output interval");
+    // README: output.sample_interval_s defaults to 1 ms.
+    let (_, t) = flight("auto", None);
+    assert_eq!(t.len(), 501);
+    assert!(t.windows(2).all(|w| (w[1] - w[0] - 1e-3).abs() < 1e-12));
+    // ... and is rounded to whole steps: 25 us at 10 us steps samples every 3 steps.
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.output.sample_interval_s = 2.5e-5;
+    sc.duration_s = 1e-3;
+    let (_, s) = run(&sc);
+    let t: Vec<f64> = s.of(0).iter().map(|(t, _)| *t).collect();
+    // Every sample on the 30 us grid (the end state at 1 ms comes last).
+    let (grid, last) = t.split_at(t.len() - 1);
+    for (k, x) in grid.iter().enumerate() {
+        assert!(
+            (x - 3e-5 * k as f64).abs() < 1e-12,
+            "sample {k} at {x}: {grid:?}"
+        );
+    }
+    assert!((last[0] - 1e-3).abs() < 1e-12, "{last:?}");
+}

@@ -1,0 +1,79 @@
+//! docs/accuracy.md's two `applesim tradeoff` tables (the Fig. 1 drop and the handling line) are
+//! what the command writes now: every cell but the wall times (a measurement of the machine).
+//!
+//! The cells are errors of each rung against the command's own 200-steps-per-contact reference
+//! run; for the handling line they are differences between chaotic piles, with no closed form.
+//! They are committed golden values: the doc's table, compared digit for digit with tradeoff.md.
+//! (The independent checks of the same policies are tests/stepping.rs, tests/damped_accuracy.rs
+//! and tests/handling_line.rs.)
+
+mod common;
+use common::*;
+
+/// The table rows of `text` (lines starting with `|`, header and rule skipped), each as its
+/// cells with the wall-time column (index 4 of the split, the 4th cell) removed.
+fn rows(text: &str) -> Vec<Vec<String>> {
+    text.lines()
+        .filter(|l| l.starts_with('|') && !l.starts_with("| rung") && !l.starts_with("|---"))
+        .map(|l| {
+            let mut cells: Vec<String> = l.split('|').map(|c| c.trim().to_string()).collect();
+            cells.remove(4);
+            cells
+        })
+        .collect()
+}
+
+/// The doc's section between `from` and the next chart.
+fn doc_table(from: &str) -> Vec<Vec<String>> {
+    let doc = std::fs::read_to_string(repo("docs/accuracy.md")).unwrap();
+    let start = doc
+        .find(from)
+        .unwrap_or_else(|| panic!("no '{from}' in accuracy.md"));
+    let end = start + doc[start..].find("![error against wall time").unwrap();
+    rows(&doc[start..end])
+}
+
+fn tradeoff(scenario: &str, name: &str) -> Vec<Vec<String>> {
+    let out = std::env::temp_dir().join(format!("applesim-tradeoff-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .args(["tradeoff", scenario, "--out"])
+        .arg(&out)
+        .current_dir(repo(""))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["tradeoff.csv", "tradeoff.md", "tradeoff.svg"] {
+        assert!(out.join(f).exists(), "no {f}");
+    }
+    let t = rows(&std::fs::read_to_string(out.join("tradeoff.md")).unwrap());
+    let _ = std::fs::remove_dir_all(&out);
+    t
+}
+
+fn compare(doc: Vec<Vec<String>>, got: Vec<Vec<String>>) {
+    assert_eq!(doc.len(), got.len(), "rungs");
+    assert!(doc.len() >= 14);
+    for (d, g) in doc.iter().zip(&got) {
+        assert_eq!(
+            d, g,
+            "docs/accuracy.md (left) against tradeoff.md now (right)"
+        );
+    }
+}
+
+#[test]
+fn drop_table_is_current() {
+    compare(
+        doc_table("### Fig. 1 drop"),
+        tradeoff("scenarios/drop_on_steel.json", "drop"),
+    );
+}
+
+#[test]
+fn handling_line_table_is_current() {
+    compare(
+        doc_table("### Handling line"),
+        tradeoff("scenarios/handling_line.json", "line"),
+    );
+}
