@@ -3,7 +3,9 @@
 //! Every field name carries its unit. Unknown fields are errors (a misspelt field must not be
 //! silently ignored), and every mistake is reported with the JSON path of the field at fault.
 
+mod de;
 pub mod generators;
+pub mod ranges;
 pub mod stepping;
 pub mod surfaces;
 pub(crate) mod validate;
@@ -50,13 +52,30 @@ pub enum ScenarioError {
 }
 
 impl ScenarioError {
-    /// An invalid-value error.
+    /// An invalid-value error. Control characters (a line break in a name the message quotes)
+    /// are escaped: a refusal is one line.
     pub fn invalid(field: impl Into<String>, message: impl Into<String>) -> Self {
         Self::Invalid {
-            field: field.into(),
-            message: message.into(),
+            field: one_line(field.into()),
+            message: one_line(message.into()),
         }
     }
+}
+
+/// `s` with its control characters escaped (`\n`, `\u{1b}`), so that it prints as one line.
+pub(crate) fn one_line(s: String) -> String {
+    if !s.contains(char::is_control) {
+        return s;
+    }
+    s.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
 }
 
 /// A complete scenario.
@@ -459,17 +478,77 @@ pub struct AppleSpec {
     pub angular_velocity_rad_s: [f64; 3],
 }
 
-/// Parses a scenario from JSON text; `file` names the source in messages.
+/// Parses a scenario from JSON text; `file` names the source in messages. A leading UTF-8
+/// byte-order mark is skipped (editors on Windows write one); anything but white space after the
+/// scenario's closing brace is refused (a second scenario pasted below the first would otherwise
+/// be ignored in silence).
 pub fn from_json(text: &str, file: &str) -> Result<Scenario, ScenarioError> {
+    parse_one(text, file)
+}
+
+/// Parses exactly one JSON value of type `T` from `text` (after an optional byte-order mark),
+/// with every error naming the JSON path of the field at fault (`.` for the top level).
+pub(crate) fn parse_one<T: serde::de::DeserializeOwned>(
+    text: &str,
+    file: &str,
+) -> Result<T, ScenarioError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        ScenarioError::Parse {
-            file: file.to_string(),
-            path: if path.is_empty() { ".".into() } else { path },
-            message: e.into_inner().to_string(),
-        }
-    })
+    let value = serde_path_to_error::deserialize(&mut *de)
+        .map_err(|e| parse_error(file, &e.path().to_string(), e.into_inner()))?;
+    de.end().map_err(|e| ScenarioError::Parse {
+        file: one_line(file.to_string()),
+        path: ".".into(),
+        message: format!(
+            "more text after the end of the JSON document at line {} column {}: a file holds one scenario (remove what follows, or split it into files)",
+            e.line(),
+            e.column()
+        ),
+    })?;
+    Ok(value)
+}
+
+/// A parse error at `path` (as `serde_path_to_error` prints it, `.` when empty), with the path
+/// a nested deserializer ([`de`]) put in the message joined to it, and a missing field named as
+/// the path of that field.
+fn parse_error(file: &str, path: &str, e: serde_json::Error) -> ScenarioError {
+    let path = if path.is_empty() { "." } else { path };
+    let at = if e.line() > 0 {
+        format!(" at line {} column {}", e.line(), e.column())
+    } else {
+        String::new()
+    };
+    let full = e.to_string();
+    let message = full.strip_suffix(&at).unwrap_or(&full);
+    let (path, message, at) = match de::split(message) {
+        // Found inside a buffered surface or generator: the position is the end of the
+        // element, no help; the path is exact.
+        Some((inner, rest)) => (de::join(path, inner), rest.to_string(), String::new()),
+        None => (path.to_string(), message.to_string(), at),
+    };
+    // "missing field `x`" at `apples[0]` names `apples[0].x`.
+    let (path, message) = match message
+        .strip_prefix("missing field `")
+        .and_then(|m| m.split_once('`'))
+    {
+        Some((field, rest)) => (
+            de::join(&path, field),
+            format!(
+                "missing: a required field{rest}{}",
+                if at.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (the object ends{at})")
+                }
+            ),
+        ),
+        None => (path, format!("{message}{at}")),
+    };
+    ScenarioError::Parse {
+        file: one_line(file.to_string()),
+        path: one_line(path),
+        message: one_line(message),
+    }
 }
 
 /// Reads, parses and validates a scenario file, with the apple lists of its `file` generators
