@@ -170,6 +170,31 @@ impl Scenario {
         Ok(())
     }
 
+    /// The field that places apple `index` of [`Scenario::initial_apples`], for messages about
+    /// where it starts: `apples[k].position_m` for a listed apple, else its generator's
+    /// `origin_m` (grid), `region_min_m` (random fill) or `file`. Found without generating.
+    pub fn initial_apple_field(&self, index: usize) -> String {
+        if index < self.apples.len() {
+            return format!("apples[{index}].position_m");
+        }
+        let mut first = self.apples.len();
+        for (k, g) in self.generators.iter().enumerate() {
+            let (n, field) = match g {
+                GeneratorSpec::Grid(s) => (
+                    s.count.iter().map(|&c| c as usize).product::<usize>(),
+                    "origin_m",
+                ),
+                GeneratorSpec::RandomFill(s) => (s.count as usize, "region_min_m"),
+                GeneratorSpec::File(s) => (s.loaded.as_ref().map_or(0, |l| l.0.len()), "file"),
+            };
+            if index < first.saturating_add(n) {
+                return format!("generators[{k}].{field}");
+            }
+            first = first.saturating_add(n);
+        }
+        "generators".into()
+    }
+
     /// The apples present at t = 0: the listed ones, then each generator's in order.
     pub fn initial_apples(&self) -> Result<Vec<AppleSpec>, ScenarioError> {
         let mut all = self.apples.clone();
@@ -494,8 +519,16 @@ pub(crate) fn parse_one<T: serde::de::DeserializeOwned>(
 ) -> Result<T, ScenarioError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let de = &mut serde_json::Deserializer::from_str(text);
-    let value = serde_path_to_error::deserialize(&mut *de)
-        .map_err(|e| parse_error(file, &e.path().to_string(), e.into_inner()))?;
+    let value = serde_path_to_error::deserialize(de::Strict(&mut *de)).map_err(|e| {
+        let inner = e.inner();
+        let path = if inner.is_syntax() || inner.is_eof() {
+            // serde knows the enclosing object at best (`model.?`); the text says more.
+            de::path_at(text, de::offset_of(text, inner.line(), inner.column()))
+        } else {
+            e.path().to_string()
+        };
+        parse_error(file, &path, e.into_inner())
+    })?;
     de.end().map_err(|e| ScenarioError::Parse {
         file: one_line(file.to_string()),
         path: ".".into(),

@@ -212,7 +212,7 @@ impl Range {
 /// very small ones (`1e200`, not two hundred digits).
 pub fn num(x: f64) -> String {
     let a = x.abs();
-    if a != 0.0 && a.is_finite() && !(1e-4..1e6).contains(&a) {
+    if a != 0.0 && a.is_finite() && !(1e-4..1e5).contains(&a) {
         format!("{x:e}")
     } else {
         format!("{x}")
@@ -341,7 +341,7 @@ pub const DENSITY: Range = closed(
     1.0,
     1e5,
     "kg/m^3",
-    "`density_kg_m3`",
+    "`density_kg_m3`; a given `mass_kg` over the apple's volume",
 );
 /// Coulomb friction coefficients.
 pub const FRICTION: Range = closed(
@@ -371,9 +371,10 @@ pub const LAMBDA: Range = closed(
     "`lambda_s_m` (contact, pairs)",
 );
 /// Simulated times and intervals.
-pub const DURATION: Range = positive(
+pub const DURATION: Range = closed(
     "duration",
     "t",
+    1e-9,
     1e5,
     "s",
     "`duration_s`, `output.sample_interval_s`, `output.vtk.interval_s`, `model.sleep.time_s`",

@@ -104,7 +104,7 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
                 format!(
                     "{} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
                     num(m.poisson_ratio),
-                    num(v),
+                    ranges::num3(v),
                     ranges::MODULUS.describe()
                 ),
             ));
@@ -185,6 +185,7 @@ pub fn validate(sc: &Scenario) -> R {
     for (k, src) in sc.sources.iter().enumerate() {
         source(&format!("sources[{k}]"), src, &mats)?;
     }
+    prefixes(sc)?;
     apple_count(sc)?;
     for (k, s) in sc.surfaces.iter().enumerate() {
         surface(&format!("surfaces[{k}]"), s, &mats, &mut names)?;
@@ -198,9 +199,15 @@ pub fn validate(sc: &Scenario) -> R {
         all.extend(more);
     }
     if all.is_empty() && sc.sources.is_empty() {
+        // A generator that makes no apple is the likely mistake when there is one.
+        let field = if sc.generators.is_empty() {
+            "apples".to_string()
+        } else {
+            "generators[0].count".to_string()
+        };
         return Err(ScenarioError::invalid(
-            "apples",
-            "no apple: give apples, generators or sources",
+            field,
+            "no apple in the scenario: give apples, generators (with a count > 0) or sources",
         ));
     }
     let mut gen_names = HashSet::new();
@@ -296,6 +303,7 @@ fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Material>) -> R {
         GeneratorSpec::Grid(s) => {
             prefix_and_material(f, &s.name, &s.material, s.mass_kg, mats)?;
             s.diameter_m.validate(&format!("{f}.diameter_m"))?;
+            mass_density(f, s.mass_kg, s.diameter_m.min_m(), s.diameter_m.max_m())?;
             ranges::POSITION.check_each(&format!("{f}.origin_m"), s.origin_m)?;
             ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
             ranges::LENGTH.check_each(&format!("{f}.spacing_m"), s.spacing_m)?;
@@ -304,6 +312,7 @@ fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Material>) -> R {
         GeneratorSpec::RandomFill(s) => {
             prefix_and_material(f, &s.name, &s.material, s.mass_kg, mats)?;
             s.diameter_m.validate(&format!("{f}.diameter_m"))?;
+            mass_density(f, s.mass_kg, s.diameter_m.min_m(), s.diameter_m.max_m())?;
             ranges::POSITION.check_each(&format!("{f}.region_min_m"), s.region_min_m)?;
             ranges::POSITION.check_each(&format!("{f}.region_max_m"), s.region_max_m)?;
             ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
@@ -312,6 +321,12 @@ fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Material>) -> R {
             prefix_and_material(f, &s.name, &s.material, s.mass_kg, mats)?;
             ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
             file_apples(f, s)?;
+            if let Some(list) = &s.loaded {
+                let d = list.0.iter().map(|a| a.diameter_m);
+                let lo = d.clone().fold(f64::INFINITY, f64::min);
+                let hi = d.fold(0.0, f64::max);
+                mass_density(f, s.mass_kg, lo, hi)?;
+            }
         }
     }
     Ok(())
@@ -320,6 +335,7 @@ fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Material>) -> R {
 fn source(f: &str, src: &super::SourceSpec, mats: &BTreeMap<&str, Material>) -> R {
     prefix_and_material(f, &src.name, &src.material, src.mass_kg, mats)?;
     src.diameter_m.validate(&format!("{f}.diameter_m"))?;
+    mass_density(f, src.mass_kg, src.diameter_m.min_m(), src.diameter_m.max_m())?;
     ranges::POSITION.check_each(&format!("{f}.position_m"), src.position_m)?;
     ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), src.velocity_m_s)?;
     ranges::RATE.check(&format!("{f}.rate_per_s"), src.rate_per_s)?;
@@ -334,6 +350,56 @@ fn source(f: &str, src: &super::SourceSpec, mats: &BTreeMap<&str, Material>) -> 
                 ranges::POSITION.describe()
             ),
         ));
+    }
+    Ok(())
+}
+
+/// Generators and sources name their apples `NAME-1`, `NAME-2`, ...: two with one name would
+/// give two apples one name (found here before thousands of apples are generated).
+/// A mass given with the diameters it goes with (`d_min`..`d_max`): the density they make must
+/// be one of the density range (0.1 mg in an apple of 80 mm is a mistyped exponent).
+fn mass_density(f: &str, mass: Option<f64>, d_min: f64, d_max: f64) -> R {
+    let Some(m) = mass else { return Ok(()) };
+    let volume = |d: f64| std::f64::consts::PI / 6.0 * d * d * d;
+    for d in [d_min, d_max] {
+        let rho = m / volume(d);
+        if !ranges::DENSITY.contains(rho) {
+            return Err(ScenarioError::invalid(
+                format!("{f}.mass_kg"),
+                format!(
+                    "{} kg in an apple of {} m is a density of {} kg/m^3, outside the range of fruit handling ({})",
+                    num(m),
+                    num(d),
+                    ranges::num3(rho),
+                    ranges::DENSITY.describe()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn prefixes(sc: &Scenario) -> R {
+    let mut seen: BTreeMap<&str, String> = BTreeMap::new();
+    let all = sc
+        .generators
+        .iter()
+        .enumerate()
+        .map(|(k, g)| (format!("generators[{k}]"), g.name()))
+        .chain(
+            sc.sources
+                .iter()
+                .enumerate()
+                .map(|(k, s)| (format!("sources[{k}]"), s.name.as_str())),
+        );
+    for (field, n) in all {
+        if let Some(first) = seen.get(n) {
+            return Err(ScenarioError::invalid(
+                format!("{field}.name"),
+                format!("'{n}' is already the name of {first}: their apples would have the same names"),
+            ));
+        }
+        seen.insert(n, field);
     }
     Ok(())
 }
@@ -484,6 +550,7 @@ fn apple(
     let m = material_of(&format!("{f}.material"), &a.material, mats)?;
     ranges::DIAMETER.check(&format!("{f}.diameter_m"), a.diameter_m)?;
     mass(f, &a.material, a.mass_kg, m)?;
+    mass_density(f, a.mass_kg, a.diameter_m, a.diameter_m)?;
     ranges::POSITION.check_each(&format!("{f}.position_m"), a.position_m)?;
     ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), a.velocity_m_s)?;
     ranges::ANGULAR_SPEED.check_norm(
