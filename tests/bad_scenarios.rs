@@ -54,7 +54,11 @@ fn refused_with_files(name: &str, text: &str, files: &[(&str, &str)], needles: &
         o.status
     );
     assert!(err.starts_with("error: "), "{name}: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{name}: not one line: {err}");
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "{name}: not one line: {err}"
+    );
     for n in needles {
         assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
     }
@@ -723,7 +727,10 @@ fn modulus_out_of_range() {
     mutated(
         "range-modulus",
         |v| v["materials"]["apple"]["shear_modulus_pa"] = json!(5e-324),
-        &["materials.apple.shear_modulus_pa: 5e-324 Pa", "(1000 Pa <= modulus <= 1e13 Pa)"],
+        &[
+            "materials.apple.shear_modulus_pa: 5e-324 Pa",
+            "(1000 Pa <= modulus <= 1e13 Pa)",
+        ],
     );
 }
 
@@ -734,7 +741,10 @@ fn belt_speed_out_of_range() {
         "range-belt",
         json!({"name": "belt", "type": "conveyor", "material": "steel",
         "size_m": [1, 0.3, 0.04], "position_m": [2, 0, 0.5], "belt_velocity_m_s": 1e308}),
-        &["surfaces[1].belt_velocity_m_s: 1e308 m/s", "(|v| <= 100 m/s)"],
+        &[
+            "surfaces[1].belt_velocity_m_s: 1e308 m/s",
+            "(|v| <= 100 m/s)",
+        ],
     );
 }
 
@@ -779,7 +789,11 @@ fn mass_and_diameter_make_an_impossible_density() {
     mutated(
         "range-density",
         |v| v["apples"][0]["mass_kg"] = json!(1.07e-4),
-        &["apples[0].mass_kg", "density of 0.399 kg/m^3", "(1 kg/m^3 <= rho <= 1e5 kg/m^3)"],
+        &[
+            "apples[0].mass_kg",
+            "density of 0.399 kg/m^3",
+            "(1 kg/m^3 <= rho <= 1e5 kg/m^3)",
+        ],
     );
 }
 
@@ -810,7 +824,11 @@ fn trailing_content_is_refused() {
             "a file holds one scenario",
         ],
     );
-    refused("trailing-comma", &format!("{text},"), &["more text after the end"]);
+    refused(
+        "trailing-comma",
+        &format!("{text},"),
+        &["more text after the end"],
+    );
 }
 
 #[test]
@@ -820,7 +838,13 @@ fn byte_order_mark_is_accepted() {
     let text = serde_json::to_string_pretty(&base()).unwrap();
     std::fs::write(&file, format!("\u{feff}{text}")).unwrap();
     let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
-        .args(["run", file.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap(), "-q"])
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+            "-q",
+        ])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -908,7 +932,11 @@ fn exact_path_of_a_syntax_error() {
     refused("path-syntax", &text, &["time_step_s: expected `,` or `}`"]);
     let text = serde_json::to_string_pretty(&base()).unwrap();
     let cut = text.find("\"normal\"").unwrap() + 14;
-    refused("path-eof", &text[..cut], &["surfaces[0].normal", "EOF while parsing"]);
+    refused(
+        "path-eof",
+        &text[..cut],
+        &["surfaces[0].normal", "EOF while parsing"],
+    );
 }
 
 #[test]
@@ -942,6 +970,9 @@ fn two_generators_with_one_name() {
             h["origin_m"] = json!([2, 2, 0.5]);
             v["generators"] = json!([g, h]);
         },
-        &["generators[1].name", "'g' is already the name of generators[0]"],
+        &[
+            "generators[1].name",
+            "'g' is already the name of generators[0]",
+        ],
     );
 }

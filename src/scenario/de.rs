@@ -137,26 +137,47 @@ macro_rules! forward {
 impl<'de, D: Deserializer<'de>> Deserializer<'de> for Strict<D> {
     type Error = D::Error;
     forward!(
-        deserialize_any, deserialize_bool, deserialize_i8, deserialize_i16, deserialize_i32,
-        deserialize_i64, deserialize_i128, deserialize_u8, deserialize_u16, deserialize_u32,
-        deserialize_u64, deserialize_u128, deserialize_f32, deserialize_f64, deserialize_char,
-        deserialize_str, deserialize_string, deserialize_bytes, deserialize_byte_buf,
-        deserialize_option, deserialize_unit, deserialize_seq, deserialize_map,
-        deserialize_identifier, deserialize_ignored_any
+        deserialize_any,
+        deserialize_bool,
+        deserialize_i8,
+        deserialize_i16,
+        deserialize_i32,
+        deserialize_i64,
+        deserialize_i128,
+        deserialize_u8,
+        deserialize_u16,
+        deserialize_u32,
+        deserialize_u64,
+        deserialize_u128,
+        deserialize_f32,
+        deserialize_f64,
+        deserialize_char,
+        deserialize_str,
+        deserialize_string,
+        deserialize_bytes,
+        deserialize_byte_buf,
+        deserialize_option,
+        deserialize_unit,
+        deserialize_seq,
+        deserialize_map,
+        deserialize_identifier,
+        deserialize_ignored_any
     );
     fn deserialize_unit_struct<V: Visitor<'de>>(
         self,
         name: &'static str,
         v: V,
     ) -> Result<V::Value, D::Error> {
-        self.0.deserialize_unit_struct(name, Wrap { v, fields: None })
+        self.0
+            .deserialize_unit_struct(name, Wrap { v, fields: None })
     }
     fn deserialize_newtype_struct<V: Visitor<'de>>(
         self,
         name: &'static str,
         v: V,
     ) -> Result<V::Value, D::Error> {
-        self.0.deserialize_newtype_struct(name, Wrap { v, fields: None })
+        self.0
+            .deserialize_newtype_struct(name, Wrap { v, fields: None })
     }
     fn deserialize_tuple<V: Visitor<'de>>(self, len: usize, v: V) -> Result<V::Value, D::Error> {
         self.0.deserialize_tuple(len, Wrap { v, fields: None })
@@ -222,11 +243,26 @@ impl<'de, V: Visitor<'de>> Visitor<'de> for Wrap<V> {
         self.v.expecting(f)
     }
     pass!(
-        visit_bool(bool), visit_i8(i8), visit_i16(i16), visit_i32(i32), visit_i64(i64),
-        visit_i128(i128), visit_u8(u8), visit_u16(u16), visit_u32(u32), visit_u64(u64),
-        visit_u128(u128), visit_f32(f32), visit_f64(f64), visit_char(char), visit_str(&str),
-        visit_borrowed_str(&'de str), visit_string(String), visit_bytes(&[u8]),
-        visit_borrowed_bytes(&'de [u8]), visit_byte_buf(Vec<u8>)
+        visit_bool(bool),
+        visit_i8(i8),
+        visit_i16(i16),
+        visit_i32(i32),
+        visit_i64(i64),
+        visit_i128(i128),
+        visit_u8(u8),
+        visit_u16(u16),
+        visit_u32(u32),
+        visit_u64(u64),
+        visit_u128(u128),
+        visit_f32(f32),
+        visit_f64(f64),
+        visit_char(char),
+        visit_str(&str),
+        visit_borrowed_str(&'de str),
+        visit_string(String),
+        visit_bytes(&[u8]),
+        visit_borrowed_bytes(&'de [u8]),
+        visit_byte_buf(Vec<u8>)
     );
     fn visit_none<E: de::Error>(self) -> Result<V::Value, E> {
         self.v.visit_none()
@@ -445,10 +481,17 @@ mod tests {
             #[serde(default)]
             ke: f64,
         }
-        assert!(serde_json::from_str::<C>("[0.3, 1]").is_ok(), "serde's own form");
+        assert!(
+            serde_json::from_str::<C>("[0.3, 1]").is_ok(),
+            "serde's own form"
+        );
         let e = from_value::<C, serde_json::Error>(serde_json::json!([0.3, 1])).unwrap_err();
-        assert!(e.to_string().contains("expected an object {friction, ke}"), "{e}");
-        let v: Vec<C> = from_value::<_, serde_json::Error>(serde_json::json!([{"friction": 1}])).unwrap();
+        assert!(
+            e.to_string().contains("expected an object {friction, ke}"),
+            "{e}"
+        );
+        let v: Vec<C> =
+            from_value::<_, serde_json::Error>(serde_json::json!([{"friction": 1}])).unwrap();
         assert_eq!(v.len(), 1);
     }
 

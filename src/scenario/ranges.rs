@@ -436,13 +436,8 @@ pub const APPLE_COUNT: Range = closed(
     "`apples`, `generators[].count`, `sources[].count` together",
 );
 /// Largest overlap as a fraction of the radius.
-pub const OVERLAP_RATIO: Range = positive(
-    "overlap ratio",
-    "u/R",
-    1.0,
-    "",
-    "`model.max_overlap_ratio`",
-);
+pub const OVERLAP_RATIO: Range =
+    positive("overlap ratio", "u/R", 1.0, "", "`model.max_overlap_ratio`");
 /// Energy rise tolerated, as a fraction.
 pub const ENERGY_TOLERANCE: Range = positive(
     "energy tolerance",
@@ -452,14 +447,7 @@ pub const ENERGY_TOLERANCE: Range = positive(
     "`model.energy_tolerance`",
 );
 /// Step budget of a run.
-pub const MAX_STEPS: Range = closed(
-    "step budget",
-    "steps",
-    1.0,
-    1e12,
-    "",
-    "`model.max_steps`",
-);
+pub const MAX_STEPS: Range = closed("step budget", "steps", 1.0, 1e12, "", "`model.max_steps`");
 /// The slip detector's relative tolerance.
 pub const RELATIVE_TOLERANCE: Range = closed(
     "relative tolerance",
@@ -508,21 +496,9 @@ pub const INCLINE: Range = Range {
     hint: "",
 };
 /// Angular half-width of a trough.
-pub const HALF_ANGLE: Range = positive(
-    "trough half-angle",
-    "a",
-    90.0,
-    "deg",
-    "`half_angle_deg`",
-);
+pub const HALF_ANGLE: Range = positive("trough half-angle", "a", 90.0, "deg", "`half_angle_deg`");
 /// Bruise thresholds: force.
-pub const BRUISE_FORCE: Range = positive(
-    "bruise force",
-    "F",
-    1e6,
-    "N",
-    "`bruise.peak_force_n`",
-);
+pub const BRUISE_FORCE: Range = positive("bruise force", "F", 1e6, "N", "`bruise.peak_force_n`");
 /// Bruise thresholds: pressure.
 pub const BRUISE_PRESSURE: Range = positive(
     "bruise pressure",
@@ -532,13 +508,8 @@ pub const BRUISE_PRESSURE: Range = positive(
     "`bruise.mean_pressure_pa`",
 );
 /// Bruise thresholds: energy.
-pub const BRUISE_ENERGY: Range = positive(
-    "bruise energy",
-    "E",
-    1e4,
-    "J",
-    "`bruise.absorbed_energy_j`",
-);
+pub const BRUISE_ENERGY: Range =
+    positive("bruise energy", "E", 1e4, "J", "`bruise.absorbed_energy_j`");
 
 /// Every range, in the README's order.
 pub const TABLE: &[Range] = &[
@@ -617,7 +588,9 @@ mod tests {
         let e = POSITION
             .check_each("apples[0].position_m", [0.0, 1e308, 0.0])
             .unwrap_err();
-        assert!(e.to_string().starts_with("apples[0].position_m[1]: 1e308 m"));
+        assert!(e
+            .to_string()
+            .starts_with("apples[0].position_m[1]: 1e308 m"));
         assert_eq!(num(5e-324), "5e-324");
         assert_eq!(num(0.08), "0.08");
         assert_eq!(num(-1100000.0), "-1.1e6");

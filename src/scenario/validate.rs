@@ -87,7 +87,9 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
         MaterialError::BadModulus { field, value } => {
             ranges::MODULUS.refusal(&format!("{base}.{field}"), value)
         }
-        MaterialError::BadPoisson(nu) => ranges::POISSON.refusal(&format!("{base}.poisson_ratio"), nu),
+        MaterialError::BadPoisson(nu) => {
+            ranges::POISSON.refusal(&format!("{base}.poisson_ratio"), nu)
+        }
         MaterialError::BadDensity(rho) => {
             ranges::DENSITY.refusal(&format!("{base}.density_kg_m3"), rho)
         }
@@ -213,7 +215,11 @@ pub fn validate(sc: &Scenario) -> R {
     let mut gen_names = HashSet::new();
     for (a, by) in all.iter().zip(&made_by).skip(sc.apples.len()) {
         let k = by.unwrap_or_default();
-        if !a.position_m.iter().all(|x| ranges::POSITION.contains(x.abs())) {
+        if !a
+            .position_m
+            .iter()
+            .all(|x| ranges::POSITION.contains(x.abs()))
+        {
             return Err(ScenarioError::invalid(
                 format!("generators[{k}]"),
                 format!(
@@ -335,13 +341,22 @@ fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Material>) -> R {
 fn source(f: &str, src: &super::SourceSpec, mats: &BTreeMap<&str, Material>) -> R {
     prefix_and_material(f, &src.name, &src.material, src.mass_kg, mats)?;
     src.diameter_m.validate(&format!("{f}.diameter_m"))?;
-    mass_density(f, src.mass_kg, src.diameter_m.min_m(), src.diameter_m.max_m())?;
+    mass_density(
+        f,
+        src.mass_kg,
+        src.diameter_m.min_m(),
+        src.diameter_m.max_m(),
+    )?;
     ranges::POSITION.check_each(&format!("{f}.position_m"), src.position_m)?;
     ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), src.velocity_m_s)?;
     ranges::RATE.check(&format!("{f}.rate_per_s"), src.rate_per_s)?;
     ranges::TIME.check(&format!("{f}.start_s"), src.start_s)?;
     ranges::JITTER.check(&format!("{f}.jitter_m"), src.jitter_m)?;
-    if src.position_m.iter().any(|x| x.abs() + src.jitter_m > ranges::POSITION.max) {
+    if src
+        .position_m
+        .iter()
+        .any(|x| x.abs() + src.jitter_m > ranges::POSITION.max)
+    {
         return Err(ScenarioError::invalid(
             format!("{f}.jitter_m"),
             format!(
@@ -396,7 +411,9 @@ fn prefixes(sc: &Scenario) -> R {
         if let Some(first) = seen.get(n) {
             return Err(ScenarioError::invalid(
                 format!("{field}.name"),
-                format!("'{n}' is already the name of {first}: their apples would have the same names"),
+                format!(
+                    "'{n}' is already the name of {first}: their apples would have the same names"
+                ),
             ));
         }
         seen.insert(n, field);
@@ -469,10 +486,9 @@ fn file_apples(f: &str, s: &FileSpec) -> R {
         ));
     }
     let in_file = |e: ScenarioError, apple: &str| match e {
-        ScenarioError::Invalid { field: at, message } => ScenarioError::invalid(
-            field.clone(),
-            format!("{at}: {message} (apple '{apple}')"),
-        ),
+        ScenarioError::Invalid { field: at, message } => {
+            ScenarioError::invalid(field.clone(), format!("{at}: {message} (apple '{apple}')"))
+        }
         other => other,
     };
     let mut seen = HashSet::new();
@@ -579,7 +595,8 @@ fn surface(
         ));
     }
     let length = |field: &str, x: f64| ranges::LENGTH.check(&format!("{f}.{field}"), x);
-    let position = |field: &str, v: [f64; 3]| ranges::POSITION.check_each(&format!("{f}.{field}"), v);
+    let position =
+        |field: &str, v: [f64; 3]| ranges::POSITION.check_each(&format!("{f}.{field}"), v);
     match s {
         SurfaceSpec::Plane(p) => {
             material_of(&format!("{f}.material"), &p.material, mats)?;
