@@ -377,9 +377,8 @@ pub const DURATION: Range = closed(
     1e-9,
     1e5,
     "s",
-    "`duration_s`, `output.sample_interval_s`, `output.vtk.interval_s`, `model.sleep.time_s`",
-)
-.hint("1e5 s is about 28 hours of line");
+    "`duration_s`, `output.sample_interval_s`, `output.vtk.interval_s`, `model.sleep.time_s` (1e5 s: 28 hours of line)",
+);
 /// Moments in a run (may be 0).
 pub const TIME: Range = closed(
     "time",
