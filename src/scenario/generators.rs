@@ -154,8 +154,8 @@ impl DiameterSpec {
     }
 }
 
-/// An apple generator. `type` selects the kind. (Read by hand, [`super::de`], so that a mistake
-/// inside a generator names its exact field.)
+/// An apple generator. `type` selects the kind. (Read by hand, through the scenario's `de`
+/// module, so that a mistake inside a generator names its exact field.)
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum GeneratorSpec {

@@ -1,7 +1,9 @@
 //! Scenario files: serde types (the JSON contract of README "Scenario format") and validation.
 //!
 //! Every field name carries its unit. Unknown fields are errors (a misspelt field must not be
-//! silently ignored), and every mistake is reported with the JSON path of the field at fault.
+//! silently ignored), every number is checked against its physical range ([`ranges`]), and every
+//! mistake is reported on one line with the exact JSON path of the field at fault, inside
+//! surfaces, generators and distributions too (`de`).
 
 mod de;
 pub mod generators;

@@ -95,8 +95,8 @@ pub fn rotation_of(r: &Option<RotationSpec>, field: &str) -> Result<Rotation, Sc
     }
 }
 
-/// A surface. `type` selects the kind. (Read by hand, [`super::de`], so that a mistake inside
-/// a surface names its exact field.)
+/// A surface. `type` selects the kind. (Read by hand, through the scenario's `de` module, so
+/// that a mistake inside a surface names its exact field.)
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum SurfaceSpec {
