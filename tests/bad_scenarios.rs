@@ -976,3 +976,28 @@ fn two_generators_with_one_name() {
         ],
     );
 }
+
+#[test]
+fn a_material_given_twice() {
+    // A JSON object may repeat a key; a map would keep the last one in silence.
+    let text = serde_json::to_string_pretty(&base()).unwrap().replacen(
+        "\"materials\": {",
+        "\"materials\": {\"steel\": {\"shear_modulus_pa\": 1e6, \"poisson_ratio\": 0.3},",
+        1,
+    );
+    refused(
+        "material-twice",
+        &text,
+        &["materials.steel: 'steel' is defined twice"],
+    );
+}
+
+#[test]
+fn a_field_given_twice() {
+    let text = serde_json::to_string_pretty(&base()).unwrap().replacen(
+        "\"ke\": 1.0,",
+        "\"ke\": 1.0, \"ke\": 0.5,",
+        1,
+    );
+    refused("field-twice", &text, &["contact.ke: given twice"]);
+}

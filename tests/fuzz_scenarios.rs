@@ -41,7 +41,7 @@ use std::time::{Duration, Instant};
 
 const SEED: u64 = 18;
 /// Cases per run (a multiple of the number of kinds, at least 300).
-const CASES: usize = 24 * 20;
+const CASES: usize = 25 * 20;
 /// A case still running after this is killed and counted as a hang.
 const HANG_S: u64 = 60;
 /// Cases run at once.
@@ -109,9 +109,10 @@ enum Kind {
     BigCount,
     ZeroVector,
     ObjectAsArray,
+    DuplicateKey,
 }
 
-const KINDS: [Kind; 24] = [
+const KINDS: [Kind; 25] = [
     Kind::DeleteField,
     Kind::Zero,
     Kind::Negative,
@@ -136,6 +137,7 @@ const KINDS: [Kind; 24] = [
     Kind::BigCount,
     Kind::ZeroVector,
     Kind::ObjectAsArray,
+    Kind::DuplicateKey,
 ];
 
 impl Kind {
@@ -151,6 +153,7 @@ impl Kind {
                 | Kind::Truncated
                 | Kind::Trailing
                 | Kind::ObjectAsArray
+                | Kind::DuplicateKey
         )
     }
 }
@@ -532,6 +535,22 @@ fn mutate(rng: &mut ChaCha8Rng, kind: Kind, v: &Value) -> Option<(String, String
                 format!("{} = its values as an array", dotted(p)),
                 Some(dotted(p)),
             )
+        }
+        Kind::DuplicateKey => {
+            // A JSON object may repeat a key: the second one must not win in silence.
+            let fields: Vec<_> = all
+                .iter()
+                .filter(|(p, _)| matches!(p.last(), Some(Seg::Key(_))))
+                .collect();
+            let (p, x) = pick(rng, &fields)?;
+            let (parent, last) = p.split_at(p.len() - 1);
+            let Seg::Key(k) = &last[0] else { return None };
+            get_mut(&mut v, parent)
+                .as_object_mut()?
+                .insert("__FUZZ_DUPLICATE__".into(), x.clone());
+            let key = serde_json::to_string(k).ok()?;
+            let t = text(&v).replace("\"__FUZZ_DUPLICATE__\"", &key);
+            return Some((format!("{} given twice", dotted(p)), t, Some(dotted(p))));
         }
         Kind::ZeroVector => {
             let vectors: Vec<_> = all

@@ -57,7 +57,7 @@ pub(crate) fn tagged<'de, D: Deserializer<'de>>(
     d: D,
     variants: &'static [&'static str],
 ) -> Result<(&'static str, Value), D::Error> {
-    let mut v = Value::deserialize(d)?;
+    let UniqueValue(mut v) = UniqueValue::deserialize(d)?;
     let Value::Object(map) = &mut v else {
         return Err(D::Error::invalid_type(
             unexpected(&v),
@@ -91,6 +91,71 @@ pub(crate) fn tagged<'de, D: Deserializer<'de>>(
     }
 }
 
+/// A JSON value read with every key of every object unique: [`serde_json::Value`] would keep
+/// the last of two in silence (`{"type": "plane", ..., "type": "box"}`).
+struct UniqueValue(Value);
+
+impl<'de> Deserialize<'de> for UniqueValue {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = UniqueValue;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("any JSON value")
+            }
+            fn visit_bool<E: de::Error>(self, b: bool) -> Result<UniqueValue, E> {
+                Ok(UniqueValue(Value::Bool(b)))
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<UniqueValue, E> {
+                Ok(UniqueValue(Value::from(x)))
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<UniqueValue, E> {
+                Ok(UniqueValue(Value::from(x)))
+            }
+            fn visit_f64<E: de::Error>(self, x: f64) -> Result<UniqueValue, E> {
+                Ok(UniqueValue(Value::from(x)))
+            }
+            fn visit_str<E: de::Error>(self, s: &str) -> Result<UniqueValue, E> {
+                Ok(UniqueValue(Value::String(s.to_string())))
+            }
+            fn visit_string<E: de::Error>(self, s: String) -> Result<UniqueValue, E> {
+                Ok(UniqueValue(Value::String(s)))
+            }
+            fn visit_unit<E: de::Error>(self) -> Result<UniqueValue, E> {
+                Ok(UniqueValue(Value::Null))
+            }
+            fn visit_none<E: de::Error>(self) -> Result<UniqueValue, E> {
+                Ok(UniqueValue(Value::Null))
+            }
+            fn visit_some<D2: Deserializer<'de>>(self, d: D2) -> Result<UniqueValue, D2::Error> {
+                UniqueValue::deserialize(d)
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(self, mut seq: A) -> Result<UniqueValue, A::Error> {
+                let mut out = Vec::new();
+                while let Some(UniqueValue(x)) = seq.next_element()? {
+                    out.push(x);
+                }
+                Ok(UniqueValue(Value::Array(out)))
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, mut map: A) -> Result<UniqueValue, A::Error> {
+                let mut out = serde_json::Map::new();
+                while let Some(key) = map.next_key::<String>()? {
+                    let UniqueValue(x) = map.next_value()?;
+                    if out.contains_key(&key) {
+                        return Err(A::Error::custom(nested(
+                            &key,
+                            "given twice: give each field once",
+                        )));
+                    }
+                    out.insert(key, x);
+                }
+                Ok(UniqueValue(Value::Object(out)))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 /// serde's description of a JSON value, for "invalid type" messages.
 fn unexpected(v: &Value) -> de::Unexpected<'_> {
     match v {
@@ -106,6 +171,36 @@ fn unexpected(v: &Value) -> de::Unexpected<'_> {
         Value::Array(_) => de::Unexpected::Seq,
         Value::Object(_) => de::Unexpected::Map,
     }
+}
+
+/// A map whose keys are names (`materials`): a name given twice is refused, where a map would
+/// keep the last one in silence.
+pub(crate) fn unique_map<'de, D, V>(d: D) -> Result<std::collections::BTreeMap<String, V>, D::Error>
+where
+    D: Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    struct M<V>(std::marker::PhantomData<V>);
+    impl<'de, V: Deserialize<'de>> Visitor<'de> for M<V> {
+        type Value = std::collections::BTreeMap<String, V>;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("an object of named entries")
+        }
+        fn visit_map<A: de::MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut out = std::collections::BTreeMap::new();
+            while let Some(key) = map.next_key::<String>()? {
+                let value = map.next_value()?;
+                if out.insert(key.clone(), value).is_some() {
+                    return Err(A::Error::custom(nested(
+                        &key,
+                        &format!("'{key}' is defined twice: names must be unique"),
+                    )));
+                }
+            }
+            Ok(out)
+        }
+    }
+    d.deserialize_map(M(std::marker::PhantomData))
 }
 
 /// A deserializer that refuses a JSON array where an object is expected. serde's derived structs

@@ -107,7 +107,8 @@ pub struct Scenario {
     /// What is written and how often.
     #[serde(default)]
     pub output: OutputSpec,
-    /// Named materials.
+    /// Named materials (a name given twice is refused).
+    #[serde(deserialize_with = "de::unique_map")]
     pub materials: BTreeMap<String, MaterialSpec>,
     /// Contact coefficients for every pair of materials without its own entry in `pairs`.
     pub contact: ContactSpec,
@@ -577,7 +578,17 @@ fn parse_error(file: &str, path: &str, e: serde_json::Error) -> ScenarioError {
                 }
             ),
         ),
-        None => (path, format!("{message}{at}")),
+        // "duplicate field `x`" at `contact` names `contact.x`.
+        None => match message
+            .strip_prefix("duplicate field `")
+            .and_then(|m| m.split_once('`'))
+        {
+            Some((field, rest)) => (
+                de::join(&path, field),
+                format!("given twice{rest}{at}: give each field once"),
+            ),
+            None => (path, format!("{message}{at}")),
+        },
     };
     ScenarioError::Parse {
         file: one_line(file.to_string()),
