@@ -1000,4 +1000,15 @@ fn a_field_given_twice() {
         1,
     );
     refused("field-twice", &text, &["contact.ke: given twice"]);
+    // Inside a surface too (read through a buffer that once kept the last one).
+    let text = serde_json::to_string_pretty(&base()).unwrap().replacen(
+        "\"type\": \"plane\"",
+        "\"type\": \"plane\", \"type\": \"box\"",
+        1,
+    );
+    refused(
+        "surface-field-twice",
+        &text,
+        &["surfaces[0].type: given twice"],
+    );
 }
