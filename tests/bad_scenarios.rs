@@ -54,6 +54,11 @@ fn refused_with_files(name: &str, text: &str, files: &[(&str, &str)], needles: &
         o.status
     );
     assert!(err.starts_with("error: "), "{name}: {err}");
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "{name}: not one line: {err}"
+    );
     for n in needles {
         assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
     }
@@ -130,7 +135,7 @@ fn negative_modulus() {
     mutated(
         "neg-modulus",
         |v| v["materials"]["apple"]["shear_modulus_pa"] = json!(-1.1e6),
-        &["materials.apple.shear_modulus_pa", "-1100000"],
+        &["materials.apple.shear_modulus_pa", "-1.1e6 Pa"],
     );
 }
 
@@ -304,7 +309,7 @@ fn ke_out_of_range() {
     mutated(
         "ke0",
         |v| v["contact"]["ke"] = json!(0.0),
-        &["contact.ke", "(0, 1]"],
+        &["contact.ke", "(0 < ke <= 1)"],
     );
     mutated("ke2", |v| v["contact"]["ke"] = json!(1.5), &["contact.ke"]);
 }
@@ -497,13 +502,23 @@ fn overlapping_generated_apples() {
 
 #[test]
 fn random_fill_that_cannot_fit() {
+    // 18 apples are 60 % of the region: more than random placement reaches (about 38 %).
     mutated(
         "gen-full",
         |v| {
             v["generators"] = json!([{"type": "random_fill", "name": "r", "material": "apple",
-        "diameter_m": 0.08, "count": 50, "region_min_m": [1, 1, 0.0], "region_max_m": [1.2, 1.2, 0.2], "seed": 1}])
+        "diameter_m": 0.08, "count": 18, "region_min_m": [1, 1, 0.0], "region_max_m": [1.2, 1.2, 0.2], "seed": 1}])
         },
         &["generators[0].count", "placed only"],
+    );
+    // 50 apples are more than any random packing of it holds: refused before any attempt.
+    mutated(
+        "gen-overfull",
+        |v| {
+            v["generators"] = json!([{"type": "random_fill", "name": "r", "material": "apple",
+        "diameter_m": 0.08, "count": 50, "region_min_m": [1, 1, 0.0], "region_max_m": [1.2, 1.2, 0.2], "seed": 1}])
+        },
+        &["generators[0].count", "0.0134 m^3", "random packing"],
     );
 }
 
@@ -579,7 +594,7 @@ fn file_generator_entry_missing_a_field() {
         Some(
             r#"[{"name": "a", "diameter_m": 0.08, "position_m": [1, 1, 0.5]}, {"name": "b", "position_m": [2, 1, 0.5]}]"#,
         ),
-        &["generators[0].file", "[1]", "missing field `diameter_m`"],
+        &["generators[0].file", "[1].diameter_m", "missing"],
     );
 }
 
@@ -602,7 +617,7 @@ fn file_generator_zero_diameter() {
         &[
             "generators[0].file",
             "pile.json[1].diameter_m",
-            "> 0",
+            "outside the range of fruit handling (0.001 m <= D <= 1 m)",
             "'b'",
         ],
     );
@@ -647,5 +662,353 @@ fn file_generator_overlapping_apples() {
             r#"[{"name": "a", "diameter_m": 0.08, "position_m": [1, 1, 0.5]}, {"name": "b", "diameter_m": 0.08, "position_m": [1.07, 1, 0.5]}]"#,
         ),
         &["generators", "'p-b'", "'p-a'", "inside"],
+    );
+}
+
+// Physical ranges (issue 18): every number outside the range of fruit handling is refused with
+// the field, the value and the range (scenario::ranges, README "Ranges and mistakes").
+
+#[test]
+fn speed_out_of_range() {
+    mutated(
+        "range-speed",
+        |v| v["apples"][0]["velocity_m_s"] = json!([0, 0, -1e200]),
+        &["error: apples[0].velocity_m_s: 1e200 m/s is outside the range of fruit handling (|v| <= 100 m/s)"],
+    );
+}
+
+#[test]
+fn gravity_out_of_range() {
+    mutated(
+        "range-gravity",
+        |v| v["gravity_m_s2"] = json!([0, 0, -1e200]),
+        &["gravity_m_s2: 1e200 m/s^2", "(|g| <= 1000 m/s^2)"],
+    );
+}
+
+#[test]
+fn position_out_of_range() {
+    mutated(
+        "range-position",
+        |v| v["apples"][0]["position_m"] = json!([0, 0, 1e308]),
+        &["apples[0].position_m[2]: 1e308 m", "(|x| <= 10000 m)"],
+    );
+}
+
+#[test]
+fn mesh_scale_out_of_range() {
+    with_surface(
+        "range-scale",
+        json!({"name": "tray", "type": "mesh", "material": "steel",
+        "file": "tray.obj", "scale": 1e308, "position_m": [0, 0, -1]}),
+        &["surfaces[1].scale: 1e308", "(1e-6 <= s <= 1e6)"],
+    );
+    with_surface(
+        "range-scale3",
+        json!({"name": "tray", "type": "mesh", "material": "steel",
+        "file": "tray.obj", "scale": [1, 1e308, 1], "position_m": [0, 0, -1]}),
+        &["surfaces[1].scale[1]: 1e308", "(1e-6 <= s <= 1e6)"],
+    );
+}
+
+#[test]
+fn diameter_out_of_range() {
+    // Once blamed on rapier's additional_mass_properties.
+    mutated(
+        "range-diameter",
+        |v| v["apples"][0]["diameter_m"] = json!(1e308),
+        &["apples[0].diameter_m: 1e308 m", "(0.001 m <= D <= 1 m)"],
+    );
+}
+
+#[test]
+fn modulus_out_of_range() {
+    // Once blamed on the time step.
+    mutated(
+        "range-modulus",
+        |v| v["materials"]["apple"]["shear_modulus_pa"] = json!(5e-324),
+        &[
+            "materials.apple.shear_modulus_pa: 5e-324 Pa",
+            "(1000 Pa <= modulus <= 1e13 Pa)",
+        ],
+    );
+}
+
+#[test]
+fn belt_speed_out_of_range() {
+    // Once blamed on the time step.
+    with_surface(
+        "range-belt",
+        json!({"name": "belt", "type": "conveyor", "material": "steel",
+        "size_m": [1, 0.3, 0.04], "position_m": [2, 0, 0.5], "belt_velocity_m_s": 1e308}),
+        &[
+            "surfaces[1].belt_velocity_m_s: 1e308 m/s",
+            "(|v| <= 100 m/s)",
+        ],
+    );
+}
+
+#[test]
+fn steps_out_of_range() {
+    // Refused before the run instead of after hours (issue 18, item 3).
+    mutated(
+        "range-duration",
+        |v| v["duration_s"] = json!(1e9),
+        &["duration_s: 1e9 s", "(1e-9 s <= t <= 1e5 s)"],
+    );
+    mutated(
+        "range-dt",
+        |v| v["time_step_s"] = json!(1e-300),
+        &["time_step_s: 1e-300 s", "(1e-9 s <= dt <= 1 s)"],
+    );
+    mutated(
+        "range-accuracy",
+        |v| {
+            v["time_step_s"] = json!("auto");
+            v["accuracy"] = json!(1e9);
+        },
+        &["accuracy: 1e9", "(5 <= n <= 10000)"],
+    );
+}
+
+#[test]
+fn apple_count_out_of_range() {
+    // A source of 1e9 apples once allocated 152 GB.
+    mutated(
+        "range-count",
+        |v| {
+            v["sources"] = json!([{"name": "s", "material": "apple", "diameter_m": 0.08,
+            "position_m": [1, 1, 1], "rate_per_s": 4, "count": 1000000000u64}])
+        },
+        &["sources[0].count: 1e9 apples", "(0 <= N <= 1e6)"],
+    );
+}
+
+#[test]
+fn mass_and_diameter_make_an_impossible_density() {
+    mutated(
+        "range-density",
+        |v| v["apples"][0]["mass_kg"] = json!(1.07e-4),
+        &[
+            "apples[0].mass_kg",
+            "density of 0.399 kg/m^3",
+            "(1 kg/m^3 <= rho <= 1e5 kg/m^3)",
+        ],
+    );
+}
+
+#[test]
+fn poisson_ratio_that_makes_the_other_modulus_absurd() {
+    mutated(
+        "range-nu",
+        |v| {
+            v["materials"]["steel"] =
+                json!({"youngs_modulus_pa": 2e11, "poisson_ratio": -0.999999999})
+        },
+        &["materials.steel.poisson_ratio", "shear modulus G = 1e20 Pa"],
+    );
+}
+
+// The file itself (issue 18, item 2).
+
+#[test]
+fn trailing_content_is_refused() {
+    let text = serde_json::to_string_pretty(&base()).unwrap();
+    let lines = text.lines().count();
+    refused(
+        "trailing-scenario",
+        &format!("{text}\n{text}"),
+        &[
+            ".: more text after the end of the JSON document",
+            &format!("line {}", lines + 1),
+            "a file holds one scenario",
+        ],
+    );
+    refused(
+        "trailing-comma",
+        &format!("{text},"),
+        &["more text after the end"],
+    );
+}
+
+#[test]
+fn byte_order_mark_is_accepted() {
+    let dir = tmp("bom");
+    let file = dir.join("scenario.json");
+    let text = serde_json::to_string_pretty(&base()).unwrap();
+    std::fs::write(&file, format!("\u{feff}{text}")).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+            "-q",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(dir.join("out/summary.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// Exact paths (issue 18, item 5): inside surfaces, generators and the number-or-object forms.
+
+#[test]
+fn exact_path_inside_a_surface() {
+    mutated(
+        "path-normal",
+        |v| v["surfaces"][0]["normal"] = json!([0, "0", 1]),
+        &["surfaces[0].normal[1]: invalid type: string \"0\", expected f64"],
+    );
+    mutated(
+        "path-surface-missing",
+        |v| {
+            v["surfaces"][0].as_object_mut().unwrap().remove("point_m");
+        },
+        &["surfaces[0].point_m: missing"],
+    );
+    mutated(
+        "path-surface-type",
+        |v| {
+            v["surfaces"][0].as_object_mut().unwrap().remove("type");
+        },
+        &["surfaces[0].type: missing", "`plane`"],
+    );
+    mutated(
+        "path-surface-unknown",
+        |v| v["surfaces"][0]["colour"] = json!("grey"),
+        &["surfaces[0].colour: unknown field `colour`"],
+    );
+}
+
+#[test]
+fn exact_path_inside_a_generator_and_a_distribution() {
+    mutated(
+        "path-generator",
+        |v| {
+            v["generators"] = json!([{"type": "grid", "name": "g", "material": "apple",
+            "diameter_m": {"mean_m": 0.08, "spread_m": "0.01"}, "count": [1, 1, 1],
+            "spacing_m": [0.1, 0.1, 0.1], "origin_m": [1, 1, 0.5]}])
+        },
+        &["generators[0].diameter_m.spread_m: invalid type: string \"0.01\", expected f64"],
+    );
+    mutated(
+        "path-generator-count",
+        |v| {
+            v["generators"] = json!([{"type": "grid", "name": "g", "material": "apple",
+            "diameter_m": 0.08, "count": [1, -1, 1],
+            "spacing_m": [0.1, 0.1, 0.1], "origin_m": [1, 1, 0.5]}])
+        },
+        &["generators[0].count[1]: invalid value: integer `-1`"],
+    );
+    mutated(
+        "path-source-diameter",
+        |v| {
+            v["sources"] = json!([{"name": "s", "material": "apple", "diameter_m": "80 mm",
+            "position_m": [1, 1, 1], "rate_per_s": 4, "count": 3}])
+        },
+        &["sources[0].diameter_m: invalid type: string \"80 mm\", expected a diameter in metres"],
+    );
+}
+
+#[test]
+fn exact_path_of_a_mesh_scale() {
+    with_surface(
+        "path-scale",
+        json!({"name": "tray", "type": "mesh", "material": "steel",
+        "file": "tray.obj", "scale": [1, "2", 1], "position_m": [0, 0, -1]}),
+        &["surfaces[1].scale[1]: invalid type: string \"2\", expected f64"],
+    );
+}
+
+#[test]
+fn exact_path_of_a_syntax_error() {
+    let text = serde_json::to_string_pretty(&base())
+        .unwrap()
+        .replace("\"time_step_s\": 1e-5", "\"time_step_s\": 0x10")
+        .replace("\"time_step_s\": 0.00001", "\"time_step_s\": 0x10");
+    assert!(text.contains("0x10"));
+    refused("path-syntax", &text, &["time_step_s: expected `,` or `}`"]);
+    let text = serde_json::to_string_pretty(&base()).unwrap();
+    let cut = text.find("\"normal\"").unwrap() + 14;
+    refused(
+        "path-eof",
+        &text[..cut],
+        &["surfaces[0].normal", "EOF while parsing"],
+    );
+}
+
+#[test]
+fn an_object_given_as_an_array_is_refused() {
+    // serde's structs also read their fields from an array, in order: this was friction 0.3,
+    // ke 1, lambda 1000, accepted in silence.
+    mutated(
+        "object-array",
+        |v| v["contact"] = json!([0.3, 1, 1000]),
+        &["contact: invalid type: sequence, expected an object {friction, ke, lambda_s_m}"],
+    );
+}
+
+#[test]
+fn a_name_on_two_lines_is_refused_on_one() {
+    mutated(
+        "name-newline",
+        |v| v["apples"][0]["name"] = json!("a\nb"),
+        &["apples[0].name: 'a\\nb' holds a control character"],
+    );
+}
+
+#[test]
+fn two_generators_with_one_name() {
+    mutated(
+        "gen-prefix",
+        |v| {
+            let g = json!({"type": "grid", "name": "g", "material": "apple",
+            "diameter_m": 0.08, "count": [1, 1, 1], "spacing_m": [0.1, 0.1, 0.1], "origin_m": [1, 1, 0.5]});
+            let mut h = g.clone();
+            h["origin_m"] = json!([2, 2, 0.5]);
+            v["generators"] = json!([g, h]);
+        },
+        &[
+            "generators[1].name",
+            "'g' is already the name of generators[0]",
+        ],
+    );
+}
+
+#[test]
+fn a_material_given_twice() {
+    // A JSON object may repeat a key; a map would keep the last one in silence.
+    let text = serde_json::to_string_pretty(&base()).unwrap().replacen(
+        "\"materials\": {",
+        "\"materials\": {\"steel\": {\"shear_modulus_pa\": 1e6, \"poisson_ratio\": 0.3},",
+        1,
+    );
+    refused(
+        "material-twice",
+        &text,
+        &["materials.steel: 'steel' is defined twice"],
+    );
+}
+
+#[test]
+fn a_field_given_twice() {
+    let text = serde_json::to_string_pretty(&base()).unwrap().replacen(
+        "\"ke\": 1.0,",
+        "\"ke\": 1.0, \"ke\": 0.5,",
+        1,
+    );
+    refused("field-twice", &text, &["contact.ke: given twice"]);
+    // Inside a surface too (read through a buffer that once kept the last one).
+    let text = serde_json::to_string_pretty(&base()).unwrap().replacen(
+        "\"type\": \"plane\"",
+        "\"type\": \"plane\", \"type\": \"box\"",
+        1,
+    );
+    refused(
+        "surface-field-twice",
+        &text,
+        &["surfaces[0].type: given twice"],
     );
 }

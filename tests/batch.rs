@@ -346,7 +346,7 @@ fn an_invalid_run_fails_alone_and_the_batch_exits_non_zero() {
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(ran(&text(&o.stdout)), BTreeSet::from([0]));
     assert!(
-        text(&o.stdout).contains("error: unstable"),
+        text(&o.stdout).contains("error: time_step_s: unstable"),
         "{}",
         text(&o.stdout)
     );

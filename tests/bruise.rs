@@ -218,7 +218,7 @@ fn bad_thresholds_are_refused_with_the_field() {
     let err = scenario::validate(&sc).unwrap_err().to_string();
     assert_eq!(
         err,
-        "materials.apple.bruise.peak_force_n: -5 must be a finite number > 0"
+        "materials.apple.bruise.peak_force_n: -5 N is outside the range of fruit handling (0 N < F <= 1e6 N)"
     );
     let text2 = text.replace(r#""peak_force_n": -5"#, r#""peak_force": 5"#);
     let err = scenario::from_json(&text2, "t").unwrap_err().to_string();

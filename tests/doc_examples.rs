@@ -86,9 +86,11 @@ fn analysis_and_batch_examples_are_current() {
     assert!(n >= 4, "{n} examples");
 }
 
-/// README, Scenario format: the three error messages it shows, from the mistakes they describe
-/// (a Poisson ratio of 0.5; a second apple 70 mm from the first, 10 mm inside it; a 1 ms step
-/// for the 1.4 m/s drop on steel).
+/// README, Scenario format: the error messages it shows, each from the mistake it describes made
+/// in scenarios/drop_on_steel.json saved as `line.json` (a speed of 1e200 m/s; a modulus of
+/// 5e-324 Pa; a Poisson ratio of 0.5; a second apple 70 mm from the first, 10 mm inside it; a
+/// string in the floor's normal; the apple's diameter left out; a second JSON document after the
+/// first; a 1 ms step for the 1.4 m/s drop on steel).
 #[test]
 fn readme_error_examples_are_current() {
     let readme = std::fs::read_to_string(repo("README.md")).unwrap();
@@ -96,30 +98,47 @@ fn readme_error_examples_are_current() {
         .lines()
         .filter(|l| l.starts_with("error: "))
         .collect();
-    assert_eq!(shown.len(), 3, "{shown:?}");
-    let base: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(repo("scenarios/drop_on_steel.json")).unwrap())
-            .unwrap();
-    let mut nu = base.clone();
-    nu["materials"]["apple"]["poisson_ratio"] = serde_json::json!(0.5);
-    let mut two = base.clone();
-    let mut a2 = two["apples"][0].clone();
-    a2["name"] = serde_json::json!("a2");
-    a2["position_m"] = serde_json::json!([0.07, 0, 0.0401]);
-    two["apples"].as_array_mut().unwrap().push(a2);
-    let mut coarse = base.clone();
-    coarse["time_step_s"] = serde_json::json!(1e-3);
+    let text = std::fs::read_to_string(repo("scenarios/drop_on_steel.json")).unwrap();
+    let base: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let edit = |f: &dyn Fn(&mut serde_json::Value)| {
+        let mut v = base.clone();
+        f(&mut v);
+        serde_json::to_string(&v).unwrap()
+    };
+    let mistakes: Vec<String> = vec![
+        edit(&|v| v["apples"][0]["velocity_m_s"] = serde_json::json!([0, 0, 1e200])),
+        edit(&|v| v["materials"]["apple"]["shear_modulus_pa"] = serde_json::json!(5e-324)),
+        edit(&|v| v["materials"]["apple"]["poisson_ratio"] = serde_json::json!(0.5)),
+        edit(&|v| {
+            let mut a2 = v["apples"][0].clone();
+            a2["name"] = serde_json::json!("a2");
+            a2["position_m"] = serde_json::json!([0.07, 0, 0.0401]);
+            v["apples"].as_array_mut().unwrap().push(a2);
+        }),
+        // The parser's mistakes are made in the file's own text: their positions are shown.
+        text.replace(r#""normal": [0, 0, 1]"#, r#""normal": [0, "0", 1]"#),
+        text.replace(r#""diameter_m": 0.08, "#, ""),
+        format!("{text}{{}}\n"),
+        edit(&|v| v["time_step_s"] = serde_json::json!(1e-3)),
+    ];
+    assert_eq!(shown.len(), mistakes.len(), "{shown:?}");
     let dir = std::env::temp_dir().join(format!("applesim-doc-errors-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    for (k, (sc, want)) in [nu, two, coarse].iter().zip(&shown).enumerate() {
-        let p = dir.join(format!("e{k}.json"));
-        std::fs::write(&p, serde_json::to_vec(sc).unwrap()).unwrap();
+    for (k, (sc, want)) in mistakes.iter().zip(&shown).enumerate() {
+        let sub = dir.join(format!("e{k}"));
+        std::fs::create_dir_all(&sub).unwrap();
+        let p = sub.join("line.json");
+        std::fs::write(&p, sc).unwrap();
         let (code, got) = run_applesim(&format!(
             "run {} --out {} -q",
             p.display(),
-            dir.join(format!("o{k}")).display()
+            sub.join("out").display()
         ));
-        assert_eq!(code, Some(1));
+        assert_eq!(code, Some(1), "{want}");
+        // Parser errors name the file as given on the command line: compare from the name on.
+        let got: Vec<String> = got
+            .iter()
+            .map(|g| g.replace(&format!("{}", p.display()), "line.json"))
+            .collect();
         assert_shown("run", &[want.to_string()], &got);
     }
     let _ = std::fs::remove_dir_all(&dir);

@@ -314,7 +314,10 @@ fn bad_interval_is_refused_with_the_field() {
     let mut sc = drops();
     sc.output.vtk = Some(VtkSpec { interval_s: 0.0 });
     let err = scenario::validate(&sc).unwrap_err().to_string();
-    assert_eq!(err, "output.vtk.interval_s: 0 must be a finite number > 0");
+    assert_eq!(
+        err,
+        "output.vtk.interval_s: 0 s is outside the range of fruit handling (1e-9 s <= t <= 1e5 s)"
+    );
 }
 
 #[test]

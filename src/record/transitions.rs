@@ -119,6 +119,9 @@ pub struct TransitionSummary {
     pub surfaces: Vec<SurfaceRollSummary>,
 }
 
+/// Most bins a histogram has (see [`histogram`]).
+pub const MAX_BINS: usize = 10_000;
+
 /// A histogram of `x` with bins of width `bin` aligned on multiples of it: (edges, counts).
 pub fn histogram(x: &[f64], bin: f64) -> (Vec<f64>, Vec<u32>) {
     let finite: Vec<f64> = x.iter().copied().filter(|v| v.is_finite()).collect();
@@ -127,6 +130,14 @@ pub fn histogram(x: &[f64], bin: f64) -> (Vec<f64>, Vec<u32>) {
     }
     let lo = finite.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = finite.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // At most MAX_BINS bins: a narrow bin over a long line widens by a whole factor, so its
+    // edges stay on multiples of the bin asked for (1 mm bins over 20 km asked for 2e7 bins).
+    let span_bins = (hi / bin).floor() - (lo / bin).floor() + 1.0;
+    let bin = if span_bins > MAX_BINS as f64 {
+        bin * (span_bins / MAX_BINS as f64).ceil()
+    } else {
+        bin
+    };
     let first = (lo / bin).floor() as i64;
     let last = ((hi / bin).floor() as i64).max(first);
     let nbins = (last - first + 1) as usize;
@@ -195,5 +206,15 @@ mod tests {
         assert_eq!(c, vec![1]);
         assert!((e[0] + 0.05).abs() < 1e-12);
         assert_eq!(histogram(&[], 0.05), (vec![], vec![]));
+    }
+
+    #[test]
+    fn histogram_of_a_long_span_widens_its_bins() {
+        let (e, c) = histogram(&[0.0, 20_000.0], 0.001);
+        assert!(c.len() <= MAX_BINS, "{} bins", c.len());
+        assert_eq!(c.iter().sum::<u32>(), 2);
+        // The bin widens by a whole factor: edges stay on multiples of 1 mm.
+        let w = e[1] - e[0];
+        assert!(((w / 0.001).round() - w / 0.001).abs() < 1e-6, "{w}");
     }
 }

@@ -4,17 +4,21 @@
 //! their own names behind the prefix: `NAME-p17`), and the same seed always gives the same apples
 //! (ChaCha8 from `rand_chacha`, whose output is fixed across platforms and versions).
 
-use super::{AppleSpec, ScenarioError};
+use super::ranges::{self, num, num3};
+use super::{de, AppleSpec, ScenarioError};
 use crate::math::{vec3, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
+use serde::de::value::MapAccessDeserializer;
+use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
+use std::fmt;
 use std::path::Path;
 use std::sync::Arc;
 
 /// Diameter of generated apples: a fixed number, or a distribution.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum DiameterSpec {
     /// Every apple the same (m).
@@ -47,36 +51,69 @@ pub enum SizeLaw {
     Normal,
 }
 
+impl<'de> Deserialize<'de> for DiameterSpec {
+    // By hand rather than `untagged`, which buffers the value and loses the path of a bad field
+    // inside the distribution (`diameter_m.spread_m`).
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = DiameterSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a diameter in metres or {\"mean_m\", \"spread_m\", \"distribution\"}")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<DiameterSpec, E> {
+                Ok(DiameterSpec::Fixed(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<DiameterSpec, E> {
+                Ok(DiameterSpec::Fixed(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<DiameterSpec, E> {
+                Ok(DiameterSpec::Fixed(v as f64))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<DiameterSpec, A::Error> {
+                SizeDistribution::deserialize(MapAccessDeserializer::new(map))
+                    .map(DiameterSpec::Distribution)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 impl DiameterSpec {
     /// Checks the numbers, naming `field`.
     pub fn validate(&self, field: &str) -> Result<(), ScenarioError> {
         match *self {
-            DiameterSpec::Fixed(d) => {
-                if d.is_finite() && d > 0.0 {
-                    Ok(())
-                } else {
-                    Err(ScenarioError::invalid(field, format!("{d} must be > 0")))
-                }
-            }
+            DiameterSpec::Fixed(d) => ranges::DIAMETER.check(field, d),
             DiameterSpec::Distribution(s) => {
-                let lo = match s.distribution {
-                    SizeLaw::Uniform => s.mean_m - s.spread_m,
-                    SizeLaw::Normal => s.mean_m - 3.0 * s.spread_m,
-                };
-                if !(s.mean_m.is_finite() && s.spread_m.is_finite() && s.spread_m >= 0.0) {
-                    Err(ScenarioError::invalid(
-                        field,
-                        "mean_m and spread_m must be finite, spread_m >= 0",
-                    ))
-                } else if lo <= 0.0 {
-                    Err(ScenarioError::invalid(
-                        field,
-                        format!("the distribution reaches diameters <= 0 (smallest {lo} m): reduce spread_m"),
-                    ))
-                } else {
-                    Ok(())
+                ranges::DIAMETER.check(&format!("{field}.mean_m"), s.mean_m)?;
+                ranges::DIAMETER_SPREAD.check(&format!("{field}.spread_m"), s.spread_m)?;
+                let (lo, hi) = (self.min_m(), self.max_m());
+                if ranges::DIAMETER.contains(lo) && ranges::DIAMETER.contains(hi) {
+                    return Ok(());
                 }
+                Err(ScenarioError::invalid(
+                    format!("{field}.spread_m"),
+                    format!(
+                        "{} m about a mean of {} m gives diameters from {} m to {} m, outside the range of fruit handling ({}): reduce spread_m",
+                        num(s.spread_m),
+                        num(s.mean_m),
+                        num(lo),
+                        num(hi),
+                        ranges::DIAMETER.describe()
+                    ),
+                ))
             }
+        }
+    }
+
+    /// Smallest diameter the spec can give (m).
+    pub fn min_m(&self) -> f64 {
+        match *self {
+            DiameterSpec::Fixed(d) => d,
+            DiameterSpec::Distribution(s) => match s.distribution {
+                SizeLaw::Uniform => s.mean_m - s.spread_m,
+                SizeLaw::Normal => s.mean_m - 3.0 * s.spread_m,
+            },
         }
     }
 
@@ -101,7 +138,10 @@ impl DiameterSpec {
                     if s.spread_m == 0.0 {
                         return s.mean_m;
                     }
-                    let n = Normal::new(s.mean_m, s.spread_m).expect("validated spread");
+                    // A spread that is not a finite number >= 0 is refused by validation.
+                    let Ok(n) = Normal::new(s.mean_m, s.spread_m) else {
+                        return s.mean_m;
+                    };
                     loop {
                         let d: f64 = n.sample(rng);
                         if (d - s.mean_m).abs() <= 3.0 * s.spread_m {
@@ -114,9 +154,10 @@ impl DiameterSpec {
     }
 }
 
-/// An apple generator. `type` selects the kind.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+/// An apple generator. `type` selects the kind. (Read by hand, through the scenario's `de`
+/// module, so that a mistake inside a generator names its exact field.)
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
 pub enum GeneratorSpec {
     /// Apples on a regular grid: `count` = [nx, ny, nz] (nz layers), centres `spacing_m` apart,
     /// the first at `origin_m`; layer by layer from the bottom, x fastest.
@@ -128,7 +169,29 @@ pub enum GeneratorSpec {
     File(FileSpec),
 }
 
+impl<'de> Deserialize<'de> for GeneratorSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        const TYPES: &[&str] = &["grid", "random_fill", "file"];
+        let (t, v) = de::tagged(d, TYPES)?;
+        Ok(match t {
+            "grid" => GeneratorSpec::Grid(de::from_value(v)?),
+            "random_fill" => GeneratorSpec::RandomFill(de::from_value(v)?),
+            _ => GeneratorSpec::File(de::from_value(v)?),
+        })
+    }
+}
+
 impl GeneratorSpec {
+    /// How many apples the generator places (counted, not generated: what must be checked
+    /// before generating).
+    pub fn count(&self) -> f64 {
+        match self {
+            GeneratorSpec::Grid(s) => s.count.iter().map(|&c| f64::from(c)).product(),
+            GeneratorSpec::RandomFill(s) => f64::from(s.count),
+            GeneratorSpec::File(s) => s.loaded.as_ref().map_or(0, |l| l.0.len()) as f64,
+        }
+    }
+
     /// Name prefix of the generated apples.
     pub fn name(&self) -> &str {
         match self {
@@ -256,20 +319,21 @@ impl FileSpec {
         let text = std::fs::read_to_string(&path).map_err(|e| {
             ScenarioError::invalid(&f, format!("cannot read '{}': {e}", path.display()))
         })?;
-        let de = &mut serde_json::Deserializer::from_str(&text);
-        let apples: Vec<FileApple> = serde_path_to_error::deserialize(de).map_err(|e| {
-            let at = e.path().to_string();
+        let shown = path.display().to_string();
+        let apples: Vec<FileApple> = super::parse_one(&text, &shown).map_err(|e| {
+            let (at, message) = match e {
+                ScenarioError::Parse { path, message, .. } => (path, message),
+                other => (".".to_string(), other.to_string()),
+            };
             ScenarioError::invalid(
                 &f,
                 format!(
-                    "'{}'{}: {} (expected an array of {{\"name\", \"diameter_m\", \"position_m\"}})",
-                    path.display(),
+                    "'{shown}'{}: {message} (expected an array of {{\"name\", \"diameter_m\", \"position_m\"}})",
                     if at.is_empty() || at == "." {
                         String::new()
                     } else {
                         format!(" at {at}")
                     },
-                    e.into_inner()
                 ),
             )
         })?;
@@ -342,6 +406,56 @@ impl SourceSpec {
     }
 }
 
+/// Apples placed so far, hashed on cells at least as wide as the largest diameter, so that a
+/// random fill checks a candidate against its neighbours only (the same test as against every
+/// apple: two apples in cells that are not neighbours are more than a cell apart).
+struct FreeSpace {
+    cell_m: f64,
+    cells: std::collections::HashMap<[i64; 3], Vec<(Vec3, f64)>>,
+}
+
+impl FreeSpace {
+    fn new(largest_diameter_m: f64) -> Self {
+        let ok = largest_diameter_m.is_finite() && largest_diameter_m > 0.0;
+        Self {
+            cell_m: if ok { largest_diameter_m } else { 1.0 },
+            cells: Default::default(),
+        }
+    }
+
+    fn cell(&self, p: Vec3) -> [i64; 3] {
+        // `as` saturates: far-away apples share the outermost cells, which stays correct.
+        [p.x, p.y, p.z].map(|x| (x / self.cell_m).floor() as i64)
+    }
+
+    fn insert(&mut self, p: Vec3, r: f64) {
+        let c = self.cell(p);
+        self.cells.entry(c).or_default().push((p, r));
+    }
+
+    /// Whether a sphere of radius `r` at `p` overlaps none of the apples placed.
+    fn is_free(&self, p: Vec3, r: f64) -> bool {
+        let [x, y, z] = self.cell(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let key = [
+                        x.saturating_add(dx),
+                        y.saturating_add(dy),
+                        z.saturating_add(dz),
+                    ];
+                    if let Some(list) = self.cells.get(&key) {
+                        if list.iter().any(|&(q, rq)| (q - p).length() < r + rq) {
+                            return false;
+                        }
+                    }
+                }
+            }
+        }
+        true
+    }
+}
+
 /// The apples of one generator, given the apples already placed (a random fill avoids them).
 pub fn expand(
     g: &GeneratorSpec,
@@ -383,8 +497,35 @@ pub fn expand(
             let lo = vec3(s.region_min_m);
             let hi = vec3(s.region_max_m);
             let mut out: Vec<AppleSpec> = Vec::new();
+            // Random sequential placement jams near 38 % of the volume; beyond the 64 % of a
+            // random close packing no attempt can succeed: refuse at once, not after
+            // 1000 attempts per apple.
+            let volume = (hi - lo).max(Vec3::ZERO).element_product();
+            let smallest = s.diameter_m.min_m();
+            let needed = s.count as f64 * std::f64::consts::PI / 6.0 * smallest.powi(3);
+            if needed > 0.64 * volume {
+                return Err(ScenarioError::invalid(
+                    format!("{field}.count"),
+                    format!(
+                        "{} apples of at least {} m fill {} m^3, more than the {} m^3 a random packing of the region holds: enlarge the region or lower the count",
+                        s.count,
+                        num(smallest),
+                        num3(needed),
+                        num3(0.64 * volume)
+                    ),
+                ));
+            }
             let mut attempts = 0u64;
             let max_attempts = 1000 * s.count as u64 + 10_000;
+            let mut space = FreeSpace::new(
+                placed
+                    .iter()
+                    .map(|a| a.diameter_m)
+                    .fold(s.diameter_m.max_m(), f64::max),
+            );
+            for a in placed {
+                space.insert(vec3(a.position_m), a.diameter_m / 2.0);
+            }
             while out.len() < s.count as usize {
                 let d = s.diameter_m.sample(&mut rng);
                 let r = d / 2.0;
@@ -403,11 +544,9 @@ pub fn expand(
                         span.z * rng.random::<f64>(),
                     );
                 attempts += 1;
-                let free = placed
-                    .iter()
-                    .chain(out.iter())
-                    .all(|a| (vec3(a.position_m) - p).length() >= r + a.diameter_m / 2.0);
+                let free = space.is_free(p, r);
                 if free {
+                    space.insert(p, r);
                     out.push(AppleSpec {
                         name: format!("{}-{}", s.name, out.len() + 1),
                         material: s.material.clone(),

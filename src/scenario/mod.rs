@@ -1,10 +1,14 @@
 //! Scenario files: serde types (the JSON contract of README "Scenario format") and validation.
 //!
 //! Every field name carries its unit. Unknown fields are errors (a misspelt field must not be
-//! silently ignored), and every mistake is reported with the JSON path of the field at fault.
+//! silently ignored), every number is checked against its physical range ([`ranges`]), and every
+//! mistake is reported on one line with the exact JSON path of the field at fault, inside
+//! surfaces, generators and distributions too (`de`).
 
 pub mod budget;
+mod de;
 pub mod generators;
+pub mod ranges;
 pub mod stepping;
 pub mod surfaces;
 pub(crate) mod validate;
@@ -51,13 +55,30 @@ pub enum ScenarioError {
 }
 
 impl ScenarioError {
-    /// An invalid-value error.
+    /// An invalid-value error. Control characters (a line break in a name the message quotes)
+    /// are escaped: a refusal is one line.
     pub fn invalid(field: impl Into<String>, message: impl Into<String>) -> Self {
         Self::Invalid {
-            field: field.into(),
-            message: message.into(),
+            field: one_line(field.into()),
+            message: one_line(message.into()),
         }
     }
+}
+
+/// `s` with its control characters escaped (`\n`, `\u{1b}`), so that it prints as one line.
+pub(crate) fn one_line(s: String) -> String {
+    if !s.contains(char::is_control) {
+        return s;
+    }
+    s.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
 }
 
 /// A complete scenario.
@@ -87,7 +108,8 @@ pub struct Scenario {
     /// What is written and how often.
     #[serde(default)]
     pub output: OutputSpec,
-    /// Named materials.
+    /// Named materials (a name given twice is refused).
+    #[serde(deserialize_with = "de::unique_map")]
     pub materials: BTreeMap<String, MaterialSpec>,
     /// Contact coefficients for every pair of materials without its own entry in `pairs`.
     pub contact: ContactSpec,
@@ -150,6 +172,29 @@ impl Scenario {
             }
         }
         Ok(())
+    }
+
+    /// The field that places apple `index` of [`Scenario::initial_apples`], for messages about
+    /// where it starts: `apples[k].position_m` for a listed apple, else its generator's
+    /// `origin_m` (grid), `region_min_m` (random fill) or `file`. Found without generating.
+    pub fn initial_apple_field(&self, index: usize) -> String {
+        if index < self.apples.len() {
+            return format!("apples[{index}].position_m");
+        }
+        let mut first = self.apples.len();
+        for (k, g) in self.generators.iter().enumerate() {
+            let n = g.count() as usize;
+            let field = match g {
+                GeneratorSpec::Grid(_) => "origin_m",
+                GeneratorSpec::RandomFill(_) => "region_min_m",
+                GeneratorSpec::File(_) => "file",
+            };
+            if index < first.saturating_add(n) {
+                return format!("generators[{k}].{field}");
+            }
+            first = first.saturating_add(n);
+        }
+        "generators".into()
     }
 
     /// The apples present at t = 0: the listed ones, then each generator's in order.
@@ -369,6 +414,21 @@ pub struct ModelSpec {
     /// scene would otherwise run for days).
     #[serde(default = "default_max_steps")]
     pub max_steps: u64,
+    /// Largest memory a run is estimated to need before it is refused, MiB ([`budget`]).
+    #[serde(default = "default_max_memory_mb")]
+    pub max_memory_mb: f64,
+    /// Largest size of the output files a run is estimated to write before it is refused, MiB
+    /// ([`budget`]).
+    #[serde(default = "default_max_output_mb")]
+    pub max_output_mb: f64,
+}
+
+fn default_max_memory_mb() -> f64 {
+    budget::DEFAULT_MAX_MEMORY_MB
+}
+
+fn default_max_output_mb() -> f64 {
+    budget::DEFAULT_MAX_OUTPUT_MB
 }
 
 /// 5 %: the discrete energy of a resolved contact ripples by about (pi / N)^2 / 8 with N steps
@@ -433,6 +493,8 @@ impl Default for ModelSpec {
             sleep: SleepSpec::default(),
             energy_tolerance: default_energy_tolerance(),
             max_steps: default_max_steps(),
+            max_memory_mb: default_max_memory_mb(),
+            max_output_mb: default_max_output_mb(),
         }
     }
 }
@@ -460,17 +522,95 @@ pub struct AppleSpec {
     pub angular_velocity_rad_s: [f64; 3],
 }
 
-/// Parses a scenario from JSON text; `file` names the source in messages.
+/// Parses a scenario from JSON text; `file` names the source in messages. A leading UTF-8
+/// byte-order mark is skipped (editors on Windows write one); anything but white space after the
+/// scenario's closing brace is refused (a second scenario pasted below the first would otherwise
+/// be ignored in silence).
 pub fn from_json(text: &str, file: &str) -> Result<Scenario, ScenarioError> {
+    parse_one(text, file)
+}
+
+/// Parses exactly one JSON value of type `T` from `text` (after an optional byte-order mark),
+/// with every error naming the JSON path of the field at fault (`.` for the top level).
+pub(crate) fn parse_one<T: serde::de::DeserializeOwned>(
+    text: &str,
+    file: &str,
+) -> Result<T, ScenarioError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        ScenarioError::Parse {
-            file: file.to_string(),
-            path: if path.is_empty() { ".".into() } else { path },
-            message: e.into_inner().to_string(),
-        }
-    })
+    let value = serde_path_to_error::deserialize(de::Strict(&mut *de)).map_err(|e| {
+        let inner = e.inner();
+        let path = if inner.is_syntax() || inner.is_eof() {
+            // serde knows the enclosing object at best (`model.?`); the text says more.
+            de::path_at(text, de::offset_of(text, inner.line(), inner.column()))
+        } else {
+            e.path().to_string()
+        };
+        parse_error(file, &path, e.into_inner())
+    })?;
+    de.end().map_err(|e| ScenarioError::Parse {
+        file: one_line(file.to_string()),
+        path: ".".into(),
+        message: format!(
+            "more text after the end of the JSON document at line {} column {}: a file holds one scenario (remove what follows, or split it into files)",
+            e.line(),
+            e.column()
+        ),
+    })?;
+    Ok(value)
+}
+
+/// A parse error at `path` (as `serde_path_to_error` prints it, `.` when empty), with the path
+/// a nested deserializer ([`de`]) put in the message joined to it, and a missing field named as
+/// the path of that field.
+fn parse_error(file: &str, path: &str, e: serde_json::Error) -> ScenarioError {
+    let path = if path.is_empty() { "." } else { path };
+    let at = if e.line() > 0 {
+        format!(" at line {} column {}", e.line(), e.column())
+    } else {
+        String::new()
+    };
+    let full = e.to_string();
+    let message = full.strip_suffix(&at).unwrap_or(&full);
+    let (path, message, at) = match de::split(message) {
+        // Found inside a buffered surface or generator: the position is the end of the
+        // element, no help; the path is exact.
+        Some((inner, rest)) => (de::join(path, inner), rest.to_string(), String::new()),
+        None => (path.to_string(), message.to_string(), at),
+    };
+    // "missing field `x`" at `apples[0]` names `apples[0].x`.
+    let (path, message) = match message
+        .strip_prefix("missing field `")
+        .and_then(|m| m.split_once('`'))
+    {
+        Some((field, rest)) => (
+            de::join(&path, field),
+            format!(
+                "missing: a required field{rest}{}",
+                if at.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (the object ends{at})")
+                }
+            ),
+        ),
+        // "duplicate field `x`" at `contact` names `contact.x`.
+        None => match message
+            .strip_prefix("duplicate field `")
+            .and_then(|m| m.split_once('`'))
+        {
+            Some((field, rest)) => (
+                de::join(&path, field),
+                format!("given twice{rest}{at}: give each field once"),
+            ),
+            None => (path, format!("{message}{at}")),
+        },
+    };
+    ScenarioError::Parse {
+        file: one_line(file.to_string()),
+        path: one_line(path),
+        message: one_line(message),
+    }
 }
 
 /// Reads, parses and validates a scenario file, with the apple lists of its `file` generators

@@ -5,10 +5,14 @@
 //! `{"euler_xyz_deg": [rx, ry, rz]}`: rotations about the fixed world x, then y, then z axes
 //! (R = Rz Ry Rx).
 
-use super::ScenarioError;
+use super::ranges::{self, num};
+use super::{de, ScenarioError};
 use crate::math::{vec3, Vec3};
 use rapier3d_f64::math::Rotation;
+use serde::de::value::SeqAccessDeserializer;
+use serde::de::{Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
+use std::fmt;
 
 /// How a surface's contacts with apples are computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -41,31 +45,43 @@ impl RotationSpec {
     pub fn to_rotation(&self, field: &str) -> Result<Rotation, ScenarioError> {
         match (self.axis, self.angle_deg, self.euler_xyz_deg) {
             (Some(axis), Some(angle), None) => {
-                let a = vec3(axis);
-                if !(a.is_finite() && a.length() > 0.0 && angle.is_finite()) {
+                // Scaled by its largest component first, so that any finite non-zero axis
+                // normalises (an axis of [1e200, 1e200, 0] would overflow to an infinite length).
+                let m = axis.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                let a = vec3(axis) / m;
+                if !(m > 0.0 && m.is_finite() && a.is_finite()) {
                     return Err(ScenarioError::invalid(
                         format!("{field}.axis"),
-                        format!("{axis:?} with angle {angle}: need a finite non-zero axis and a finite angle"),
+                        format!(
+                            "[{}, {}, {}]: need a finite non-zero axis",
+                            num(axis[0]),
+                            num(axis[1]),
+                            num(axis[2])
+                        ),
                     ));
                 }
+                ranges::ANGLE.check(&format!("{field}.angle_deg"), angle)?;
                 Ok(Rotation::from_axis_angle(a.normalize(), angle.to_radians()))
             }
             (None, None, Some(e)) => {
-                if !e.iter().all(|x| x.is_finite()) {
-                    return Err(ScenarioError::invalid(
-                        format!("{field}.euler_xyz_deg"),
-                        format!("{e:?} must hold finite numbers"),
-                    ));
-                }
+                ranges::ANGLE.check_each(&format!("{field}.euler_xyz_deg"), e)?;
                 let [rx, ry, rz] = e.map(f64::to_radians);
                 Ok(Rotation::from_rotation_z(rz)
                     * Rotation::from_rotation_y(ry)
                     * Rotation::from_rotation_x(rx))
             }
             (None, None, None) => Ok(Rotation::IDENTITY),
+            (Some(_), None, None) => Err(ScenarioError::invalid(
+                format!("{field}.angle_deg"),
+                "missing: an axis needs an angle_deg",
+            )),
+            (None, Some(_), None) => Err(ScenarioError::invalid(
+                format!("{field}.axis"),
+                "missing: angle_deg needs an axis",
+            )),
             _ => Err(ScenarioError::invalid(
-                field,
-                "give either {\"axis\": [x, y, z], \"angle_deg\": a} or {\"euler_xyz_deg\": [rx, ry, rz]}",
+                format!("{field}.euler_xyz_deg"),
+                "give either {\"axis\": [x, y, z], \"angle_deg\": a} or {\"euler_xyz_deg\": [rx, ry, rz]}, not both",
             )),
         }
     }
@@ -79,9 +95,10 @@ pub fn rotation_of(r: &Option<RotationSpec>, field: &str) -> Result<Rotation, Sc
     }
 }
 
-/// A surface. `type` selects the kind.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+/// A surface. `type` selects the kind. (Read by hand, through the scenario's `de` module, so
+/// that a mistake inside a surface names its exact field.)
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
 pub enum SurfaceSpec {
     /// An infinite flat platform: the half-space below the plane through `point_m` with outward
     /// unit normal `normal`.
@@ -96,6 +113,21 @@ pub enum SurfaceSpec {
     Bin(BinSpec),
     /// A triangle mesh from an OBJ or STL file.
     Mesh(MeshSpec),
+}
+
+impl<'de> Deserialize<'de> for SurfaceSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        const TYPES: &[&str] = &["plane", "box", "conveyor", "chute", "bin", "mesh"];
+        let (t, v) = de::tagged(d, TYPES)?;
+        Ok(match t {
+            "plane" => SurfaceSpec::Plane(de::from_value(v)?),
+            "box" => SurfaceSpec::Box(de::from_value(v)?),
+            "conveyor" => SurfaceSpec::Conveyor(de::from_value(v)?),
+            "chute" => SurfaceSpec::Chute(de::from_value(v)?),
+            "bin" => SurfaceSpec::Bin(de::from_value(v)?),
+            _ => SurfaceSpec::Mesh(de::from_value(v)?),
+        })
+    }
 }
 
 impl SurfaceSpec {
@@ -306,13 +338,40 @@ pub struct MeshSpec {
 }
 
 /// A uniform or per-axis scale.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum Scale {
     /// The same factor on every axis.
     Uniform(f64),
     /// One factor per axis.
     PerAxis([f64; 3]),
+}
+
+impl<'de> Deserialize<'de> for Scale {
+    // By hand rather than `untagged`, which buffers the value and loses the path of a bad
+    // factor (`scale[1]`).
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Scale;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a scale factor or [sx, sy, sz]")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Scale, E> {
+                Ok(Scale::Uniform(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Scale, E> {
+                Ok(Scale::Uniform(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Scale, E> {
+                Ok(Scale::Uniform(v as f64))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Scale, A::Error> {
+                <[f64; 3]>::deserialize(SeqAccessDeserializer::new(seq)).map(Scale::PerAxis)
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 impl Default for Scale {

@@ -1,7 +1,9 @@
-//! Validation of a parsed scenario: every check names the field and the value it saw.
+//! Validation of a parsed scenario: every check names the field and the value it saw, and every
+//! number is checked against its physical range ([`super::ranges`]).
 
 use super::generators::{FileSpec, GeneratorSpec};
-use super::surfaces::{rotation_of, ChuteProfile, SurfaceSpec};
+use super::ranges::{self, num};
+use super::surfaces::{rotation_of, ChuteProfile, Scale, SurfaceSpec};
 use super::{AppleSpec, Scenario, ScenarioError, TimeStep};
 use crate::contact::{Material, MaterialError};
 use crate::layer::grid::NeighborList;
@@ -10,48 +12,44 @@ use std::collections::{BTreeMap, HashSet};
 
 type R = Result<(), ScenarioError>;
 
-fn positive(field: &str, v: f64) -> R {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(ScenarioError::invalid(
-            field,
-            format!("{v} must be a finite number > 0"),
-        ))
-    }
-}
-
-fn non_negative(field: &str, v: f64) -> R {
-    if v.is_finite() && v >= 0.0 {
-        Ok(())
-    } else {
-        Err(ScenarioError::invalid(
-            field,
-            format!("{v} must be a finite number >= 0"),
-        ))
-    }
-}
-
-fn finite3(field: &str, v: [f64; 3]) -> R {
-    if v.iter().all(|x| x.is_finite()) {
-        Ok(())
-    } else {
-        Err(ScenarioError::invalid(
-            field,
-            format!("{v:?} must hold finite numbers"),
-        ))
-    }
-}
+/// Longest name of an apple, surface, material or generator (characters).
+pub const MAX_NAME_CHARS: usize = 256;
 
 /// Checks a unit vector given by the user (normals): zero and non-unit vectors are refused
 /// rather than silently normalised, because a wrong normal usually means a wrong layout.
 pub(crate) fn unit3(field: &str, v: [f64; 3]) -> R {
-    finite3(field, v)?;
     let len = vec3(v).length();
-    if (len - 1.0).abs() > 1e-6 {
+    if !(len.is_finite() && (len - 1.0).abs() <= 1e-6) {
         return Err(ScenarioError::invalid(
             field,
-            format!("{v:?} has length {len}: give a unit vector"),
+            format!(
+                "[{}, {}, {}] has length {}: give a unit vector",
+                num(v[0]),
+                num(v[1]),
+                num(v[2]),
+                num(len)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A name: not empty, no control characters, at most [`MAX_NAME_CHARS`] characters.
+fn name(field: &str, n: &str) -> R {
+    if n.trim().is_empty() {
+        return Err(ScenarioError::invalid(field, "empty name"));
+    }
+    if n.chars().any(char::is_control) {
+        return Err(ScenarioError::invalid(
+            field,
+            format!("'{n}' holds a control character (a line break, a tab...): names are one line of text"),
+        ));
+    }
+    let chars = n.chars().count();
+    if chars > MAX_NAME_CHARS {
+        return Err(ScenarioError::invalid(
+            field,
+            format!("a name of {chars} characters: give at most {MAX_NAME_CHARS}"),
         ));
     }
     Ok(())
@@ -60,10 +58,20 @@ pub(crate) fn unit3(field: &str, v: [f64; 3]) -> R {
 /// The material built from a spec, with the error naming the field.
 pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, ScenarioError> {
     let base = format!("materials.{name}");
+    ranges::POISSON.check(&format!("{base}.poisson_ratio"), m.poisson_ratio)?;
+    if let Some(rho) = m.density_kg_m3 {
+        ranges::DENSITY.check(&format!("{base}.density_kg_m3"), rho)?;
+    }
     let built =
         match (m.shear_modulus_pa, m.youngs_modulus_pa) {
-            (Some(g), None) => Material::from_shear(g, m.poisson_ratio, m.density_kg_m3),
-            (None, Some(e)) => Material::from_youngs(e, m.poisson_ratio, m.density_kg_m3),
+            (Some(g), None) => {
+                ranges::MODULUS.check(&format!("{base}.shear_modulus_pa"), g)?;
+                Material::from_shear(g, m.poisson_ratio, m.density_kg_m3)
+            }
+            (None, Some(e)) => {
+                ranges::MODULUS.check(&format!("{base}.youngs_modulus_pa"), e)?;
+                Material::from_youngs(e, m.poisson_ratio, m.density_kg_m3)
+            }
             (Some(_), Some(_)) => return Err(ScenarioError::invalid(
                 base,
                 "gives both shear_modulus_pa and youngs_modulus_pa: give one (E = 2 G (1 + nu))",
@@ -75,146 +83,211 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
                 ))
             }
         };
-    built.map_err(|e| match e {
-        MaterialError::BadModulus { field, value } => ScenarioError::invalid(
-            format!("{base}.{field}"),
-            format!("{value} must be a finite number > 0 (Pa)"),
-        ),
-        MaterialError::BadPoisson(nu) => ScenarioError::invalid(
-            format!("{base}.poisson_ratio"),
-            format!("{nu} must lie in (-1, 0.5); 0.5 is incompressible, outside Hertz theory"),
-        ),
-        MaterialError::BadDensity(rho) => ScenarioError::invalid(
-            format!("{base}.density_kg_m3"),
-            format!("{rho} must be a finite number > 0"),
-        ),
-    })
+    let built = built.map_err(|e| match e {
+        MaterialError::BadModulus { field, value } => {
+            ranges::MODULUS.refusal(&format!("{base}.{field}"), value)
+        }
+        MaterialError::BadPoisson(nu) => {
+            ranges::POISSON.refusal(&format!("{base}.poisson_ratio"), nu)
+        }
+        MaterialError::BadDensity(rho) => {
+            ranges::DENSITY.refusal(&format!("{base}.density_kg_m3"), rho)
+        }
+    })?;
+    // The modulus derived from the other one and nu must make sense too (nu near -1 makes
+    // G = E / (2 (1 + nu)) explode).
+    for (derived, symbol, v) in [
+        ("shear", "G", built.shear_modulus_pa),
+        ("Young's", "E", built.youngs_modulus_pa),
+    ] {
+        if !ranges::MODULUS.contains(v) {
+            return Err(ScenarioError::invalid(
+                format!("{base}.poisson_ratio"),
+                format!(
+                    "{} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
+                    num(m.poisson_ratio),
+                    ranges::num3(v),
+                    ranges::MODULUS.describe()
+                ),
+            ));
+        }
+    }
+    Ok(built)
 }
 
 fn coefficients(field: &str, friction: Option<f64>, ke: Option<f64>, lambda: Option<f64>) -> R {
     if let Some(mu) = friction {
-        if !(mu.is_finite() && mu >= 0.0) {
-            return Err(ScenarioError::invalid(
-                format!("{field}.friction"),
-                format!("{mu} must be a finite number >= 0"),
-            ));
-        }
+        ranges::FRICTION.check(&format!("{field}.friction"), mu)?;
     }
     if let Some(ke) = ke {
-        if !(ke > 0.0 && ke <= 1.0) {
-            return Err(ScenarioError::invalid(
-                format!("{field}.ke"),
-                format!("{ke} must lie in (0, 1]: 1 is elastic, restitution tends to sqrt(ke)"),
-            ));
-        }
+        ranges::KE.check(&format!("{field}.ke"), ke)?;
     }
     if let Some(l) = lambda {
-        if !(l.is_finite() && l >= 0.0) {
-            return Err(ScenarioError::invalid(
-                format!("{field}.lambda_s_m"),
-                format!("{l} must be a finite number >= 0 (s/m)"),
-            ));
-        }
+        ranges::LAMBDA.check(&format!("{field}.lambda_s_m"), l)?;
     }
     Ok(())
 }
 
 /// Validates everything that can be checked without building the world.
 pub fn validate(sc: &Scenario) -> R {
-    positive("duration_s", sc.duration_s)?;
+    ranges::DURATION.check("duration_s", sc.duration_s)?;
     if let TimeStep::Fixed(dt) = sc.time_step_s {
-        positive("time_step_s", dt)?;
+        ranges::TIME_STEP.check("time_step_s", dt)?;
         if dt > sc.duration_s {
             return Err(ScenarioError::invalid(
                 "time_step_s",
-                format!("{dt} is longer than duration_s = {}", sc.duration_s),
+                format!(
+                    "{} s is longer than duration_s = {} s",
+                    num(dt),
+                    num(sc.duration_s)
+                ),
             ));
         }
     }
     if let Some(a) = sc.accuracy {
-        let n = a.steps_per_contact();
-        if !(n.is_finite() && n >= 5.0) {
-            return Err(ScenarioError::invalid(
-                "accuracy",
-                format!("{n} steps per contact: give at least 5 (10 is about 1 % on peak forces)"),
-            ));
-        }
+        ranges::STEPS_PER_CONTACT.check("accuracy", a.steps_per_contact())?;
     }
     if let Some(m) = sc.max_time_step_s {
-        positive("max_time_step_s", m)?;
+        ranges::TIME_STEP.check("max_time_step_s", m)?;
     }
-    if !(sc.model.energy_tolerance.is_finite() && sc.model.energy_tolerance > 0.0) {
-        return Err(ScenarioError::invalid(
-            "model.energy_tolerance",
-            format!("{} must be > 0", sc.model.energy_tolerance),
-        ));
-    }
-    if sc.model.max_steps == 0 {
-        return Err(ScenarioError::invalid("model.max_steps", "must be > 0"));
-    }
-    finite3("gravity_m_s2", sc.gravity_m_s2)?;
-    positive("output.sample_interval_s", sc.output.sample_interval_s)?;
-    let tr = &sc.output.transitions;
-    positive("output.transitions.slip_speed_m_s", tr.slip_speed_m_s)?;
-    non_negative(
-        "output.transitions.relative_tolerance",
-        tr.relative_tolerance,
-    )?;
-    if !(tr.hysteresis >= 1.0 && tr.hysteresis.is_finite()) {
-        return Err(ScenarioError::invalid(
-            "output.transitions.hysteresis",
-            format!("must be a finite number >= 1, got {}", tr.hysteresis),
-        ));
-    }
-    non_negative("output.transitions.min_dwell_s", tr.min_dwell_s)?;
-    positive("output.transitions.histogram_bin_m", tr.histogram_bin_m)?;
-    if let Some(v) = &sc.output.vtk {
-        positive("output.vtk.interval_s", v.interval_s)?;
-    }
-    positive("model.max_overlap_ratio", sc.model.max_overlap_ratio)?;
-    if !(sc.model.min_steps_per_impact.is_finite() && sc.model.min_steps_per_impact >= 0.0) {
-        return Err(ScenarioError::invalid(
-            "model.min_steps_per_impact",
-            format!("{} must be >= 0", sc.model.min_steps_per_impact),
-        ));
-    }
+    ranges::ACCELERATION.check_norm("gravity_m_s2", sc.gravity_m_s2)?;
+    output(sc)?;
+    model(sc)?;
     if sc.materials.is_empty() {
         return Err(ScenarioError::invalid("materials", "no material defined"));
     }
     let mut mats = BTreeMap::new();
-    for (name, m) in &sc.materials {
-        if name.trim().is_empty() {
-            return Err(ScenarioError::invalid(
-                "materials",
-                "a material has an empty name",
-            ));
-        }
-        mats.insert(name.as_str(), material(name, m)?);
+    for (n, m) in &sc.materials {
+        name(&format!("materials.{n}"), n)?;
+        mats.insert(n.as_str(), material(n, m)?);
         if let Some(b) = &m.bruise {
-            let f = format!("materials.{name}.bruise");
-            for (field, v) in [
-                ("peak_force_n", b.peak_force_n),
-                ("mean_pressure_pa", b.mean_pressure_pa),
-                ("absorbed_energy_j", b.absorbed_energy_j),
-            ] {
-                if let Some(v) = v {
-                    positive(&format!("{f}.{field}"), v)?;
-                }
+            let f = format!("materials.{n}.bruise");
+            if let Some(v) = b.peak_force_n {
+                ranges::BRUISE_FORCE.check(&format!("{f}.peak_force_n"), v)?;
+            }
+            if let Some(v) = b.mean_pressure_pa {
+                ranges::BRUISE_PRESSURE.check(&format!("{f}.mean_pressure_pa"), v)?;
+            }
+            if let Some(v) = b.absorbed_energy_j {
+                ranges::BRUISE_ENERGY.check(&format!("{f}.absorbed_energy_j"), v)?;
             }
         }
     }
     let c = &sc.contact;
     coefficients("contact", Some(c.friction), Some(c.ke), Some(c.lambda_s_m))?;
+    pairs(sc, &mats)?;
+
+    let mut names = HashSet::new();
+    for (k, a) in sc.apples.iter().enumerate() {
+        apple(&format!("apples[{k}]"), a, &mats, &mut names)?;
+    }
+    for (k, g) in sc.generators.iter().enumerate() {
+        generator(&format!("generators[{k}]"), g, &mats)?;
+    }
+    for (k, src) in sc.sources.iter().enumerate() {
+        source(&format!("sources[{k}]"), src, &mats)?;
+    }
+    prefixes(sc)?;
+    apple_count(sc)?;
+    super::budget::check_memory(sc, sc.model.max_memory_mb)?;
+    super::budget::check_output(sc, sc.model.max_output_mb)?;
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        surface(&format!("surfaces[{k}]"), s, &mats, &mut names)?;
+    }
+    // The apples present at the start, each with the generator that made it (None: listed).
+    let mut all = sc.apples.clone();
+    let mut made_by: Vec<Option<usize>> = vec![None; all.len()];
+    for (k, g) in sc.generators.iter().enumerate() {
+        let more = super::generators::expand(g, &all, &format!("generators[{k}]"))?;
+        made_by.extend(std::iter::repeat_n(Some(k), more.len()));
+        all.extend(more);
+    }
+    if all.is_empty() && sc.sources.is_empty() {
+        // A generator that makes no apple is the likely mistake when there is one.
+        let field = if sc.generators.is_empty() {
+            "apples".to_string()
+        } else {
+            "generators[0].count".to_string()
+        };
+        return Err(ScenarioError::invalid(
+            field,
+            "no apple in the scenario: give apples, generators (with a count > 0) or sources",
+        ));
+    }
+    let mut gen_names = HashSet::new();
+    for (a, by) in all.iter().zip(&made_by).skip(sc.apples.len()) {
+        let k = by.unwrap_or_default();
+        if !a
+            .position_m
+            .iter()
+            .all(|x| ranges::POSITION.contains(x.abs()))
+        {
+            return Err(ScenarioError::invalid(
+                format!("generators[{k}]"),
+                format!(
+                    "apple '{}' is placed at [{}, {}, {}] m, outside the range of fruit handling ({})",
+                    a.name,
+                    num(a.position_m[0]),
+                    num(a.position_m[1]),
+                    num(a.position_m[2]),
+                    ranges::POSITION.describe()
+                ),
+            ));
+        }
+        if names.contains(&a.name) || !gen_names.insert(a.name.clone()) {
+            return Err(ScenarioError::invalid(
+                format!("generators[{k}].name"),
+                format!(
+                    "generated apple name '{}' is already used: change the generator's name",
+                    a.name
+                ),
+            ));
+        }
+    }
+    check_apple_overlaps(&all, |j, i| match (made_by[j], made_by[i]) {
+        (None, _) => format!("apples[{j}].position_m"),
+        (Some(k), Some(l)) if k == l && matches!(sc.generators[k], GeneratorSpec::Grid(_)) => {
+            format!("generators[{k}].spacing_m")
+        }
+        (Some(k), _) => format!("generators[{k}]"),
+    })
+}
+
+fn output(sc: &Scenario) -> R {
+    ranges::DURATION.check("output.sample_interval_s", sc.output.sample_interval_s)?;
+    let tr = &sc.output.transitions;
+    ranges::SPEED_THRESHOLD.check("output.transitions.slip_speed_m_s", tr.slip_speed_m_s)?;
+    ranges::RELATIVE_TOLERANCE.check(
+        "output.transitions.relative_tolerance",
+        tr.relative_tolerance,
+    )?;
+    ranges::HYSTERESIS.check("output.transitions.hysteresis", tr.hysteresis)?;
+    ranges::TIME.check("output.transitions.min_dwell_s", tr.min_dwell_s)?;
+    ranges::BIN.check("output.transitions.histogram_bin_m", tr.histogram_bin_m)?;
+    if let Some(v) = &sc.output.vtk {
+        ranges::DURATION.check("output.vtk.interval_s", v.interval_s)?;
+    }
+    Ok(())
+}
+
+fn model(sc: &Scenario) -> R {
+    let m = &sc.model;
+    ranges::OVERLAP_RATIO.check("model.max_overlap_ratio", m.max_overlap_ratio)?;
+    ranges::MIN_STEPS.check("model.min_steps_per_impact", m.min_steps_per_impact)?;
+    ranges::ENERGY_TOLERANCE.check("model.energy_tolerance", m.energy_tolerance)?;
+    ranges::MAX_STEPS.check("model.max_steps", m.max_steps as f64)?;
+    ranges::MEMORY_BUDGET.check("model.max_memory_mb", m.max_memory_mb)?;
+    ranges::OUTPUT_BUDGET.check("model.max_output_mb", m.max_output_mb)?;
+    ranges::SPEED_THRESHOLD.check("model.sleep.speed_m_s", m.sleep.speed_m_s)?;
+    ranges::DURATION.check("model.sleep.time_s", m.sleep.time_s)
+}
+
+fn pairs(sc: &Scenario, mats: &BTreeMap<&str, Material>) -> R {
     let mut seen_pairs = HashSet::new();
     for (k, p) in sc.pairs.iter().enumerate() {
         let f = format!("pairs[{k}]");
         for (n, m) in p.materials.iter().enumerate() {
-            if !mats.contains_key(m.as_str()) {
-                return Err(ScenarioError::invalid(
-                    format!("{f}.materials[{n}]"),
-                    format!("unknown material '{m}' (defined: {})", list(&mats)),
-                ));
-            }
+            material_of(&format!("{f}.materials[{n}]"), m, mats)?;
         }
         let key = if p.materials[0] <= p.materials[1] {
             (p.materials[0].clone(), p.materials[1].clone())
@@ -232,94 +305,169 @@ pub fn validate(sc: &Scenario) -> R {
         }
         coefficients(&f, p.friction, p.ke, p.lambda_s_m)?;
     }
+    Ok(())
+}
 
-    let mut names = HashSet::new();
-    for (k, a) in sc.apples.iter().enumerate() {
-        apple(&format!("apples[{k}]"), a, &mats, &mut names)?;
-    }
-    for (k, g) in sc.generators.iter().enumerate() {
-        let f = format!("generators[{k}]");
-        match g {
-            GeneratorSpec::Grid(s) => {
-                prefix_and_material(&f, &s.name, &s.material, s.mass_kg, &mats)?;
-                s.diameter_m.validate(&format!("{f}.diameter_m"))?;
-                finite3(&format!("{f}.origin_m"), s.origin_m)?;
-                finite3(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
-                for (c, &x) in s.spacing_m.iter().enumerate() {
-                    positive(&format!("{f}.spacing_m[{c}]"), x)?;
-                }
-                if !(s.jitter_m.is_finite() && s.jitter_m >= 0.0) {
-                    return Err(ScenarioError::invalid(
-                        format!("{f}.jitter_m"),
-                        format!("{} must be >= 0", s.jitter_m),
-                    ));
-                }
-            }
-            GeneratorSpec::RandomFill(s) => {
-                prefix_and_material(&f, &s.name, &s.material, s.mass_kg, &mats)?;
-                s.diameter_m.validate(&format!("{f}.diameter_m"))?;
-                finite3(&format!("{f}.region_min_m"), s.region_min_m)?;
-                finite3(&format!("{f}.region_max_m"), s.region_max_m)?;
-                finite3(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
-            }
-            GeneratorSpec::File(s) => {
-                prefix_and_material(&f, &s.name, &s.material, s.mass_kg, &mats)?;
-                finite3(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
-                file_apples(&f, s)?;
+fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Material>) -> R {
+    match g {
+        GeneratorSpec::Grid(s) => {
+            prefix_and_material(f, &s.name, &s.material, s.mass_kg, mats)?;
+            s.diameter_m.validate(&format!("{f}.diameter_m"))?;
+            mass_density(f, s.mass_kg, s.diameter_m.min_m(), s.diameter_m.max_m())?;
+            ranges::POSITION.check_each(&format!("{f}.origin_m"), s.origin_m)?;
+            ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
+            ranges::LENGTH.check_each(&format!("{f}.spacing_m"), s.spacing_m)?;
+            ranges::JITTER.check(&format!("{f}.jitter_m"), s.jitter_m)?;
+        }
+        GeneratorSpec::RandomFill(s) => {
+            prefix_and_material(f, &s.name, &s.material, s.mass_kg, mats)?;
+            s.diameter_m.validate(&format!("{f}.diameter_m"))?;
+            mass_density(f, s.mass_kg, s.diameter_m.min_m(), s.diameter_m.max_m())?;
+            ranges::POSITION.check_each(&format!("{f}.region_min_m"), s.region_min_m)?;
+            ranges::POSITION.check_each(&format!("{f}.region_max_m"), s.region_max_m)?;
+            ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
+        }
+        GeneratorSpec::File(s) => {
+            prefix_and_material(f, &s.name, &s.material, s.mass_kg, mats)?;
+            ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
+            file_apples(f, s)?;
+            if let Some(list) = &s.loaded {
+                let d = list.0.iter().map(|a| a.diameter_m);
+                let lo = d.clone().fold(f64::INFINITY, f64::min);
+                let hi = d.fold(0.0, f64::max);
+                mass_density(f, s.mass_kg, lo, hi)?;
             }
         }
     }
-    for (k, src) in sc.sources.iter().enumerate() {
-        let f = format!("sources[{k}]");
-        prefix_and_material(&f, &src.name, &src.material, src.mass_kg, &mats)?;
-        src.diameter_m.validate(&format!("{f}.diameter_m"))?;
-        finite3(&format!("{f}.position_m"), src.position_m)?;
-        finite3(&format!("{f}.velocity_m_s"), src.velocity_m_s)?;
-        positive(&format!("{f}.rate_per_s"), src.rate_per_s)?;
-        if !(src.start_s.is_finite() && src.start_s >= 0.0) {
-            return Err(ScenarioError::invalid(
-                format!("{f}.start_s"),
-                format!("{} must be >= 0", src.start_s),
-            ));
-        }
-        if !(src.jitter_m.is_finite() && src.jitter_m >= 0.0) {
-            return Err(ScenarioError::invalid(
-                format!("{f}.jitter_m"),
-                format!("{} must be >= 0", src.jitter_m),
-            ));
-        }
-    }
-    let sl = &sc.model.sleep;
-    positive("model.sleep.speed_m_s", sl.speed_m_s)?;
-    positive("model.sleep.time_s", sl.time_s)?;
-    for (k, s) in sc.surfaces.iter().enumerate() {
-        surface(&format!("surfaces[{k}]"), s, &mats, &mut names)?;
-    }
-    let all = sc.initial_apples()?;
-    if all.is_empty() && sc.sources.is_empty() {
+    Ok(())
+}
+
+fn source(f: &str, src: &super::SourceSpec, mats: &BTreeMap<&str, Material>) -> R {
+    prefix_and_material(f, &src.name, &src.material, src.mass_kg, mats)?;
+    src.diameter_m.validate(&format!("{f}.diameter_m"))?;
+    mass_density(
+        f,
+        src.mass_kg,
+        src.diameter_m.min_m(),
+        src.diameter_m.max_m(),
+    )?;
+    ranges::POSITION.check_each(&format!("{f}.position_m"), src.position_m)?;
+    ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), src.velocity_m_s)?;
+    ranges::RATE.check(&format!("{f}.rate_per_s"), src.rate_per_s)?;
+    ranges::TIME.check(&format!("{f}.start_s"), src.start_s)?;
+    ranges::JITTER.check(&format!("{f}.jitter_m"), src.jitter_m)?;
+    if src
+        .position_m
+        .iter()
+        .any(|x| x.abs() + src.jitter_m > ranges::POSITION.max)
+    {
         return Err(ScenarioError::invalid(
-            "apples",
-            "no apple: give apples, generators or sources",
+            format!("{f}.jitter_m"),
+            format!(
+                "{} m about position_m places apples outside the range of fruit handling ({})",
+                num(src.jitter_m),
+                ranges::POSITION.describe()
+            ),
         ));
     }
-    let mut gen_names = HashSet::new();
-    for a in &all[sc.apples.len()..] {
-        if names.contains(&a.name) || !gen_names.insert(a.name.clone()) {
+    Ok(())
+}
+
+/// Generators and sources name their apples `NAME-1`, `NAME-2`, ...: two with one name would
+/// give two apples one name (found here before thousands of apples are generated).
+/// A mass given with the diameters it goes with (`d_min`..`d_max`): the density they make must
+/// be one of the density range (0.1 mg in an apple of 80 mm is a mistyped exponent).
+fn mass_density(f: &str, mass: Option<f64>, d_min: f64, d_max: f64) -> R {
+    let Some(m) = mass else { return Ok(()) };
+    let volume = |d: f64| std::f64::consts::PI / 6.0 * d * d * d;
+    for d in [d_min, d_max] {
+        let rho = m / volume(d);
+        if !ranges::DENSITY.contains(rho) {
             return Err(ScenarioError::invalid(
-                "generators",
+                format!("{f}.mass_kg"),
                 format!(
-                    "generated apple name '{}' is already used: change the generator's name",
-                    a.name
+                    "{} kg in an apple of {} m is a density of {} kg/m^3, outside the range of fruit handling ({})",
+                    num(m),
+                    num(d),
+                    ranges::num3(rho),
+                    ranges::DENSITY.describe()
                 ),
             ));
         }
     }
-    check_apple_overlaps(&all, sc.apples.len())
+    Ok(())
 }
 
-/// The apples of a `file` generator: read, at least one, unique non-empty names, diameters > 0
-/// and finite positions. Errors name `generators[k].file` and the entry (`pile.json[3]`), since
-/// the file is the user's input as much as the scenario.
+fn prefixes(sc: &Scenario) -> R {
+    let mut seen: BTreeMap<&str, String> = BTreeMap::new();
+    let all = sc
+        .generators
+        .iter()
+        .enumerate()
+        .map(|(k, g)| (format!("generators[{k}]"), g.name()))
+        .chain(
+            sc.sources
+                .iter()
+                .enumerate()
+                .map(|(k, s)| (format!("sources[{k}]"), s.name.as_str())),
+        );
+    for (field, n) in all {
+        if let Some(first) = seen.get(n) {
+            return Err(ScenarioError::invalid(
+                format!("{field}.name"),
+                format!(
+                    "'{n}' is already the name of {first}: their apples would have the same names"
+                ),
+            ));
+        }
+        seen.insert(n, field);
+    }
+    Ok(())
+}
+
+/// At most [`ranges::APPLE_COUNT`] apples in all, checked before any generator is expanded (a
+/// count of 1e9 would otherwise be allocated here). The field named is the one that crosses it.
+fn apple_count(sc: &Scenario) -> R {
+    let max = ranges::APPLE_COUNT.max;
+    let mut total = sc.apples.len() as f64;
+    if total > max {
+        return Err(ranges::APPLE_COUNT.refusal("apples", total));
+    }
+    for (k, g) in sc.generators.iter().enumerate() {
+        let n = g.count();
+        total += n;
+        if total > max {
+            return Err(count_refusal(&format!("generators[{k}].count"), n, total));
+        }
+    }
+    for (k, s) in sc.sources.iter().enumerate() {
+        total += s.count as f64;
+        if total > max {
+            return Err(count_refusal(
+                &format!("sources[{k}].count"),
+                s.count as f64,
+                total,
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn count_refusal(field: &str, n: f64, total: f64) -> ScenarioError {
+    ScenarioError::invalid(
+        field,
+        format!(
+            "{} apples ({} in the scenario so far) is outside the range of fruit handling ({})",
+            num(n),
+            num(total),
+            ranges::APPLE_COUNT.describe()
+        ),
+    )
+}
+
+/// The apples of a `file` generator: read, at least one, unique names, diameters and positions
+/// in range. Errors name `generators[k].file` and the entry (`pile.json[3]`), since the file is
+/// the user's input as much as the scenario.
 fn file_apples(f: &str, s: &FileSpec) -> R {
     let field = format!("{f}.file");
     let Some(list) = &s.loaded else {
@@ -337,15 +485,16 @@ fn file_apples(f: &str, s: &FileSpec) -> R {
             format!("'{}' lists no apple: give at least one", s.file),
         ));
     }
+    let in_file = |e: ScenarioError, apple: &str| match e {
+        ScenarioError::Invalid { field: at, message } => {
+            ScenarioError::invalid(field.clone(), format!("{at}: {message} (apple '{apple}')"))
+        }
+        other => other,
+    };
     let mut seen = HashSet::new();
     for (k, a) in list.0.iter().enumerate() {
         let at = format!("{}[{k}]", s.file);
-        if a.name.trim().is_empty() {
-            return Err(ScenarioError::invalid(
-                field,
-                format!("{at}.name: empty name"),
-            ));
-        }
+        name(&format!("{at}.name"), &a.name).map_err(|e| in_file(e, &a.name))?;
         if !seen.insert(a.name.as_str()) {
             return Err(ScenarioError::invalid(
                 field,
@@ -355,24 +504,12 @@ fn file_apples(f: &str, s: &FileSpec) -> R {
                 ),
             ));
         }
-        if !(a.diameter_m.is_finite() && a.diameter_m > 0.0) {
-            return Err(ScenarioError::invalid(
-                field,
-                format!(
-                    "{at}.diameter_m: {} must be a finite number > 0 (apple '{}')",
-                    a.diameter_m, a.name
-                ),
-            ));
-        }
-        if !a.position_m.iter().all(|x| x.is_finite()) {
-            return Err(ScenarioError::invalid(
-                field,
-                format!(
-                    "{at}.position_m: {:?} must hold finite numbers (apple '{}')",
-                    a.position_m, a.name
-                ),
-            ));
-        }
+        ranges::DIAMETER
+            .check(&format!("{at}.diameter_m"), a.diameter_m)
+            .map_err(|e| in_file(e, &a.name))?;
+        ranges::POSITION
+            .check_each(&format!("{at}.position_m"), a.position_m)
+            .map_err(|e| in_file(e, &a.name))?;
     }
     Ok(())
 }
@@ -390,19 +527,9 @@ fn material_of<'a>(
     })
 }
 
-fn prefix_and_material(
-    f: &str,
-    name: &str,
-    material: &str,
-    mass: Option<f64>,
-    mats: &BTreeMap<&str, Material>,
-) -> R {
-    if name.trim().is_empty() {
-        return Err(ScenarioError::invalid(format!("{f}.name"), "empty name"));
-    }
-    let m = material_of(&format!("{f}.material"), material, mats)?;
+fn mass(f: &str, material: &str, mass: Option<f64>, m: &Material) -> R {
     match mass {
-        Some(x) => positive(&format!("{f}.mass_kg"), x),
+        Some(x) => ranges::MASS.check(&format!("{f}.mass_kg"), x),
         None if m.density_kg_m3.is_none() => Err(ScenarioError::invalid(
             format!("{f}.mass_kg"),
             format!("missing, and material '{material}' has no density_kg_m3 to derive it from"),
@@ -411,15 +538,25 @@ fn prefix_and_material(
     }
 }
 
+fn prefix_and_material(
+    f: &str,
+    prefix: &str,
+    material: &str,
+    m: Option<f64>,
+    mats: &BTreeMap<&str, Material>,
+) -> R {
+    name(&format!("{f}.name"), prefix)?;
+    let mat = material_of(&format!("{f}.material"), material, mats)?;
+    mass(f, material, m, mat)
+}
+
 fn apple(
     f: &str,
     a: &AppleSpec,
     mats: &BTreeMap<&str, Material>,
     names: &mut HashSet<String>,
 ) -> R {
-    if a.name.trim().is_empty() {
-        return Err(ScenarioError::invalid(format!("{f}.name"), "empty name"));
-    }
+    name(&format!("{f}.name"), &a.name)?;
     if !names.insert(a.name.clone()) {
         return Err(ScenarioError::invalid(
             format!("{f}.name"),
@@ -427,33 +564,15 @@ fn apple(
         ));
     }
     let m = material_of(&format!("{f}.material"), &a.material, mats)?;
-    positive(&format!("{f}.diameter_m"), a.diameter_m)?;
-    match a.mass_kg {
-        Some(mass) => positive(&format!("{f}.mass_kg"), mass)?,
-        None if m.density_kg_m3.is_none() => {
-            return Err(ScenarioError::invalid(
-                format!("{f}.mass_kg"),
-                format!(
-                    "missing, and material '{}' has no density_kg_m3 to derive it from",
-                    a.material
-                ),
-            ))
-        }
-        None => {}
-    }
-    finite3(&format!("{f}.position_m"), a.position_m)?;
-    finite3(&format!("{f}.velocity_m_s"), a.velocity_m_s)?;
-    finite3(
+    ranges::DIAMETER.check(&format!("{f}.diameter_m"), a.diameter_m)?;
+    mass(f, &a.material, a.mass_kg, m)?;
+    mass_density(f, a.mass_kg, a.diameter_m, a.diameter_m)?;
+    ranges::POSITION.check_each(&format!("{f}.position_m"), a.position_m)?;
+    ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), a.velocity_m_s)?;
+    ranges::ANGULAR_SPEED.check_norm(
         &format!("{f}.angular_velocity_rad_s"),
         a.angular_velocity_rad_s,
     )
-}
-
-fn size3(field: &str, v: [f64; 3]) -> R {
-    for (c, &x) in v.iter().enumerate() {
-        positive(&format!("{field}[{c}]"), x)?;
-    }
-    Ok(())
 }
 
 fn surface(
@@ -462,9 +581,7 @@ fn surface(
     mats: &BTreeMap<&str, Material>,
     names: &mut HashSet<String>,
 ) -> R {
-    if s.name().trim().is_empty() {
-        return Err(ScenarioError::invalid(format!("{f}.name"), "empty name"));
-    }
+    name(&format!("{f}.name"), s.name())?;
     if s.name().contains('/') {
         return Err(ScenarioError::invalid(
             format!("{f}.name"),
@@ -477,53 +594,51 @@ fn surface(
             format!("'{}' is used twice: names must be unique", s.name()),
         ));
     }
+    let length = |field: &str, x: f64| ranges::LENGTH.check(&format!("{f}.{field}"), x);
+    let position =
+        |field: &str, v: [f64; 3]| ranges::POSITION.check_each(&format!("{f}.{field}"), v);
     match s {
         SurfaceSpec::Plane(p) => {
             material_of(&format!("{f}.material"), &p.material, mats)?;
-            finite3(&format!("{f}.point_m"), p.point_m)?;
+            position("point_m", p.point_m)?;
             unit3(&format!("{f}.normal"), p.normal)?;
         }
         SurfaceSpec::Box(b) => {
             material_of(&format!("{f}.material"), &b.material, mats)?;
-            size3(&format!("{f}.size_m"), b.size_m)?;
-            finite3(&format!("{f}.position_m"), b.position_m)?;
+            ranges::LENGTH.check_each(&format!("{f}.size_m"), b.size_m)?;
+            position("position_m", b.position_m)?;
             rotation_of(&b.rotation, f)?;
         }
         SurfaceSpec::Conveyor(b) => {
             material_of(&format!("{f}.material"), &b.material, mats)?;
-            size3(&format!("{f}.size_m"), b.size_m)?;
-            finite3(&format!("{f}.position_m"), b.position_m)?;
+            ranges::LENGTH.check_each(&format!("{f}.size_m"), b.size_m)?;
+            position("position_m", b.position_m)?;
             rotation_of(&b.rotation, f)?;
-            if !b.belt_velocity_m_s.is_finite() {
-                return Err(ScenarioError::invalid(
-                    format!("{f}.belt_velocity_m_s"),
-                    "must be finite",
-                ));
-            }
+            ranges::SPEED.check_abs(&format!("{f}.belt_velocity_m_s"), b.belt_velocity_m_s)?;
         }
         SurfaceSpec::Chute(c) => {
             material_of(&format!("{f}.material"), &c.material, mats)?;
-            positive(&format!("{f}.length_m"), c.length_m)?;
-            finite3(&format!("{f}.position_m"), c.position_m)?;
+            length("length_m", c.length_m)?;
+            position("position_m", c.position_m)?;
             rotation_of(&c.rotation, f)?;
             if let Some(t) = c.thickness_m {
-                positive(&format!("{f}.thickness_m"), t)?;
+                length("thickness_m", t)?;
             }
-            if !(c.incline_deg.is_finite() && c.incline_deg.abs() < 90.0) {
-                return Err(ScenarioError::invalid(
-                    format!("{f}.incline_deg"),
-                    format!("{} must lie in (-90, 90)", c.incline_deg),
-                ));
-            }
+            ranges::INCLINE.check(&format!("{f}.incline_deg"), c.incline_deg)?;
             match c.profile {
                 ChuteProfile::Flat => {
                     let w = c.width_m.ok_or_else(|| {
                         ScenarioError::invalid(format!("{f}.width_m"), "a flat chute needs width_m")
                     })?;
-                    positive(&format!("{f}.width_m"), w)?;
+                    length("width_m", w)?;
                     if c.radius_m.is_some() || c.half_angle_deg.is_some() {
+                        let field = if c.radius_m.is_some() {
+                            "radius_m"
+                        } else {
+                            "half_angle_deg"
+                        };
                         return Err(ScenarioError::invalid(
-                            format!("{f}.radius_m"),
+                            format!("{f}.{field}"),
                             "radius_m and half_angle_deg belong to a trough, not a flat chute",
                         ));
                     }
@@ -532,7 +647,7 @@ fn surface(
                     let r = c.radius_m.ok_or_else(|| {
                         ScenarioError::invalid(format!("{f}.radius_m"), "a trough needs radius_m")
                     })?;
-                    positive(&format!("{f}.radius_m"), r)?;
+                    length("radius_m", r)?;
                     if c.width_m.is_some() {
                         return Err(ScenarioError::invalid(
                             format!("{f}.width_m"),
@@ -540,12 +655,7 @@ fn surface(
                         ));
                     }
                     if let Some(h) = c.half_angle_deg {
-                        if !(h > 0.0 && h <= 90.0) {
-                            return Err(ScenarioError::invalid(
-                                format!("{f}.half_angle_deg"),
-                                format!("{h} must lie in (0, 90]"),
-                            ));
-                        }
+                        ranges::HALF_ANGLE.check(&format!("{f}.half_angle_deg"), h)?;
                     }
                 }
             }
@@ -565,11 +675,11 @@ fn surface(
                     }
                 }
             }
-            size3(&format!("{f}.inner_size_m"), b.inner_size_m)?;
+            ranges::LENGTH.check_each(&format!("{f}.inner_size_m"), b.inner_size_m)?;
             if let Some(t) = b.wall_thickness_m {
-                positive(&format!("{f}.wall_thickness_m"), t)?;
+                length("wall_thickness_m", t)?;
             }
-            finite3(&format!("{f}.position_m"), b.position_m)?;
+            position("position_m", b.position_m)?;
             rotation_of(&b.rotation, f)?;
         }
         SurfaceSpec::Mesh(m) => {
@@ -580,14 +690,11 @@ fn surface(
                     "empty file name",
                 ));
             }
-            let sc = m.scale.vector();
-            if !(sc.is_finite() && sc.min_element() > 0.0) {
-                return Err(ScenarioError::invalid(
-                    format!("{f}.scale"),
-                    format!("{sc:?}: scale factors must be > 0"),
-                ));
+            match m.scale {
+                Scale::Uniform(s) => ranges::SCALE.check(&format!("{f}.scale"), s)?,
+                Scale::PerAxis(s) => ranges::SCALE.check_each(&format!("{f}.scale"), s)?,
             }
-            finite3(&format!("{f}.position_m"), m.position_m)?;
+            position("position_m", m.position_m)?;
             rotation_of(&m.rotation, f)?;
         }
     }
@@ -598,26 +705,22 @@ fn list(mats: &BTreeMap<&str, Material>) -> String {
     mats.keys().cloned().collect::<Vec<_>>().join(", ")
 }
 
-/// Two apples may touch but must not start inside each other. `listed` apples come from
-/// `apples[]`; the rest were generated (named in the message, field `generators`).
-fn check_apple_overlaps(all: &[AppleSpec], listed: usize) -> R {
+/// Two apples may touch but must not start inside each other. `field(j, i)` names the field at
+/// fault when apple `j` starts inside apple `i` (j > i).
+fn check_apple_overlaps(all: &[AppleSpec], field: impl Fn(usize, usize) -> String) -> R {
     let pos: Vec<Vec3> = all.iter().map(|a| vec3(a.position_m)).collect();
     let r: Vec<f64> = all.iter().map(|a| a.diameter_m / 2.0).collect();
     let mut list = NeighborList::new(0.0);
     list.update(&pos, &r, &[], true, |_| {});
     for p in list.pairs() {
         let (i, j) = (p.i as usize, p.j as usize);
+        let (i, j) = (i.min(j), i.max(j));
         let d = (pos[i] - pos[j]).length();
         let u = r[i] + r[j] - d;
         // A touching pair placed with round numbers may overlap by a rounding error.
         if u > 1e-9 * (r[i] + r[j]) {
-            let field = if j < listed {
-                format!("apples[{j}].position_m")
-            } else {
-                "generators".to_string()
-            };
             return Err(ScenarioError::invalid(
-                field,
+                field(j, i),
                 format!(
                     "apple '{}' starts {:.4} mm inside apple '{}' (centres {:.4} mm apart, radii {} + {} m): move them apart",
                     all[j].name,

@@ -30,14 +30,26 @@ pub enum SimError {
     /// The world could not be built.
     #[error(transparent)]
     Build(#[from] BuildError),
-    /// The layer refused to go on (non-finite state, stability guard).
+    /// The layer refused to go on (a registration or geometry error).
     #[error(transparent)]
     Layer(#[from] LayerError),
+    /// The stability guard stopped the run (non-finite state, an overlap beyond the limit, an
+    /// impact in too few steps); `field` is the scenario field to change (the step, or the
+    /// accuracy that sets it).
+    #[error("{field}: {error}")]
+    Guard {
+        /// The scenario field to change.
+        field: &'static str,
+        /// What the layer saw.
+        error: LayerError,
+    },
     /// rapier quarantined a body whose state went non-finite.
     #[error(
-        "non-finite state of '{body}' at t = {time_s} s (rapier quarantined it): the run blew up"
+        "{field}: non-finite state of '{body}' at t = {time_s} s (rapier quarantined it): the run blew up"
     )]
     Quarantine {
+        /// The scenario field to change.
+        field: &'static str,
         /// Body name.
         body: String,
         /// Simulated time.
@@ -47,8 +59,10 @@ pub enum SimError {
     #[error("writing samples: {0}")]
     Io(#[from] std::io::Error),
     /// The total energy rose in a scene with no energy input: the run is going wrong.
-    #[error("unstable at t = {time_s} s: the total energy rose by {rise_percent:.2} % above what the scene started with (limit {limit_percent} %), in a scene with no energy input; the fastest apple is '{apple}'. Use a smaller time_step_s (or \"time_step_s\": \"auto\")")]
+    #[error("{field}: unstable at t = {time_s} s: the total energy rose by {rise_percent:.2} % above what the scene started with (limit {limit_percent} %), in a scene with no energy input; the fastest apple is '{apple}'. Use a smaller time_step_s (or \"time_step_s\": \"auto\")")]
     EnergyRise {
+        /// The scenario field to change.
+        field: &'static str,
         /// Simulated time.
         time_s: f64,
         /// Rise above the budget (%).
@@ -59,7 +73,7 @@ pub enum SimError {
         apple: String,
     },
     /// The run would take too many steps.
-    #[error("the run needs more than model.max_steps = {max_steps} steps (at t = {time_s} s of {duration_s} s with steps of {dt_s:e} s): use a larger time_step_s, \"auto\" or \"adaptive\", or raise model.max_steps")]
+    #[error("model.max_steps: the run needs more than model.max_steps = {max_steps} steps (at t = {time_s} s of {duration_s} s with steps of {dt_s:e} s): use a larger time_step_s, \"auto\" or \"adaptive\", or raise model.max_steps")]
     TooManySteps {
         /// The limit.
         max_steps: u64,
@@ -176,6 +190,8 @@ pub fn base_metrics(events: &[ContactEvent], apples: &[AppleFinal]) -> BTreeMap<
 /// A running simulation.
 pub struct Simulation {
     world: World,
+    /// The scenario field that sets the step (named by the stability guard's refusals).
+    step_field: &'static str,
     plan: timestep::StepPlan,
     step_policy: &'static str,
     fidelity_limits: &'static str,
@@ -209,9 +225,8 @@ struct EnergyGuard {
 impl Simulation {
     /// Builds the world of a validated scenario and plans its steps.
     pub fn new(sc: &Scenario, base_dir: &Path) -> Result<Self, SimError> {
-        // What the run will cost, before anything is built or stepped (refused with the estimate).
-        crate::scenario::budget::check_memory(sc, crate::scenario::budget::DEFAULT_MAX_MEMORY_MB)
-            .map_err(BuildError::from)?;
+        // Memory and output were estimated when the scenario was validated; the steps need the
+        // plan. Refused with the estimate before anything is stepped.
         let world = world::build(sc, base_dir)?;
         let plan = timestep::plan(sc, &world);
         timestep::check_steps(sc, &world, &plan).map_err(BuildError::from)?;
@@ -240,6 +255,10 @@ impl Simulation {
             crate::scenario::TimeStep::Adaptive => "adaptive",
         };
         Ok(Self {
+            step_field: match sc.time_step_s {
+                crate::scenario::TimeStep::Fixed(_) => "time_step_s",
+                _ => "accuracy",
+            },
             dt_prev: plan.initial_s,
             plan,
             step_policy,
@@ -323,6 +342,18 @@ impl Simulation {
         }
     }
 
+    /// A refusal of the layer as a run error: the stability guard's (non-finite state, an
+    /// overlap beyond the limit, an impact in too few steps) names the field that sets the step.
+    fn guard(&self, e: LayerError) -> SimError {
+        match e {
+            LayerError::Unstable { .. } | LayerError::NonFinite { .. } => SimError::Guard {
+                field: self.step_field,
+                error: e,
+            },
+            other => SimError::Layer(other),
+        }
+    }
+
     /// The time left to the next instant a step must land on: the next output sample, or the
     /// end.
     fn land_in_s(&self) -> f64 {
@@ -398,7 +429,9 @@ impl Simulation {
         }
         let t = self.time_s;
         self.world.emit_due(t)?;
-        let dt = self.force_pass(&self.request(false))?;
+        let dt = self
+            .force_pass(&self.request(false))
+            .map_err(|e| self.guard(e))?;
         if self.sample_due() {
             self.refresh_states();
             sink.sample(self.time_s, &self.states)?;
@@ -418,6 +451,7 @@ impl Simulation {
                 .map(|k| w.layer.apple_name(AppleId(k as u32)).to_string())
                 .unwrap_or_else(|| format!("{bh:?}"));
             return Err(SimError::Quarantine {
+                field: self.step_field,
                 body: name,
                 time_s: self.time_s,
             });
@@ -447,6 +481,7 @@ impl Simulation {
     /// Euler stores the velocity of the half step before: v + a dt / 2 is the one at the pose),
     /// and the energy of apples fed in since the last call added to the budget.
     fn check_energy(&mut self) -> Result<(), SimError> {
+        let step_field = self.step_field;
         let Some(guard) = self.energy.as_mut() else {
             return Ok(());
         };
@@ -498,6 +533,7 @@ impl Simulation {
         let rise = (total - guard.budget_j) / guard.scale_j;
         if rise > guard.tolerance {
             return Err(SimError::EnergyRise {
+                field: step_field,
                 time_s: self.time_s,
                 rise_percent: 100.0 * rise,
                 limit_percent: 100.0 * guard.tolerance,
@@ -524,7 +560,8 @@ impl Simulation {
             }
         }
         // The final poses: close contacts that parted in the last step, sample the end state.
-        self.force_pass(&self.request(true))?;
+        self.force_pass(&self.request(true))
+            .map_err(|e| self.guard(e))?;
         self.refresh_states();
         sink.sample(self.time_s, &self.states)?;
         self.check_energy()?;

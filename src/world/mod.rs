@@ -183,7 +183,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         world.add_apple(a, *origin)?;
     }
     world.layer.check_conformity()?;
-    check_initial_surface_overlaps(&plan.initial, sc.apples.len(), &world)?;
+    check_initial_surface_overlaps(sc, &plan.initial, &world)?;
     world.pending = plan.feeds.into();
 
     // Apples with colliders (rapier's own contact with rigid surfaces): a step of length zero runs
@@ -374,8 +374,8 @@ impl World {
 }
 
 fn check_initial_surface_overlaps(
+    sc: &Scenario,
     apples: &[(AppleSpec, Origin)],
-    listed: usize,
     world: &World,
 ) -> Result<(), ScenarioError> {
     let mut hits = Vec::new();
@@ -392,11 +392,7 @@ fn check_initial_surface_overlaps(
                 .iter()
                 .find(|h| h.overlap_m > MAX_INITIAL_SURFACE_OVERLAP_RATIO * r)
             {
-                let field = if k < listed {
-                    format!("apples[{k}].position_m")
-                } else {
-                    "generators".to_string()
-                };
+                let field = sc.initial_apple_field(k);
                 return Err(ScenarioError::invalid(
                     field,
                     format!(

@@ -199,6 +199,23 @@ pub fn parts(
             let scale = m.scale.vector();
             let verts: Vec<Vec3> = verts.into_iter().map(|v| v * scale).collect();
             let pose = Pose::from_parts(vec3(m.position_m), rotation_of(&m.rotation, field)?);
+            // The scaled mesh must lie in the scene's range like every position (a scale of 1e6
+            // on a 1 km mesh would put it beyond any apple).
+            for v in &verts {
+                let w = pose.transform_point(*v);
+                for x in [w.x, w.y, w.z] {
+                    if !crate::scenario::ranges::POSITION.contains(x.abs()) {
+                        return Err(ScenarioError::invalid(
+                            format!("{field}.scale"),
+                            format!(
+                                "the scaled mesh of '{}' reaches {x:e} m, outside the range of fruit handling ({}): check scale and the mesh's units",
+                                path.display(),
+                                crate::scenario::ranges::POSITION.describe()
+                            ),
+                        ));
+                    }
+                }
+            }
             let collider = ColliderBuilder::trimesh(verts, tris)
                 .map_err(|e| {
                     ScenarioError::invalid(
