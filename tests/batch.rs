@@ -745,3 +745,36 @@ fn a_run_that_aborts_or_is_killed_fails_alone_with_its_cause() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 18: `applesim batch --dry-run | head -4` panicked on the closed pipe with a
+/// backtrace. A closed output pipe ends the command quietly (SIGPIPE, 141 in a shell).
+#[test]
+fn a_closed_output_pipe_ends_the_command_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = scratch("pipe");
+    // 3000 runs: the listing (some 200 kB) outgrows the pipe's buffer, so the command is still
+    // writing when the pipe closes.
+    let spec = write_spec(
+        &dir,
+        "many.json",
+        "",
+        r#"[{ "name": "vz_m_s", "path": "/apples/0/velocity_m_s/2", "range": { "start": -0.1, "stop": -3.0, "count": 3000 } }]"#,
+    );
+    let mut child = Command::new(env!("CARGO_BIN_EXE_applesim"))
+        .args(["batch", s(&spec), "--dry-run"])
+        .env("RUST_BACKTRACE", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read one line as `head -1` would, then close the pipe: every later write finds it closed.
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut first = String::new();
+    out.read_line(&mut first).unwrap();
+    assert!(first.starts_with("3000 runs in the batch"), "{first}");
+    drop(out);
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.signal(), Some(13), "{:?}", o.status);
+    assert_eq!(text(&o.stderr), "");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -251,16 +251,18 @@ fn slurm(
         count: n,
     });
     let reading = if min == 0 {
-        from_zero.map(|s| (s, "counted from 0"))
+        from_zero.map(|s| (s, 0))
     } else if max == n_i {
-        from_one.map(|s| (s, "counted from 1"))
+        from_one.map(|s| (s, 1))
     } else {
         None
     };
-    if let Some((shard, how)) = reading {
+    if let Some((shard, base)) = reading {
         return Ok((
             shard,
-            format!("Slurm array task {id}, shard {shard} of an array of {n} {how}"),
+            format!(
+                "Slurm array task {id} of {n} counted from {base}; tasks {min}..{max} resubmitted"
+            ),
         ));
     }
     let mut instead = vec![];
