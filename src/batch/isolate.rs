@@ -107,7 +107,7 @@ pub fn parse_memory_limit(s: &str) -> Result<u64, String> {
         _ => return Err(bad()),
     };
     let bytes = x * scale;
-    if !(bytes >= 1.0 && bytes < 1.8e19) {
+    if !(1.0..1.8e19).contains(&bytes) {
         return Err(bad());
     }
     Ok(bytes as u64)

@@ -198,6 +198,30 @@ fn names(path: &Path, file: &File) -> std::io::Result<bool> {
     }
 }
 
+/// Takes an exclusive `flock` on `file` without waiting; false if another open file holds it.
+#[cfg(unix)]
+fn try_lock(file: &File) -> std::io::Result<bool> {
+    use std::os::fd::AsRawFd;
+    loop {
+        // SAFETY: flock on a descriptor this File owns.
+        if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0 {
+            return Ok(true);
+        }
+        let e = std::io::Error::last_os_error();
+        match e.raw_os_error() {
+            Some(libc::EWOULDBLOCK) => return Ok(false),
+            Some(libc::EINTR) => continue,
+            _ => return Err(e),
+        }
+    }
+}
+
+/// Elsewhere folders are not locked (applesim's locks are Unix `flock`s).
+#[cfg(not(unix))]
+fn try_lock(_file: &File) -> std::io::Result<bool> {
+    Ok(true)
+}
+
 impl FolderLock {
     /// The lock file of result folder `dest`: `.NAME.lock` beside it.
     pub fn lock_path(dest: &Path) -> PathBuf {
@@ -221,10 +245,10 @@ impl FolderLock {
                 .truncate(false)
                 .open(&lock_path)
                 .map_err(io_err(&lock_path))?;
-            match file.try_lock() {
-                Ok(()) => {}
-                Err(std::fs::TryLockError::WouldBlock) => return Ok(None),
-                Err(std::fs::TryLockError::Error(e)) => {
+            match try_lock(&file) {
+                Ok(true) => {}
+                Ok(false) => return Ok(None),
+                Err(e) => {
                     return Err(FolderError::Io {
                         path: lock_path,
                         source: e,
