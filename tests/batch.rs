@@ -7,6 +7,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+#[cfg(unix)]
 mod procs;
 
 const SWEEP: &str = "scenarios/batches/impact_sweep.json";
@@ -372,6 +373,7 @@ fn an_invalid_run_fails_alone_and_the_batch_exits_non_zero() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[cfg(unix)]
 #[test]
 fn a_killed_batch_resumes_with_the_remaining_runs_only() {
     let dir = scratch("resume");
@@ -621,6 +623,7 @@ fn dry_run_folder_batches_and_clear_errors() {
 
 /// Issue 18: a run that aborts (a failed allocation of 152 GB for 1e9 apples) or is killed
 /// fails alone, recorded with its cause; the batch goes on and a resume skips it.
+#[cfg(unix)]
 #[test]
 fn a_run_that_aborts_or_is_killed_fails_alone_with_its_cause() {
     let dir = scratch("abort");
@@ -748,6 +751,7 @@ fn a_run_that_aborts_or_is_killed_fails_alone_with_its_cause() {
 
 /// Issue 18: `applesim batch --dry-run | head -4` panicked on the closed pipe with a
 /// backtrace. A closed output pipe ends the command quietly (SIGPIPE, 141 in a shell).
+#[cfg(unix)]
 #[test]
 fn a_closed_output_pipe_ends_the_command_quietly() {
     use std::os::unix::process::ExitStatusExt;

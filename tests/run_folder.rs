@@ -2,6 +2,7 @@
 //! a mix. `applesim run --out DIR` killed with SIGKILL at 100 points of its run (drawn from a
 //! seeded generator over the measured length of a run), two runs into one folder at once,
 //! folders that are not a run's, and a run that fails.
+#![cfg(unix)] // kill -9, SIGSTOP, flock: Unix processes and locks
 
 use rand::{Rng, SeedableRng};
 use std::collections::BTreeMap;
@@ -217,14 +218,15 @@ fn two_runs_into_one_folder_never_both_succeed_with_a_mixed_set() {
     let out = dir.join("out");
     run_ok(&scs[0], &out);
 
-    // The second run starts while the first one is in flight (its staged folder is there):
-    // it is refused at once, and the first one's set is switched in whole.
+    // The second run starts while the first one is in flight (frozen with its staged folder
+    // there, so that it cannot finish meanwhile): it is refused at once, and the first one's
+    // set is switched in whole once it goes on.
     for (first, second) in [(1, 0), (0, 1)] {
         let a = spawn_run(&scs[first], &out);
-        procs::wait_for("the first run in flight", || {
-            (!procs::staged(&dir).is_empty()).then_some(())
-        });
+        let a_pid = a.id();
+        procs::freeze_a_run(&dir, |_, pid| pid == a_pid);
         let b: Output = run_cmd(&scs[second], &out).output().unwrap();
+        assert!(procs::signal(a_pid, libc::SIGCONT));
         let a = a.wait_with_output().unwrap();
         assert!(a.status.success(), "{}", text(&a.stderr));
         assert_eq!(b.status.code(), Some(1));

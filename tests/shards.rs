@@ -1,6 +1,7 @@
 //! Issue 18: shards of one batch that overlap, one killed and resubmitted by its index while
 //! the other runs, end with every run done once and no run's folder deleted under it; a
 //! resubmitted Slurm task runs the shard it names or is refused with the commands that would.
+#![cfg(unix)] // kill -9, SIGSTOP, flock: Unix processes and locks
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::{BufRead, BufReader};
