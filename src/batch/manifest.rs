@@ -116,8 +116,22 @@ pub struct FailedRun {
     pub id: String,
     /// Parameter values by name.
     pub params: BTreeMap<String, Value>,
-    /// The error, as `applesim run` would print it.
+    /// The error, as `applesim run` would print it; for a run whose process ended otherwise
+    /// (an abort, a signal, out of memory), how it ended and its last words.
     pub error: String,
+    /// Exit code of the run's process, when it exited without an answer.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exit_code: Option<i32>,
+    /// Signal that ended the run's process (6: SIGABRT, an abort such as a failed
+    /// allocation; 9: SIGKILL, a user, a scheduler or the out-of-memory killer).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub signal: Option<i32>,
+    /// Name of that signal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub signal_name: Option<String>,
+    /// The end of the run's process's standard error (a panic's or an abort's message).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub stderr: String,
 }
 
 /// Pretty JSON with a final newline.
@@ -140,7 +154,7 @@ pub fn failed_path(out: &Path, id: &str) -> PathBuf {
     out.join(RUNS).join(format!("{id}.failed.json"))
 }
 
-/// Whether run `id` finished: its folder exists (it appears only by the final rename) and
+/// Whether run `id` finished: its folder exists (it appears only by the folder switch) and
 /// holds `summary.json`.
 pub fn is_done(out: &Path, id: &str) -> bool {
     run_dir(out, id).join("summary.json").is_file()

@@ -3,11 +3,13 @@
 //! into one table. User guide: docs/batch.md.
 //!
 //! Data flow: [`spec`] expands a spec into runs (each an expanded scenario with a stable
-//! [`id`]); [`runner`] runs this [`shard`]'s share of them into `OUT/runs/<id>/`, each folder
-//! appearing whole by a rename; [`merge`](mod@merge) reads `OUT/batch.json` and every run's
-//! `summary.json` into `OUT/merged.csv`.
+//! [`id`]); [`runner`] runs this [`shard`]'s share of them into `OUT/runs/<id>/`, each run in a
+//! process of its own ([`isolate`]) under a lock, each folder switched in whole;
+//! [`merge`](mod@merge) reads `OUT/batch.json` and every run's `summary.json` into
+//! `OUT/merged.csv`.
 
 pub mod id;
+pub mod isolate;
 pub mod manifest;
 pub mod merge;
 pub mod pointer;
@@ -15,8 +17,9 @@ pub mod runner;
 pub mod shard;
 pub mod spec;
 
+pub use isolate::Isolation;
 pub use merge::{merge, MergeReport};
-pub use runner::{Observer, Options, Outcome, Report};
+pub use runner::{Observer, Options, Outcome, Report, Skip};
 pub use shard::Shard;
 pub use spec::{load, Batch, Parameter, PlannedRun};
 

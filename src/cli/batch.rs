@@ -1,6 +1,7 @@
-//! `applesim batch SPEC --out DIR [--jobs N] [--shard i/n|auto] [--force] [--dry-run]`.
+//! `applesim batch SPEC --out DIR [--jobs N] [--shard i/n|auto] [--force] [--retry-failed]
+//! [--memory-limit SIZE] [--dry-run]`.
 
-use applesim::batch::{self, runner, Outcome, PlannedRun, Shard};
+use applesim::batch::{self, isolate, runner, Isolation, Outcome, PlannedRun, Shard, Skip};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -25,9 +26,17 @@ pub struct Args {
     /// the environment variable APPLESIM_SHARD_COUNT does the same.
     #[arg(long)]
     shard_count: Option<usize>,
-    /// Rerun runs that are already done.
+    /// Rerun every run of the shard: done, failed or not run yet.
     #[arg(long)]
     force: bool,
+    /// Rerun the runs that failed before (a rerun skips them otherwise: a failure is
+    /// deterministic, it would fail again).
+    #[arg(long)]
+    retry_failed: bool,
+    /// Limit of each run's memory (address space), e.g. 4G: a run that outgrows it fails
+    /// alone, recorded with its cause, and the batch goes on [default: no limit].
+    #[arg(long, value_name = "SIZE")]
+    memory_limit: Option<String>,
     /// Print the expanded runs (index, id, state, parameters) and run nothing.
     #[arg(long)]
     dry_run: bool,
@@ -66,6 +75,14 @@ impl Progress<'_> {
 }
 
 impl runner::Observer for Progress<'_> {
+    fn not_retried(&self, failed_before: usize) {
+        if failed_before > 0 {
+            self.println(format!(
+                "{failed_before} run(s) failed before: skipped (--retry-failed retries them)"
+            ));
+        }
+    }
+
     fn start(&self, to_run: usize, already_done: usize) {
         if already_done > 0 && !self.quiet {
             self.println(format!(
@@ -113,6 +130,16 @@ impl runner::Observer for Progress<'_> {
                     params_text(self.batch, run)
                 ));
             }
+            Outcome::Skipped(why) => {
+                if !self.quiet {
+                    let why = match why {
+                        Skip::Busy => "another process is running it",
+                        Skip::DoneElsewhere => "another process has just done it",
+                        Skip::FailedElsewhere => "another process has just recorded its failure",
+                    };
+                    self.println(format!("skip   {:>5} {} ({why})", run.index, run.id));
+                }
+            }
         }
         if let Some(bar) = self.bar.get() {
             bar.inc(1);
@@ -138,7 +165,8 @@ pub fn main(a: Args) -> Result<(), String> {
             Shard::ALL
         }
         Some("auto") => {
-            let (s, from) = Shard::from_env(|k| std::env::var(k).ok(), a.shard_count)?;
+            let (s, from) = Shard::from_env(|k| std::env::var(k).ok(), a.shard_count)
+                .map_err(|e| auto_shard_refused(&e))?;
             if !a.quiet {
                 println!("shard {s} ({from})");
             }
@@ -197,10 +225,30 @@ pub fn main(a: Args) -> Result<(), String> {
         quiet: a.quiet,
         failed: AtomicUsize::new(0),
     };
+    let memory_limit_bytes = a
+        .memory_limit
+        .as_deref()
+        .map(isolate::parse_memory_limit)
+        .transpose()
+        .map_err(|e| format!("--memory-limit: {e}"))?;
+    let isolation = match isolate::find_executable() {
+        Some(exe) if cfg!(unix) => Isolation::Process {
+            exe,
+            memory_limit_bytes,
+        },
+        _ => {
+            if memory_limit_bytes.is_some() {
+                return Err("--memory-limit needs runs in processes of their own (Unix)".into());
+            }
+            Isolation::InProcess
+        }
+    };
     let opts = runner::Options {
         jobs,
         shard,
         force: a.force,
+        retry_failed: a.retry_failed,
+        isolation,
     };
     let report = runner::run(&b, &out, &opts, &progress).map_err(|e| e.to_string())?;
     if let Some(bar) = progress.bar.get() {
@@ -219,8 +267,24 @@ pub fn main(a: Args) -> Result<(), String> {
                 report.stale_removed
             );
         }
+        let mut others = String::new();
+        if !report.busy.is_empty() {
+            others += &format!(
+                ", {} left to another process running them",
+                report.busy.len()
+            );
+        }
+        if report.done_elsewhere > 0 {
+            others += &format!(", {} done by another process", report.done_elsewhere);
+        }
+        if !report.failed_before.is_empty() {
+            others += &format!(
+                ", {} failed before (not retried)",
+                report.failed_before.len()
+            );
+        }
         println!(
-            "{} runs in shard {shard} of {}: {} ran, {} skipped (done before), {} failed; results in {}",
+            "{} runs in shard {shard} of {}: {} ran, {} skipped (done before), {} failed{others}; results in {}",
             report.selected,
             report.total,
             report.done,
@@ -229,13 +293,57 @@ pub fn main(a: Args) -> Result<(), String> {
             out.join(batch::manifest::RUNS).display()
         );
     }
-    if !report.failed.is_empty() {
-        return Err(format!(
-            "{} of {} runs failed (errors in {}/<id>.failed.json; rerun the same command to retry them)",
-            report.failed.len(),
+    let runs = out.join(batch::manifest::RUNS);
+    match (report.failed.len(), report.failed_before.len()) {
+        (0, 0) => Ok(()),
+        (now, 0) => Err(format!(
+            "{now} of {} runs failed (errors in {}/<id>.failed.json; --retry-failed retries them)",
             report.selected,
-            out.join(batch::manifest::RUNS).display()
-        ));
+            runs.display()
+        )),
+        (now, before) => Err(format!(
+            "{} of {} runs failed ({now} now, {before} before and not retried; errors in \
+             {}/<id>.failed.json; --retry-failed retries them)",
+            now + before,
+            report.selected,
+            runs.display()
+        )),
     }
-    Ok(())
+}
+
+/// The refusal of `--shard auto`, with each command line that would run the right shard (this
+/// one, with `--shard auto` and `--shard-count` replaced by `--shard i/n`).
+fn auto_shard_refused(e: &batch::shard::AutoShardError) -> String {
+    if e.instead.is_empty() {
+        return e.message.clone();
+    }
+    let mut args: Vec<String> = vec!["applesim".into()];
+    let mut it = std::env::args().skip(1);
+    while let Some(arg) = it.next() {
+        match arg.as_str() {
+            "--shard" | "--shard-count" => {
+                it.next();
+            }
+            a if a.starts_with("--shard=") || a.starts_with("--shard-count=") => {}
+            _ => args.push(arg),
+        }
+    }
+    let quoted: Vec<String> = args.iter().map(|a| shell_word(a)).collect();
+    let mut msg = format!("{}; run instead:", e.message);
+    for (when, s) in &e.instead {
+        msg += &format!("\n  {when}:\n    {} --shard {s}", quoted.join(" "));
+    }
+    msg
+}
+
+/// `a` quoted for a POSIX shell where it needs it.
+fn shell_word(a: &str) -> String {
+    let plain = !a.is_empty()
+        && a.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+%@".contains(c));
+    if plain {
+        a.to_string()
+    } else {
+        format!("'{}'", a.replace('\'', "'\\''"))
+    }
 }

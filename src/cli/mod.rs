@@ -45,6 +45,7 @@ enum Command {
 
 /// Parses the arguments, runs the command, returns the exit code.
 pub fn main() -> i32 {
+    quiet_on_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(a) => run::main(a),
@@ -62,6 +63,18 @@ pub fn main() -> i32 {
             eprintln!("error: {msg}");
             1
         }
+    }
+}
+
+/// A closed output pipe (`applesim batch --dry-run | head -4`) ends the command quietly, as it
+/// does any Unix tool: by SIGPIPE, exit status 141 in the shell. Rust ignores SIGPIPE, which
+/// turns the next write into an error and `println!` into a panic with a backtrace; restoring
+/// the default disposition is the one place that covers every command's output.
+fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to its default, before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

@@ -1,15 +1,20 @@
 //! `applesim run SCENARIO --out DIR`.
 
+use applesim::batch::isolate;
 use applesim::output;
 use applesim::output::plot::{self, PlotOptions};
-use std::io::IsTerminal;
-use std::path::PathBuf;
+use applesim::sim::RunResult;
+use std::io::{IsTerminal, Read};
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
     /// Scenario file (JSON).
-    scenario: PathBuf,
-    /// Output folder (created if missing).
+    #[arg(required_unless_present = "batch_job")]
+    scenario: Option<PathBuf>,
+    /// Output folder (created if missing). Its files are replaced as one set, at once: it holds
+    /// either the previous run's files or this run's, never a mix; a folder that is not a
+    /// run's is refused, and so is a folder another run is writing.
     #[arg(long, short, default_value = "out")]
     out: PathBuf,
     /// Print nothing but errors.
@@ -23,10 +28,21 @@ pub struct Args {
     /// it, byte for byte.
     #[arg(long)]
     threads: Option<usize>,
+    /// A batch run's child process: reads its job (JSON) on standard input, answers on
+    /// standard output (applesim batch starts it; see batch::isolate).
+    #[arg(long = "batch-job", hide = true, conflicts_with_all = ["scenario", "plots"])]
+    batch_job: bool,
 }
 
 pub fn main(a: Args) -> Result<(), String> {
-    let (sc, base) = super::load_scenario(&a.scenario)?;
+    if a.batch_job {
+        return batch_job();
+    }
+    let scenario = a
+        .scenario
+        .clone()
+        .expect("clap requires it without --batch-job");
+    let (sc, base) = super::load_scenario(&scenario)?;
     let tty = std::io::stderr().is_terminal() && !a.quiet;
     let mut last = -1i64;
     let mut progress = |f: f64| {
@@ -36,26 +52,36 @@ pub fn main(a: Args) -> Result<(), String> {
             eprint!("\r{pct:3} %");
         }
     };
+    // The charts are drawn into the set before it is switched in, so they belong to it; their
+    // notes and paths name the temporary folder, shown under the folder's own name.
+    let mut plots: Option<(plot::PlotSummary, PathBuf)> = None;
+    let mut draw = |dir: &Path, _: &RunResult| -> Result<(), output::RunError> {
+        if a.plots {
+            let p = plot::plot_runs(&[dir.to_path_buf()], dir, &PlotOptions::default())?;
+            plots = Some((p, dir.to_path_buf()));
+        }
+        Ok(())
+    };
     let r = super::with_threads(a.threads, || {
-        output::run_to_dir(&sc, &base, &a.out, &mut progress)
+        output::run_to_dir_with(&sc, &base, &a.out, &mut progress, &mut draw)
     })?
     .map_err(|e| e.to_string());
     if tty {
         eprint!("\r      \r");
     }
     let r = r?;
-    let plots = if a.plots {
-        Some(
-            plot::plot_runs(
-                std::slice::from_ref(&a.out),
-                &a.out,
-                &PlotOptions::default(),
-            )
-            .map_err(|e| e.to_string())?,
-        )
-    } else {
-        None
-    };
+    let plots = plots.map(|(mut p, staged)| {
+        let (from, to) = (staged.display().to_string(), a.out.display().to_string());
+        for n in &mut p.notes {
+            *n = n.replace(&from, &to);
+        }
+        for w in &mut p.written {
+            if let Ok(rel) = w.strip_prefix(&staged) {
+                *w = a.out.join(rel);
+            }
+        }
+        p
+    });
     if !a.quiet {
         println!(
             "{} steps of {} s ({} s simulated) in {:.2} s wall time",
@@ -119,4 +145,25 @@ pub fn main(a: Args) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// `applesim run --batch-job`: one run of a batch, in a process of its own. The answer goes to
+/// standard output as one JSON line; the exit code is 0 when the run is complete, 1 when it
+/// failed (anything else, a signal included, is a crash the batch records as such).
+fn batch_job() -> Result<(), String> {
+    let mut text = String::new();
+    std::io::stdin()
+        .read_to_string(&mut text)
+        .map_err(|e| format!("reading the batch job on standard input: {e}"))?;
+    let job: isolate::Job =
+        serde_json::from_str(&text).map_err(|e| format!("not a batch job: {e}"))?;
+    let answer = isolate::child_main(&job);
+    println!(
+        "{}",
+        serde_json::to_string(&answer).expect("an answer serialises")
+    );
+    match answer.error {
+        None => Ok(()),
+        Some(e) => Err(e),
+    }
 }

@@ -3,7 +3,8 @@
 //! with force histories `forces.csv` and `pulse_fits.csv`; always `bruise.csv`; on request the
 //! ParaView files ([`vtk`]) and the charts ([`plot`]).
 //!
-//! Every file is written whole or not at all ([`atomic`]). Numbers are printed in Rust's
+//! Every file is written whole or not at all, and a run's folder is switched in as a whole set
+//! ([`atomic`], [`run_to_dir`]). Numbers are printed in Rust's
 //! shortest round-trip form, so the same run gives byte-identical files; the one exception is
 //! `wall_time_s` in `summary.json`, a measurement of the machine.
 
@@ -443,6 +444,13 @@ pub enum RunError {
     /// The ParaView files could not be written (or `bodies.csv` could not be read back for them).
     #[error("ParaView output: {0}")]
     Vtk(#[from] vtk::VtkError),
+    /// The result folder could not be locked, staged or switched in (another run is writing
+    /// it, it is not a result folder, or the file system refused).
+    #[error(transparent)]
+    Folder(#[from] atomic::FolderError),
+    /// The charts written into the set (`applesim run --plots`) failed.
+    #[error("charts: {0}")]
+    Plot(#[from] plot::PlotError),
 }
 
 fn io_at(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
@@ -452,14 +460,54 @@ fn io_at(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
     }
 }
 
-/// Runs a validated scenario and writes into `out_dir` (created if missing): `summary.json`,
-/// `contacts.csv`, `bodies.csv`, `scenario.json`, `bruise.csv`; with force histories
-/// (`output.force_history`) `forces.csv` and `pulse_fits.csv`; with `output.vtk` the ParaView
-/// files ([`vtk`]). The analysis ([`crate::analysis::analyse`]) adds its headline figures to the
-/// returned `metrics`. Nothing that looks like a result is written when the run fails:
-/// `bodies.csv` is streamed to a temporary name and the other files are written only after the
-/// last step; `summary.json` comes last and marks a complete run.
+/// Runs a validated scenario and writes its whole set of files into `out_dir` (see
+/// [`run_into`] for the files), switching the set in at once: `out_dir` holds either the
+/// previous run's complete set or this one's, never a mix, whatever stops the run (an error,
+/// a full disk, kill -9). The folder is locked while the run runs (a second run into it is
+/// refused with [`atomic::FolderError::Busy`]); a folder that is not a run's set is refused,
+/// never replaced ([`atomic::FolderError::NotARunFolder`]); nothing temporary is left beside it.
 pub fn run_to_dir(
+    sc: &Scenario,
+    base_dir: &Path,
+    out_dir: &Path,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunResult, RunError> {
+    run_to_dir_with(sc, base_dir, out_dir, progress, &mut |_, _| Ok(()))
+}
+
+/// [`run_to_dir`], with `also` writing more files into the set before it is switched in (its
+/// first argument is the folder being written, under a temporary name; the charts of
+/// `applesim run --plots` go in this way, so they belong to the set).
+pub fn run_to_dir_with(
+    sc: &Scenario,
+    base_dir: &Path,
+    out_dir: &Path,
+    progress: &mut dyn FnMut(f64),
+    also: &mut dyn FnMut(&Path, &RunResult) -> Result<(), RunError>,
+) -> Result<RunResult, RunError> {
+    let lock = atomic::FolderLock::acquire(out_dir)?;
+    let stage = atomic::StagedFolder::begin(&lock)?;
+    let named = |e: RunError| match e {
+        // Name the file as the user knows it, not by its temporary folder.
+        RunError::Io { path, source } => RunError::Io {
+            path: stage.final_path(&path),
+            source,
+        },
+        other => other,
+    };
+    let result = run_into(sc, base_dir, stage.path(), progress).map_err(named)?;
+    also(stage.path(), &result).map_err(named)?;
+    stage.commit()?;
+    Ok(result)
+}
+
+/// Runs a validated scenario and writes into the folder `out_dir` (created if missing; use
+/// [`run_to_dir`] for a result folder the user sees, this one writes in place):
+/// `summary.json`, `contacts.csv`, `bodies.csv`, `scenario.json`, `bruise.csv`; with force
+/// histories (`output.force_history`) `forces.csv` and `pulse_fits.csv`; with `output.vtk` the
+/// ParaView files ([`vtk`]). The analysis ([`crate::analysis::analyse`]) adds its headline
+/// figures to the returned `metrics`. `summary.json` comes last.
+pub fn run_into(
     sc: &Scenario,
     base_dir: &Path,
     out_dir: &Path,

@@ -126,6 +126,7 @@ pub fn execute(spec: &Path, out: &Path, jobs: usize) -> Result<Executed, Validat
         jobs,
         shard: Shard::ALL,
         force: true,
+        ..runner::Options::default()
     };
     let report = runner::run(&batch, out, &opts, &runner::Silent).map_err(ValidateError::Batch)?;
     batch::merge(out).map_err(ValidateError::Batch)?;
