@@ -1012,3 +1012,61 @@ fn a_field_given_twice() {
         &["surfaces[0].type: given twice"],
     );
 }
+
+/// Issue 18: runs that would never end are refused before they start, with the step estimate:
+/// by the ranges (duration 1e9 s, a step of 1e-300 s, 1e9 steps per contact), and within the
+/// ranges by the up-front step budget (1e4 s in steps of 1e-5 s is 1e9 steps; 1000 s at `auto`
+/// with 1e4 steps per contact, 1.8e9) before anything is stepped.
+#[test]
+fn endless_runs_are_refused_up_front_with_the_step_estimate() {
+    mutated(
+        "duration_1e9",
+        |v| v["duration_s"] = json!(1e9),
+        &["duration_s:", "about 1.000e14 steps", "model.max_steps = 200000000"],
+    );
+    mutated(
+        "step_1e-300",
+        |v| v["time_step_s"] = json!(1e-300),
+        &["time_step_s:", "about 3.000e298 steps"],
+    );
+    mutated(
+        "accuracy_1e9",
+        |v| {
+            v["time_step_s"] = json!("auto");
+            v["accuracy"] = json!(1e9);
+        },
+        &["accuracy:", "about 1.000e9 steps"],
+    );
+    mutated(
+        "duration_1e4",
+        |v| {
+            v["duration_s"] = json!(1e4);
+            v["output"]["sample_interval_s"] = json!(1.0);
+        },
+        &["duration_s:", "about 1.000e9 steps", "refused before it starts"],
+    );
+    mutated(
+        "auto_1e4_per_contact",
+        |v| {
+            v["duration_s"] = json!(1000);
+            v["output"]["sample_interval_s"] = json!(1.0);
+            v["time_step_s"] = json!("auto");
+            v["accuracy"] = json!(1e4);
+        },
+        &["accuracy:", "steps per contact make the `auto` step", "refused before it starts"],
+    );
+    mutated(
+        "source_2e5_with_histories",
+        |v| {
+            v["sources"] = json!([{ "name": "feed", "material": "apple", "diameter_m": 0.08,
+                "position_m": [0, 0, 1], "velocity_m_s": [0, 0, 0], "rate_per_s": 1e4,
+                "start_s": 0, "count": 200000, "seed": 1 }]);
+        },
+        &["sources:", "GiB of memory", "model.max_memory_mb"],
+    );
+    mutated(
+        "sample_interval_1e-9",
+        |v| v["output"]["sample_interval_s"] = json!(1e-9),
+        &["output.sample_interval_s:", "GiB of bodies.csv", "model.max_output_mb"],
+    );
+}

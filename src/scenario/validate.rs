@@ -130,9 +130,13 @@ fn coefficients(field: &str, friction: Option<f64>, ke: Option<f64>, lambda: Opt
 
 /// Validates everything that can be checked without building the world.
 pub fn validate(sc: &Scenario) -> R {
-    ranges::DURATION.check("duration_s", sc.duration_s)?;
+    ranges::DURATION
+        .check("duration_s", sc.duration_s)
+        .map_err(|e| with_step_estimate(e, sc))?;
     if let TimeStep::Fixed(dt) = sc.time_step_s {
-        ranges::TIME_STEP.check("time_step_s", dt)?;
+        ranges::TIME_STEP
+            .check("time_step_s", dt)
+            .map_err(|e| with_step_estimate(e, sc))?;
         if dt > sc.duration_s {
             return Err(ScenarioError::invalid(
                 "time_step_s",
@@ -145,7 +149,9 @@ pub fn validate(sc: &Scenario) -> R {
         }
     }
     if let Some(a) = sc.accuracy {
-        ranges::STEPS_PER_CONTACT.check("accuracy", a.steps_per_contact())?;
+        ranges::STEPS_PER_CONTACT
+            .check("accuracy", a.steps_per_contact())
+            .map_err(|e| with_step_estimate(e, sc))?;
     }
     if let Some(m) = sc.max_time_step_s {
         ranges::TIME_STEP.check("max_time_step_s", m)?;
@@ -423,6 +429,37 @@ fn prefixes(sc: &Scenario) -> R {
         seen.insert(n, field);
     }
     Ok(())
+}
+
+/// A refusal of the duration, the step or the accuracy, with what the run would have cost in
+/// steps where the scenario says enough to tell (a fixed step: duration over step; an accuracy:
+/// steps per impact), against `model.max_steps`.
+fn with_step_estimate(e: ScenarioError, sc: &Scenario) -> ScenarioError {
+    let steps = match (sc.time_step_s, sc.accuracy) {
+        (TimeStep::Fixed(dt), _) => Some(sc.duration_s / dt),
+        (_, Some(a)) => Some(a.steps_per_contact()),
+        _ => None,
+    };
+    match (e, steps) {
+        (ScenarioError::Invalid { field, message }, Some(n)) if n.is_finite() || n.is_nan() => {
+            let what = match sc.time_step_s {
+                TimeStep::Fixed(_) => "the run would take",
+                _ => "every impact would take",
+            };
+            ScenarioError::Invalid {
+                field,
+                message: format!(
+                    "{message}; {what} about {n:.3e} steps (model.max_steps = {})",
+                    sc.model.max_steps
+                ),
+            }
+        }
+        (ScenarioError::Invalid { field, message }, Some(_)) => ScenarioError::Invalid {
+            field,
+            message: format!("{message}; the run would take more steps than any machine can"),
+        },
+        (e, _) => e,
+    }
 }
 
 /// At most [`ranges::APPLE_COUNT`] apples in all, checked before any generator is expanded (a
