@@ -56,7 +56,7 @@ fn both_piles_load_with_the_reference_scene() {
         );
         assert_eq!(
             (sc.contact.friction, sc.contact.ke, sc.contact.lambda_s_m),
-            (0.5, 0.09, 1000.0)
+            (0.5, Some(0.09), Some(1000.0))
         );
         assert!(
             sc.pairs.is_empty(),

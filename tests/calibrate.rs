@@ -18,8 +18,8 @@ fn setup(lambda: f64) -> ImpactSetup {
 /// touching the plate (approach speed v0), at the shipped time step 1e-5 s.
 fn full_run_restitution(ke: f64, lambda: f64, v0: f64, gravity: bool) -> f64 {
     let mut sc = shipped("scenarios/drop_on_steel.json");
-    sc.contact.ke = ke;
-    sc.contact.lambda_s_m = lambda;
+    sc.contact.ke = Some(ke);
+    sc.contact.lambda_s_m = Some(lambda);
     sc.apples[0].position_m = [0.0, 0.0, 0.04];
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
     if !gravity {

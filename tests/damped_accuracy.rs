@@ -40,8 +40,8 @@ fn drop(
     accuracy: Option<Accuracy>,
 ) -> applesim::sim::RunResult {
     let mut sc = shipped("scenarios/drop_on_steel.json");
-    sc.contact.ke = KE;
-    sc.contact.lambda_s_m = LAMBDA;
+    sc.contact.ke = Some(KE);
+    sc.contact.lambda_s_m = Some(LAMBDA);
     sc.apples[0].position_m = [0.0, 0.0, R];
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
     if !gravity {
@@ -264,8 +264,8 @@ fn auto_and_adaptive_against_rk4_with_gravity() {
 fn sqrt_ke_limit_of_contact_time_and_peak() {
     let v0 = 1.0;
     let mut sc = shipped("scenarios/drop_on_steel.json");
-    sc.contact.ke = KE;
-    sc.contact.lambda_s_m = 1e4;
+    sc.contact.ke = Some(KE);
+    sc.contact.lambda_s_m = Some(1e4);
     sc.apples[0].position_m = [0.0, 0.0, R];
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
     sc.gravity_m_s2 = [0.0; 3];

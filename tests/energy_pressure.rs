@@ -26,8 +26,8 @@ fn drop(v0: f64, ke: f64, lambda: f64, gravity: bool) -> applesim::scenario::Sce
     let mut sc = shipped("scenarios/drop_on_steel.json");
     sc.apples[0].position_m = [0.0, 0.0, R];
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
-    sc.contact.ke = ke;
-    sc.contact.lambda_s_m = lambda;
+    sc.contact.ke = Some(ke);
+    sc.contact.lambda_s_m = Some(lambda);
     if !gravity {
         sc.gravity_m_s2 = [0.0; 3];
     }

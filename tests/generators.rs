@@ -126,7 +126,7 @@ fn source_feeds_apples_at_its_rate_with_stable_names() {
 #[test]
 fn rigid_surfaces_use_rapiers_contact_and_record_nothing() {
     let mut sc = shipped("scenarios/drop_on_steel.json");
-    sc.contact.ke = 0.25;
+    sc.contact.ke = Some(0.25);
     sc.duration_s = 0.2;
     let mut v = serde_json::to_value(&sc).unwrap();
     v["surfaces"][0]["contact_model"] = json!("rigid");

@@ -20,7 +20,7 @@ fn base(surfaces: Value, apple_pos: [f64; 3], apple_vel: [f64; 3], mu: f64, ke: 
         "materials": {
             "apple": {"shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
             "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
-        "contact": {"friction": mu, "ke": ke, "lambda_s_m": 1000},
+        "contact": {"friction": mu, "ke": ke, "lambda_s_m": 1000, "rolling": "none"},
         "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * R, "mass_kg": M,
                     "position_m": apple_pos, "velocity_m_s": apple_vel}],
         "surfaces": surfaces

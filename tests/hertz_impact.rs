@@ -66,8 +66,8 @@ fn force_never_pulls() {
     // Strong hysteresis: the unloading force is small but never negative at any step.
     let mut sc = shipped("scenarios/drop_on_steel.json");
     sc.gravity_m_s2 = [0.0, 0.0, 0.0];
-    sc.contact.ke = 0.01;
-    sc.contact.lambda_s_m = 10.0;
+    sc.contact.ke = Some(0.01);
+    sc.contact.lambda_s_m = Some(10.0);
     sc.output.sample_interval_s = 1e-5;
     let (_, series) = run(&sc);
     let mut touched = false;

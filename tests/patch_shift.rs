@@ -68,7 +68,7 @@ fn scene(g1: f64, nu1: f64, fidelity: Fidelity, v0: f64, w0: f64, duration: f64)
         "materials": {
             "apple": {"shear_modulus_pa": g1, "poisson_ratio": nu1, "density_kg_m3": 800},
             "steel": {"shear_modulus_pa": STEEL.0, "poisson_ratio": STEEL.1}},
-        "contact": {"friction": MU, "ke": 1.0, "lambda_s_m": 1000},
+        "contact": {"friction": MU, "ke": 1.0, "lambda_s_m": 1000, "rolling": "none"},
         "model": {"sleep": {"enabled": false}},
         "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * R, "mass_kg": M,
             "position_m": [0, 0, R - s.u], "velocity_m_s": [v0, 0, 0],

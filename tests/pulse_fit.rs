@@ -99,8 +99,8 @@ fn dissipative_impacts_are_skewed_and_eq15_needs_their_own_k_p() {
         let mut sc = shipped("scenarios/drop_on_steel.json");
         sc.gravity_m_s2 = [0.0, 0.0, 0.0];
         sc.apples[0].velocity_m_s = [0.0, 0.0, -1.0];
-        sc.contact.ke = 0.09;
-        sc.contact.lambda_s_m = lambda;
+        sc.contact.ke = Some(0.09);
+        sc.contact.lambda_s_m = Some(lambda);
         let (r, _) = run(&sc);
         let a = analysis::analyse(&sc, &r);
         let f = &a.pulse_fits[0];

@@ -8,8 +8,8 @@ fn restitution(ke: f64, lambda: f64, v0: f64, dt: f64) -> f64 {
     let mut sc = shipped("scenarios/drop_on_steel.json");
     sc.gravity_m_s2 = [0.0, 0.0, 0.0];
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
-    sc.contact.ke = ke;
-    sc.contact.lambda_s_m = lambda;
+    sc.contact.ke = Some(ke);
+    sc.contact.lambda_s_m = Some(lambda);
     sc.time_step_s = dt.into();
     // Unloading lasts up to 1/sqrt(ke) times the loading (physics.md section 3): run long enough.
     let t_h = 0.0083 * (0.2 / v0).powf(0.2);

@@ -67,7 +67,7 @@ fn rigid_surface_rebounds_at_sqrt_ke() {
 fn rigid_fidelity_rebounds_at_sqrt_ke() {
     let mut sc = shipped("scenarios/drop_on_steel.json");
     sc.fidelity = Fidelity::Rigid;
-    sc.contact.ke = 0.25;
+    sc.contact.ke = Some(0.25);
     sc.gravity_m_s2 = [0.0; 3];
     let (e, n) = bounce(&sc);
     println!("fidelity rigid, ke 0.25: e = {e:.9}");

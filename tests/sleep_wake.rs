@@ -20,7 +20,7 @@ fn scene(apples: serde_json::Value, surfaces: serde_json::Value, duration: f64) 
         "materials": {
             "apple": {"shear_modulus_pa": 1.0e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
             "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
-        "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
+        "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000, "rolling": "none"},
         "apples": apples,
         "surfaces": surfaces
     });
@@ -203,7 +203,7 @@ fn small_pile() -> Scenario {
         "materials": {
             "apple": {"youngs_modulus_pa": 2.6e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
             "steel": {"youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.3}},
-        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000, "rolling": "none"},
         "generators": [{"type": "grid", "name": "p", "material": "apple",
             "diameter_m": {"mean_m": 0.08, "spread_m": 0.008}, "count": [5, 5, 4],
             "spacing_m": [0.1, 0.1, 0.1], "origin_m": [-0.2, -0.2, 0.05], "jitter_m": 0.005, "seed": 1}],

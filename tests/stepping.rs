@@ -212,7 +212,7 @@ fn fidelity_levels_do_what_they_say() {
     );
     // hertz: elastic, so a drop comes back at its approach speed whatever ke says.
     let mut d = shipped("scenarios/drop_on_steel.json");
-    d.contact.ke = 0.09;
+    d.contact.ke = Some(0.09);
     d.gravity_m_s2 = [0.0; 3];
     d.fidelity = Fidelity::Hertz;
     let (r, _) = run(&d);

@@ -233,7 +233,7 @@ fn belt(v_belt: f64, mu: f64, duration: f64) -> Scenario {
         "materials": {
             "apple": {"shear_modulus_pa": 1.0e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
             "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
-        "contact": {"friction": mu, "ke": 0.09, "lambda_s_m": 1000},
+        "contact": {"friction": mu, "ke": 0.09, "lambda_s_m": 1000, "rolling": "none"},
         "apples": [{"name": "a1", "material": "apple", "diameter_m": 0.08, "mass_kg": 0.107,
             "position_m": [0, 0, 0.0397936]}],
         "surfaces": [{"name": "belt", "type": "conveyor", "material": "steel",
@@ -259,7 +259,7 @@ fn transfer(incline_deg: f64) -> Scenario {
         "materials": {
             "apple": {"shear_modulus_pa": 1.0e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
             "steel": {"shear_modulus_pa": 8.1e10, "poisson_ratio": 0.28}},
-        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000, "rolling": "none"},
         "apples": [{"name": "a1", "material": "apple", "diameter_m": 0.08, "mass_kg": 0.107,
             "position_m": [-0.1, 0, 0.0397936], "velocity_m_s": [0.1, 0, 0]}],
         "surfaces": [

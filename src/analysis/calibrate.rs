@@ -221,15 +221,14 @@ impl ImpactSetup {
             ));
         }
         let mass_kg = world::apple_mass(a, apple_spec.density_kg_m3);
-        let lambda_s_m = sc
-            .pairs
-            .iter()
-            .find(|p| {
-                (p.materials[0] == a.material && p.materials[1] == surface_mat)
-                    || (p.materials[1] == a.material && p.materials[0] == surface_mat)
-            })
-            .and_then(|p| p.lambda_s_m)
-            .unwrap_or(sc.contact.lambda_s_m);
+        let law = sc.pair_law(&a.material, &surface_mat);
+        if law.damping == crate::scenario::models::Damping::Viscoelastic {
+            return Err(input(
+                "contact.damping",
+                "ke is calibrated for the eq. 12 damping; the viscoelastic model takes the restitution itself",
+            ));
+        }
+        let lambda_s_m = law.lambda_s_m.unwrap_or(0.0);
         Ok(Self {
             apple: apple_spec,
             surface: surface_spec,
@@ -299,11 +298,7 @@ impl ImpactSetup {
                 ("apple".to_string(), self.apple.clone()),
                 ("surface".to_string(), self.surface.clone()),
             ]),
-            contact: ContactSpec {
-                friction: 0.0,
-                ke,
-                lambda_s_m: self.lambda_s_m,
-            },
+            contact: ContactSpec::paper(0.0, ke, self.lambda_s_m),
             pairs: Vec::new(),
             model: ModelSpec::default(),
             apples: vec![AppleSpec {

@@ -39,6 +39,9 @@ pub struct SubModels {
     pub rolling: RollingModel,
     /// Coefficient of rolling friction mu_r (the torque's lever over R*).
     pub rolling_friction: f64,
+    /// Damping ratio eta_r of the elastic-plastic rolling spring (LIGGGHTS `epsd`'s
+    /// `coefficientRollingViscousDamping`; 0 is `epsd2`).
+    pub rolling_damping: f64,
 }
 
 impl Default for SubModels {
@@ -49,6 +52,7 @@ impl Default for SubModels {
             tangential: TangentialModel::Mindlin,
             rolling: RollingModel::None,
             rolling_friction: 0.0,
+            rolling_damping: 0.0,
         }
     }
 }
@@ -146,8 +150,9 @@ pub struct ContactConstants {
     pub inv_normal_mass: f64,
     /// Tangential effective mass of the contact (kg), for the friction dashpot.
     pub tangential_mass_kg: f64,
-    /// Effective moment of inertia of the relative rolling, 1 / (1/I1 + 1/I2) (kg m^2), for the
-    /// bound of the constant rolling torque (0 until set).
+    /// Effective moment of inertia of the relative rolling, 1 / (1/I1 + 1/I2) with each body's
+    /// moment about the contact point, I + m R^2 (kg m^2; 0 until set), for the rolling dashpot
+    /// and the velocity-kill bounds of the rolling torques.
     pub rolling_inertia_kg_m2: f64,
 }
 
@@ -343,11 +348,24 @@ pub fn rolling_torque(
             kill_rate * k.rolling_inertia_kg_m2,
         ),
         RollingModel::ElasticPlastic => {
-            // k_r = k_t R*^2 with k_t = 8 G* a (LIGGGHTS epsd2).
+            // k_r = k_t R*^2 with k_t = 8 G* a (LIGGGHTS epsd2); the dashpot of epsd, bounded
+            // by the velocity-kill rate for explicit stepping.
             let k_r = friction::mindlin_stiffness(law.g_star_pa, resp.contact_radius_m)
                 * k.r_star_m
                 * k.r_star_m;
-            rolling::elastic_plastic(mu_r, k.r_star_m, resp.normal_force_n, k_r, w_t, n, spring, dt_s)
+            let i_r = k.rolling_inertia_kg_m2;
+            let c_r = (law.models.rolling_damping * 2.0 * (i_r * k_r).sqrt()).min(kill_rate * i_r);
+            rolling::elastic_plastic(
+                mu_r,
+                k.r_star_m,
+                resp.normal_force_n,
+                k_r,
+                c_r,
+                w_t,
+                n,
+                spring,
+                dt_s,
+            )
         }
     }
 }

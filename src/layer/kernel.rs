@@ -222,7 +222,7 @@ impl Ctx<'_> {
                     aj.inv_tangential_mass,
                     1.0 / aj.mass,
                     ri.min(self.frame.radius[j as usize]),
-                    1.0 / aj.inertia,
+                    1.0 / (aj.inertia + aj.mass * aj.radius * aj.radius),
                 )
             }
             Party::Surface(s) => {
@@ -249,7 +249,8 @@ impl Ctx<'_> {
             1.0 / (1.0 / ai.mass + inv_n2),
             1.0 / (ai.inv_tangential_mass + inv_t2),
         );
-        c.consts.rolling_inertia_kg_m2 = 1.0 / (1.0 / ai.inertia + inv_i2);
+        // Moments about the contact point, I + m R^2 (LIGGGHTS epsd).
+        c.consts.rolling_inertia_kg_m2 = 1.0 / (1.0 / (ai.inertia + ai.mass * ri * ri) + inv_i2);
         c.consts_curvature = c.curvature2;
         c.inv_r_min = 1.0 / r_min;
         Ok(())

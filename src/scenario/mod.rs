@@ -8,6 +8,7 @@
 pub mod budget;
 mod de;
 pub mod generators;
+pub mod models;
 pub mod ranges;
 pub mod stepping;
 pub mod surfaces;
@@ -134,6 +135,18 @@ pub struct Scenario {
 }
 
 impl Scenario {
+    /// The contact law of a pair of materials (either order): its `pairs` entry over `contact`,
+    /// or `contact`.
+    pub fn pair_law(&self, m1: &str, m2: &str) -> ContactSpec {
+        self.pairs
+            .iter()
+            .find(|p| {
+                (p.materials[0] == m1 && p.materials[1] == m2)
+                    || (p.materials[0] == m2 && p.materials[1] == m1)
+            })
+            .map_or(self.contact, |p| p.over(&self.contact))
+    }
+
     /// Steps per contact the scenario asks for (its `accuracy`, default `balanced`).
     pub fn steps_per_contact(&self) -> f64 {
         self.accuracy.unwrap_or_default().steps_per_contact()
@@ -369,9 +382,58 @@ pub struct ContactSpec {
     /// Coulomb friction coefficient (>= 0).
     pub friction: f64,
     /// Eq. 12 energy-loss coefficient ke in (0, 1]; 1 is elastic, e -> sqrt(ke) for lambda v >> 1.
-    pub ke: f64,
-    /// Eq. 12 rate constant lambda (s/m, >= 0).
-    pub lambda_s_m: f64,
+    /// Needed by the eq. 12 damping models.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ke: Option<f64>,
+    /// Eq. 12 rate constant lambda (s/m, >= 0). Needed by the eq. 12 damping models.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lambda_s_m: Option<f64>,
+    /// Normal damping model (default `eq12`, the paper's).
+    #[serde(default)]
+    pub damping: models::Damping,
+    /// Coefficient of restitution of the `viscoelastic` damping (and of the damping of the
+    /// `history` tangential model; with eq. 12 that takes sqrt(ke)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f64>,
+    /// Tangential model (default `mindlin`).
+    #[serde(default)]
+    pub tangential: models::Tangential,
+    /// Rolling-resistance model (default `elastic-plastic`; `none` is the paper's model).
+    #[serde(default)]
+    pub rolling: models::Rolling,
+    /// Coefficient of rolling friction mu_r (default 0.03, see
+    /// [`models::DEFAULT_ROLLING_FRICTION`]).
+    #[serde(default = "default_rolling_friction")]
+    pub rolling_friction: f64,
+    /// Damping ratio of the `elastic-plastic` rolling spring (default 0.3, see
+    /// [`models::DEFAULT_ROLLING_DAMPING`]; 0 is LIGGGHTS `epsd2`).
+    #[serde(default = "default_rolling_damping")]
+    pub rolling_damping: f64,
+}
+
+fn default_rolling_friction() -> f64 {
+    models::DEFAULT_ROLLING_FRICTION
+}
+
+fn default_rolling_damping() -> f64 {
+    models::DEFAULT_ROLLING_DAMPING
+}
+
+impl ContactSpec {
+    /// The paper's model with these coefficients (eq. 12, Mindlin, no rolling resistance).
+    pub fn paper(friction: f64, ke: f64, lambda_s_m: f64) -> Self {
+        Self {
+            friction,
+            ke: Some(ke),
+            lambda_s_m: Some(lambda_s_m),
+            damping: models::Damping::Eq12,
+            restitution: None,
+            tangential: models::Tangential::Mindlin,
+            rolling: models::Rolling::None,
+            rolling_friction: 0.0,
+            rolling_damping: 0.0,
+        }
+    }
 }
 
 /// Overrides of the contact coefficients for one pair of materials.
@@ -389,6 +451,41 @@ pub struct PairSpec {
     /// lambda for this pair (s/m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lambda_s_m: Option<f64>,
+    /// Damping model for this pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<models::Damping>,
+    /// Restitution for this pair (`viscoelastic`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f64>,
+    /// Tangential model for this pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential: Option<models::Tangential>,
+    /// Rolling model for this pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling: Option<models::Rolling>,
+    /// Coefficient of rolling friction for this pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling_friction: Option<f64>,
+    /// Rolling damping ratio for this pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling_damping: Option<f64>,
+}
+
+impl PairSpec {
+    /// The law of this pair: its own settings over `contact`'s.
+    pub fn over(&self, c: &ContactSpec) -> ContactSpec {
+        ContactSpec {
+            friction: self.friction.unwrap_or(c.friction),
+            ke: self.ke.or(c.ke),
+            lambda_s_m: self.lambda_s_m.or(c.lambda_s_m),
+            damping: self.damping.unwrap_or(c.damping),
+            restitution: self.restitution.or(c.restitution),
+            tangential: self.tangential.unwrap_or(c.tangential),
+            rolling: self.rolling.unwrap_or(c.rolling),
+            rolling_friction: self.rolling_friction.unwrap_or(c.rolling_friction),
+            rolling_damping: self.rolling_damping.unwrap_or(c.rolling_damping),
+        }
+    }
 }
 
 /// Model options.

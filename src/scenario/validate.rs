@@ -4,7 +4,7 @@
 use super::generators::{FileSpec, GeneratorSpec};
 use super::ranges::{self, num};
 use super::surfaces::{rotation_of, ChuteProfile, Scale, SurfaceSpec};
-use super::{AppleSpec, Scenario, ScenarioError, TimeStep};
+use super::{models, AppleSpec, ContactSpec, Scenario, ScenarioError, TimeStep};
 use crate::contact::{Material, MaterialError};
 use crate::layer::grid::NeighborList;
 use crate::math::{vec3, Vec3};
@@ -128,6 +128,38 @@ fn coefficients(field: &str, friction: Option<f64>, ke: Option<f64>, lambda: Opt
     Ok(())
 }
 
+/// A pair's contact law as a whole (`field` names where it was written): the eq. 12 dampings
+/// need ke and lambda, the viscoelastic one a restitution in (0, 1]; the rolling friction is a
+/// coefficient like friction. A missing coefficient is named where `contact` would give it.
+fn law(field: &str, c: &ContactSpec) -> R {
+    coefficients(field, Some(c.friction), c.ke, c.lambda_s_m)?;
+    if c.damping.uses_eq12() {
+        for (name, v) in [("ke", c.ke), ("lambda_s_m", c.lambda_s_m)] {
+            if v.is_none() {
+                return Err(ScenarioError::invalid(
+                    format!("{field}.{name}"),
+                    format!(
+                        "missing: the {} damping needs ke and lambda_s_m (or choose \"damping\": \"viscoelastic\" with a restitution)",
+                        serde_json::to_value(c.damping).map(|v| v.to_string()).unwrap_or_default()
+                    ),
+                ));
+            }
+        }
+    }
+    match c.restitution {
+        Some(e) => ranges::RESTITUTION.check(&format!("{field}.restitution"), e)?,
+        None if c.damping == models::Damping::Viscoelastic => {
+            return Err(ScenarioError::invalid(
+                format!("{field}.restitution"),
+                "missing: the viscoelastic damping needs the coefficient of restitution (0 < e <= 1)",
+            ))
+        }
+        None => {}
+    }
+    ranges::ROLLING_FRICTION.check(&format!("{field}.rolling_friction"), c.rolling_friction)?;
+    ranges::ROLLING_DAMPING.check(&format!("{field}.rolling_damping"), c.rolling_damping)
+}
+
 /// Validates everything that can be checked without building the world.
 pub fn validate(sc: &Scenario) -> R {
     ranges::DURATION
@@ -179,8 +211,7 @@ pub fn validate(sc: &Scenario) -> R {
             }
         }
     }
-    let c = &sc.contact;
-    coefficients("contact", Some(c.friction), Some(c.ke), Some(c.lambda_s_m))?;
+    law("contact", &sc.contact)?;
     pairs(sc, &mats)?;
 
     let mut names = HashSet::new();
@@ -310,6 +341,7 @@ fn pairs(sc: &Scenario, mats: &BTreeMap<&str, Material>) -> R {
             ));
         }
         coefficients(&f, p.friction, p.ke, p.lambda_s_m)?;
+        law(&f, &p.over(&sc.contact))?;
     }
     Ok(())
 }

@@ -17,7 +17,7 @@ pub mod mesh;
 pub mod roster;
 pub mod surfaces;
 
-use crate::contact::LawParts;
+use crate::contact::{LawParts, SubModels};
 use crate::contact::Material;
 use crate::layer::{
     AppleId, Coefficients, ContactLayer, Guard, LayerConfig, LayerError, MaterialId, SleepConfig,
@@ -79,6 +79,24 @@ pub struct World {
     postponed: u64,
 }
 
+/// The layer's coefficients and sub-models of a pair's contact law (validated: the eq. 12
+/// dampings have ke and lambda, the viscoelastic one a restitution).
+pub fn coefficients(c: &scenario::ContactSpec) -> Coefficients {
+    Coefficients {
+        friction: c.friction,
+        ke: c.ke.unwrap_or(1.0),
+        lambda_s_m: c.lambda_s_m.unwrap_or(0.0),
+        models: SubModels {
+            damping: c.damping.model(),
+            restitution: c.restitution.unwrap_or(f64::NAN),
+            tangential: c.tangential.model(),
+            rolling: c.rolling.model(),
+            rolling_friction: c.rolling_friction,
+            rolling_damping: c.rolling_damping,
+        },
+    }
+}
+
 /// Builds the world of a validated scenario. `base_dir` is where relative asset paths (meshes)
 /// are resolved.
 pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
@@ -135,19 +153,11 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         let m = scenario::validate::material(name, spec)?;
         materials.insert(name.clone(), (layer.add_material(name, m), m));
     }
-    layer.set_default_coefficients(sc.contact.friction, sc.contact.ke, sc.contact.lambda_s_m);
+    layer.set_default_pair_law(coefficients(&sc.contact));
     for p in &sc.pairs {
         let a = materials[&p.materials[0]].0;
         let b = materials[&p.materials[1]].0;
-        layer.set_pair_coefficients(
-            a,
-            b,
-            Coefficients::paper(
-                p.friction.unwrap_or(sc.contact.friction),
-                p.ke.unwrap_or(sc.contact.ke),
-                p.lambda_s_m.unwrap_or(sc.contact.lambda_s_m),
-            ),
-        );
+        layer.set_pair_coefficients(a, b, coefficients(&p.over(&sc.contact)));
     }
     let mut world = World {
         physics,
