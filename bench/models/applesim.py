@@ -2,6 +2,7 @@
 """applesim side of the same-model comparison (issue 19, build items 4 and 5).
 
 usage: applesim.py [drop|pile|roll|time|all]... [--out DIR] [--applesim PATH] [--threads N]
+                   [--scenarios DIR]
 
 Runs the scenarios of bench/models/scenarios/ (written by make_scenarios.py) one after the other
 and writes DIR/applesim.json (compare.py reads it):
@@ -19,7 +20,7 @@ and writes DIR/applesim.json (compare.py reads it):
 
 A scenario applesim refuses (e.g. a field it does not parse yet) is recorded with its error and
 shows as pending in the table. --threads (default 1: LIGGGHTS runs on one core) is passed to
-both commands.
+both commands. --scenarios DIR reads the scenarios (same names) from DIR instead.
 """
 import csv
 import json
@@ -32,7 +33,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import liggghts as lig  # noqa: E402  (the shared analysis: roll_figures, pile_geometry)
 
-SC = os.path.join(HERE, "scenarios")
+SC = os.path.join(HERE, "scenarios")  # --scenarios DIR replaces it
 
 
 def call(cmd, log):
@@ -148,6 +149,9 @@ def main(argv):
             exe = argv[i + 1]; i += 1
         elif a == "--threads":
             threads = int(argv[i + 1]); i += 1
+        elif a == "--scenarios":
+            global SC
+            SC = os.path.abspath(argv[i + 1]); i += 1
         elif a in ("-h", "--help"):
             print(__doc__); return 0
         else:

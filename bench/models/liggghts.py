@@ -13,16 +13,18 @@ records and writes DIR/liggghts.json (the figures; compare.py reads it) and prin
         rebound speed.
   pile  the 1000-apple pile of shared/bench/liggghts (gen.py 5 5 40 0.1 1), epsd2, restitution
         0.3, friction 0.5, rolling friction 0.03, 5 s, at each dt of --pile-dts (default
-        1e-4,2e-4,3e-4,5e-4,7e-4,1e-3); settled height (largest centre z, mean z of the 25 highest
-        centres), apple-apple contacts per apple (contact/atom mean / 2, and counted from the final
-        positions), wall time; then the largest dt within 1 % of dt = 1e-4. Plus the cdt variant
-        at 1e-4.
+        1e-4,2e-4,3e-4,5e-4,6e-4,7e-4,1e-3); settled height (largest centre z, mean z of the 25
+        highest centres), apple-apple contacts per apple (contact/atom mean / 2, and counted from
+        the final positions), wall time; then the largest dt within 1 % of dt = 1e-4 (one run per
+        dt). Plus the cdt variant at 1e-4.
   roll  one apple launched rolling (v0 0.5 m/s, omega = v0/R) on a steel plate with gravity,
         rolling friction 0.05, cdt and epsd2, dt 1e-5 and 1e-6: stopping time and distance
         against the cdt closed form.
-  scatter  the pile again at dt 1e-4 with neighbour skins 6, 10, 12 mm, at 5e-5, and at 2e-4,
-        3e-4, 5e-4 with skins 6 and 10 mm: the skin changes only the summation order of the
-        forces (round-off), so these give the scatter of equally valid settled piles.
+  scatter  the pile again from three starts with every apple moved sideways by up to 1 um
+        (seeds 1-3) at dt 1e-4, 2e-4, 3e-4, 5e-4, 6e-4, 7e-4: with gen.py's start, an ensemble of
+        four equally valid settled piles per dt (their scatter is chaos, not the step); the
+        largest dt whose ensemble means stay within 1 % of dt 1e-4's. Also dt 1e-4 with
+        neighbour skins 6, 10, 12 mm (only the summation order of the forces changes) and dt 5e-5.
 --quick: the pile only 0.5 s at dt 1e-4 and 2e-4 (to check the scripts).
 --reuse: read a case's folder instead of running it again when it holds a finished run of the
          same command (its wall time is the one measured then).
@@ -247,13 +249,38 @@ def thermo_rows(log):
     return rows
 
 
-def run_pile(out, dts, roll="epsd2", duration=5.0, tag="", skin=0.008):
+def pile_data(out):
     folder0 = os.path.join(out, "pile")
     os.makedirs(folder0, exist_ok=True)
     data = os.path.join(folder0, "pile.data")
     if not os.path.exists(data):
         subprocess.check_call([sys.executable, GEN, "5", "5", "40", "0.1", "1", "pile"], cwd=folder0,
                               stdout=subprocess.DEVNULL)
+    return data
+
+
+def jittered_data(out, seed, amp=1e-6):
+    """gen.py's pile with every apple moved sideways by up to +-amp (1 um): another, equally
+    valid start of the same pile."""
+    import random
+    rng = random.Random(seed)
+    src = pile_data(out)
+    dst = os.path.join(out, "pile", f"pile_jitter{seed}.data")
+    lines = open(src).read().splitlines()
+    k = lines.index("Atoms")
+    for i in range(k + 1, len(lines)):
+        p = lines[i].split()
+        if len(p) == 7:
+            p[4] = f"{float(p[4]) + rng.uniform(-amp, amp):.9f}"
+            p[5] = f"{float(p[5]) + rng.uniform(-amp, amp):.9f}"
+            lines[i] = " ".join(p)
+    with open(dst, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return dst
+
+
+def run_pile(out, dts, roll="epsd2", duration=5.0, tag="", skin=0.008, data=None):
+    data = data or pile_data(out)
     res = []
     for dt in dts:
         name = f"pile_{roll}_dt{dt:g}{tag}"
@@ -370,42 +397,61 @@ def run_roll(out):
     return res
 
 
+SCATTER_DTS = (1e-4, 2e-4, 3e-4, 5e-4, 6e-4, 7e-4)
+KEYS = ("z_max_m", "z_top25_mean_m", "apple_apple_contacts_per_apple")
+
+
 def run_scatter(out):
-    """Chaos, not the step: the same pile at the same dt with another neighbour skin (which only
-    changes the order in which LIGGGHTS sums the contact forces, i.e. the round-off) settles
-    into another packing. These runs measure how far two equally valid answers lie apart."""
+    """Chaos, not the step: the same pile settles into another packing when its start moves by a
+    micrometre. At each dt of SCATTER_DTS, three starts with every apple moved sideways by up to
+    1 um (seeds 1-3); at dt 1e-4 also three other neighbour skins (6, 10, 12 mm: only the order
+    in which the forces are summed changes) and one run at dt 5e-5."""
     res = []
     for skin in (0.006, 0.010, 0.012):
         res += run_pile(out, [1e-4], tag=f"_skin{skin:g}", skin=skin)
     res += run_pile(out, [5e-5])
-    for skin in (0.006, 0.010):
-        res += run_pile(out, [2e-4, 3e-4, 5e-4], tag=f"_skin{skin:g}", skin=skin)
+    for seed in (1, 2, 3):
+        for dt in SCATTER_DTS:
+            for r in run_pile(out, [dt], tag=f"_jitter{seed}", data=jittered_data(out, seed)):
+                r["jitter_seed"] = seed
+                res.append(r)
     return res
 
 
+def stats(rs):
+    row = {"runs": len(rs), "loop_s_mean": sum(r["loop_s"] for r in rs) / len(rs)}
+    for k in KEYS:
+        v = [r[k] for r in rs]
+        m = sum(v) / len(v)
+        row[k] = {"mean": m, "min": min(v), "max": max(v), "spread_rel": (max(v) - min(v)) / m}
+    return row
+
+
 def scatter_summary(pile, scatter):
-    """Mean and spread of the figures per dt over every realization (pile and scatter runs)."""
-    by = {}
-    for r in pile + scatter:
-        if "error" in r or r["roll"] != "epsd2":
-            continue
-        by.setdefault(r["dt_s"], []).append(r)
-    out = []
-    for dt in sorted(by):
-        rs = by[dt]
-        row = {"dt_s": dt, "runs": len(rs), "wall_s_mean": sum(r["wall_s"] for r in rs) / len(rs),
-               "loop_s_mean": sum(r["loop_s"] for r in rs) / len(rs)}
-        for k in ("z_max_m", "z_top25_mean_m", "apple_apple_contacts_per_apple"):
-            v = [r[k] for r in rs]
-            row[k] = {"mean": sum(v) / len(v), "min": min(v), "max": max(v)}
-        out.append(row)
-    ref = next((o for o in out if o["dt_s"] == 1e-4), None)
+    """Per dt: the ensemble of the gen.py start and the jittered starts (mean, min, max); at
+    1e-4 also the skin runs on their own; each ensemble mean against the one at dt 1e-4."""
+    ok = [r for r in pile + scatter if "error" not in r and r["roll"] == "epsd2"]
+    out = {"ensembles": [], "skins_1e-4": None}
+    for dt in sorted({r["dt_s"] for r in ok}):
+        rs = [r for r in ok if r["dt_s"] == dt and r.get("skin_m", 0.008) == 0.008]
+        out["ensembles"].append(dict(stats(rs), dt_s=dt, starts=len(rs)))
+    skins = [r for r in ok if r["dt_s"] == 1e-4 and "jitter_seed" not in r]
+    if skins:
+        out["skins_1e-4"] = stats(skins)
+    ref = next((o for o in out["ensembles"] if o["dt_s"] == 1e-4), None)
+    largest = None
     if ref:
-        for o in out:
-            o["rel_to_1e-4_mean"] = {k: o[k]["mean"] / ref[k]["mean"] - 1
-                                     for k in ("z_max_m", "z_top25_mean_m", "apple_apple_contacts_per_apple")}
-            o["spread_rel"] = {k: (o[k]["max"] - o[k]["min"]) / ref[k]["mean"]
-                               for k in ("z_max_m", "z_top25_mean_m", "apple_apple_contacts_per_apple")}
+        for o in out["ensembles"]:
+            o["rel_to_1e-4"] = {k: o[k]["mean"] / ref[k]["mean"] - 1 for k in KEYS}
+            o["ok"] = (abs(o["rel_to_1e-4"]["z_max_m"]) <= 0.01
+                       and abs(o["rel_to_1e-4"]["apple_apple_contacts_per_apple"]) <= 0.01)
+        for o in out["ensembles"]:
+            if o["dt_s"] < 1e-4:
+                continue
+            if not o["ok"]:
+                break
+            largest = o["dt_s"]
+    out["largest_dt_ensemble_within_1pct"] = largest
     return out
 
 
@@ -445,19 +491,26 @@ def main(argv):
         if quick:
             res["pile"] = run_pile(out, [1e-4, 2e-4], duration=0.5, tag="_quick")
         else:
-            res["pile"] = run_pile(out, dts or [1e-4, 2e-4, 3e-4, 5e-4, 7e-4, 1e-3])
+            res["pile"] = run_pile(out, dts or [1e-4, 2e-4, 3e-4, 5e-4, 6e-4, 7e-4, 1e-3])
             res["pile_cdt"] = run_pile(out, [1e-4], roll="cdt")
         res["pile_dt_check"] = within_1pct(res["pile"])
         print(json.dumps(res["pile_dt_check"], indent=1))
     if "scatter" in what:
         res["pile_scatter"] = run_scatter(out)
     if "pile_scatter" in res and "pile" in res:
-        res["pile_scatter_summary"] = scatter_summary(res["pile"], res["pile_scatter"])
-        for o in res["pile_scatter_summary"]:
-            print(f"dt {o['dt_s']:g} ({o['runs']} runs): " + ", ".join(
-                f"{k} {o[k]['mean']:.4f} [{o[k]['min']:.4f}, {o[k]['max']:.4f}]"
-                for k in ("z_max_m", "z_top25_mean_m", "apple_apple_contacts_per_apple"))
+        res["pile_scatter_summary"] = sm = scatter_summary(res["pile"], res["pile_scatter"])
+        res.pop("pile_dt_check_ensemble", None)
+        for o in sm["ensembles"]:
+            print(f"dt {o['dt_s']:g}, {o['starts']} start(s): " + ", ".join(
+                f"{k} {o[k]['mean']:.4f} [{o[k]['min']:.4f}, {o[k]['max']:.4f}]" for k in KEYS)
+                + f"; vs dt 1e-4 " + ", ".join(f"{100 * v:+.2f} %" for v in o.get("rel_to_1e-4", {}).values())
                 + f"; mean loop {o['loop_s_mean']:.1f} s")
+        if sm["skins_1e-4"]:
+            o = sm["skins_1e-4"]
+            print(f"dt 1e-4, skins 6/8/10/12 mm: " + ", ".join(
+                f"{k} [{o[k]['min']:.4f}, {o[k]['max']:.4f}]" for k in KEYS))
+        print(f"largest dt whose ensemble (height, contacts per apple) stays within 1 % of dt 1e-4's, "
+              f"with every smaller dt: {sm['largest_dt_ensemble_within_1pct']}")
     with open(path, "w") as f:
         json.dump(res, f, indent=1)
     print(f"figures: {path}")
