@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """LIGGGHTS 3.8 side of the same-model comparison (issue 19, build items 4 and 5).
 
-usage: liggghts.py [drop|pile|roll|scatter|all]... [--out DIR] [--pile-dts 1e-4,2e-4,...] [--quick] [--reuse]
+usage: liggghts.py [drop|pile|roll|scatter|timing|all]... [--out DIR] [--pile-dts 1e-4,2e-4,...] [--quick] [--reuse]
 
 Runs the decks of this folder (drop.in, pile.in, roll.in) with /usr/bin/liggghts, serially, one
 after the other, each in its own folder under DIR (default /work/lig-runs/models), reads the
@@ -25,6 +25,8 @@ records and writes DIR/liggghts.json (the figures; compare.py reads it) and prin
         four equally valid settled piles per dt (their scatter is chaos, not the step); the
         largest dt whose ensemble means stay within 1 % of dt 1e-4's. Also dt 1e-4 with
         neighbour skins 6, 10, 12 mm (only the summation order of the forces changes) and dt 5e-5.
+  timing  the pile (gen.py's start) at dt 1e-4 and at the largest dt of the scatter, three times
+        each, alternating: the wall times of item 5 (minimum and median).
 --quick: the pile only 0.5 s at dt 1e-4 and 2e-4 (to check the scripts).
 --reuse: read a case's folder instead of running it again when it holds a finished run of the
          same command (its wall time is the one measured then).
@@ -455,13 +457,31 @@ def scatter_summary(pile, scatter):
     return out
 
 
+def run_timing(out, dts=(1e-4, 5e-4), repeats=3):
+    """Wall time of the pile (gen.py's start) at each dt, `repeats` times, alternating the dts so
+    that a change of the machine's load hits both alike; the minimum and the median."""
+    runs = {dt: [] for dt in dts}
+    for k in range(repeats):
+        for dt in dts:
+            for r in run_pile(out, [dt], tag=f"_time{k + 1}"):
+                if "error" not in r:
+                    runs[dt].append(r["loop_s"])
+    res = []
+    for dt, v in runs.items():
+        v = sorted(v)
+        res.append({"dt_s": dt, "loop_s": v, "min_s": v[0] if v else None,
+                    "median_s": v[len(v) // 2] if v else None})
+        print(f"pile dt {dt:g}: time loop {', '.join(f'{x:.2f}' for x in v)} s")
+    return res
+
+
 def main(argv):
     global REUSE
     what, out, dts, quick = [], "/work/lig-runs/models", None, False
     i = 0
     while i < len(argv):
         a = argv[i]
-        if a in ("drop", "pile", "roll", "scatter", "all"):
+        if a in ("drop", "pile", "roll", "scatter", "timing", "all"):
             what.append(a)
         elif a == "--out":
             out = argv[i + 1]; i += 1
@@ -477,7 +497,7 @@ def main(argv):
             print(f"unknown argument {a} (see --help)", file=sys.stderr); return 2
         i += 1
     if not what or "all" in what:
-        what = ["drop", "roll", "pile", "scatter"]
+        what = ["drop", "roll", "pile", "scatter", "timing"]
     out = os.path.abspath(out)
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, "liggghts.json")
@@ -497,6 +517,11 @@ def main(argv):
         print(json.dumps(res["pile_dt_check"], indent=1))
     if "scatter" in what:
         res["pile_scatter"] = run_scatter(out)
+    if "timing" in what:
+        best = (res.get("pile_scatter_summary") or {}).get("largest_dt_ensemble_within_1pct") or 5e-4
+        res["pile_timing"] = {"load_average_before": os.getloadavg(),
+                              "runs": run_timing(out, dts=(1e-4, best)),
+                              "load_average_after": os.getloadavg()}
     if "pile_scatter" in res and "pile" in res:
         res["pile_scatter_summary"] = sm = scatter_summary(res["pile"], res["pile_scatter"])
         res.pop("pile_dt_check_ensemble", None)
