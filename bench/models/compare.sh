@@ -3,9 +3,11 @@
 #
 # usage: bench/models/compare.sh [OUT_DIR] [--quick] [--reuse] [--skip-liggghts] [--skip-applesim]
 #   OUT_DIR          where the runs and liggghts.json / applesim.json go (default
-#                    /work/lig-runs/models; not in the repository)
-#   --quick          LIGGGHTS's pile only 0.5 s at dt 1e-4 and 2e-4, no scatter runs (a check
-#                    of the scripts, about 1 min)
+#                    /work/lig-runs/models, with --quick /work/lig-runs/models-quick; not in
+#                    the repository)
+#   --quick          LIGGGHTS's pile only 0.5 s at dt 1e-4 and 2e-4, no scatter or timing runs
+#                    (a check of the scripts, about 1 min; keep it out of a full run's OUT_DIR;
+#                    applesim's runs are always whole)
 #   --reuse          LIGGGHTS cases already run with the same command in OUT_DIR are read, not
 #                    run again (their wall times are those measured then)
 #   --skip-liggghts  only applesim (reads LIGGGHTS's figures from OUT_DIR/liggghts.json)
@@ -20,23 +22,27 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../.." && pwd)
-out=/work/lig-runs/models
+out=
+quick=0
 lig_args=(all)
 app=1
 lig=1
 reuse=()
 while [ $# -gt 0 ]; do
   case $1 in
-    --quick) lig_args=(drop roll pile --quick) ;;
+    --quick) lig_args=(drop roll pile --quick); quick=1 ;;
     --reuse) reuse=(--reuse) ;;
     --skip-liggghts) lig=0 ;;
     --skip-applesim) app=0 ;;
-    -h | --help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "unknown option $1 (see --help)" >&2; exit 2 ;;
     *) out=$1 ;;
   esac
   shift
 done
+if [ -z "$out" ]; then
+  if [ $quick = 1 ]; then out=/work/lig-runs/models-quick; else out=/work/lig-runs/models; fi
+fi
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 pin=()
