@@ -1,0 +1,233 @@
+#!/usr/bin/env python3
+"""applesim side of the same-model comparison (issue 19, build items 4 and 5).
+
+usage: applesim.py [drop|pile|roll|time|all]... [--out DIR] [--applesim PATH] [--threads N]
+                   [--scenarios DIR]
+
+Runs the scenarios of bench/models/scenarios/ (written by make_scenarios.py) one after the other
+and writes DIR/applesim.json (compare.py reads it):
+
+  drop  `applesim run` of drop_*.json: peak force, contact time (contacts.csv: touch to
+        separation, i.e. overlap > 0; forces.csv: touch to the force's return to zero),
+        restitution at separation.
+  roll  `applesim run` of roll_cdt.json and roll_epsd2.json: stopping time and distance from
+        bodies.csv (the first sample with vx <= 0, interpolated), as for LIGGGHTS.
+  pile  `applesim bench --json` of pile_epsd2_dt1e-4.json (wall time, settled height, apple-apple
+        contacts per apple at 5 s) and `applesim run` of it (the final positions: the same
+        height, top-25 mean and contact count as for LIGGGHTS, computed by the same function);
+        the cdt pile by bench only.
+  time  `applesim bench --json` of pile_epsd2_adaptive_{balanced,preview}.json (item 5).
+
+A scenario applesim refuses (e.g. a field it does not parse yet) is recorded with its error and
+shows as pending in the table. --threads (default 1: LIGGGHTS runs on one core) is passed to
+both commands. --scenarios DIR reads the scenarios (same names) from DIR instead.
+"""
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import liggghts as lig  # noqa: E402  (the shared analysis: roll_figures, pile_geometry)
+
+SC = os.path.join(HERE, "scenarios")  # --scenarios DIR replaces it
+
+
+def call(cmd, log):
+    t0 = time.monotonic()
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    wall = time.monotonic() - t0
+    with open(log, "w") as f:
+        f.write(" ".join(cmd) + "\n--- stdout\n" + p.stdout + "\n--- stderr\n" + p.stderr)
+    err = None
+    if p.returncode != 0:
+        lines = [l for l in p.stderr.splitlines() if l.strip()]
+        err = (lines[0] if lines else f"exit code {p.returncode}")[:300]
+    return p, wall, err
+
+
+def run(exe, name, out, threads):
+    folder = os.path.join(out, "applesim_" + name)
+    os.makedirs(folder, exist_ok=True)
+    cmd = [exe, "run", os.path.join(SC, name + ".json"), "--out", folder]
+    if threads:
+        cmd += ["--threads", str(threads)]
+    _, wall, err = call(cmd, os.path.join(folder, "command.log"))
+    return folder, wall, err
+
+
+def bench(exe, name, out, threads):
+    os.makedirs(out, exist_ok=True)
+    cmd = [exe, "bench", os.path.join(SC, name + ".json"), "--json"]
+    if threads:
+        cmd += ["--threads", str(threads)]
+    p, wall, err = call(cmd, os.path.join(out, f"bench_{name}.log"))
+    if err:
+        return {"error": err, "process_wall_s": wall}
+    r = json.loads(p.stdout.strip().splitlines()[-1])
+    r["process_wall_s"] = wall
+    return r
+
+
+def rows_of(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def drop_figures(folder):
+    c = [r for r in rows_of(os.path.join(folder, "contacts.csv")) if "plate" in (r["a"], r["b"])][0]
+    t0 = float(c["t_start_s"])
+    fig = {
+        "touch_time_s": t0,
+        "approach_speed_m_s": float(c["approach_speed_m_s"]),
+        "peak_force_n": float(c["peak_force_n"]),
+        "t_peak_after_touch_s": float(c["t_peak_s"]) - t0,
+        "contact_time_overlap_s": float(c["duration_s"]) if c["duration_s"] else None,
+        "restitution_separation": float(c["restitution"]) if c["restitution"] else None,
+        "max_overlap_m": float(c["max_overlap_m"]),
+    }
+    fpath = os.path.join(folder, "forces.csv")
+    if os.path.exists(fpath):
+        h = [(float(r["time_s"]), float(r["force_n"])) for r in rows_of(fpath) if r["contact"] == "0"]
+        pos = [i for i, (_, f) in enumerate(h) if f > 0]
+        if pos:
+            # The force's first return to zero after the peak (linear between the samples).
+            k = max(range(len(h)), key=lambda i: h[i][1])
+            while k + 1 < len(h) and h[k + 1][1] > 0:
+                k += 1
+            if k + 1 < len(h):
+                (ta, fa), (tb, fb) = h[k], h[k + 1]
+                t_zero = ta + fa / (fa - fb) * (tb - ta)
+            else:
+                t_zero = h[k][0]
+            fig["contact_time_force_s"] = t_zero - t0
+            fig["force_samples"] = len(h)
+    return fig
+
+
+def body_rows(folder, apple="a1"):
+    rows = []
+    for r in rows_of(os.path.join(folder, "bodies.csv")):
+        if r["apple"] == apple:
+            rows.append([float(r["time_s"]), float(r["x_m"]), float(r["vx_m_s"]), float(r["wy_rad_s"]),
+                         float(r["z_m"]), float(r["fz_n"])])
+    return rows
+
+
+def final_positions(folder, radii):
+    last = {}
+    tmax = None
+    for r in rows_of(os.path.join(folder, "bodies.csv")):
+        t = float(r["time_s"])
+        if tmax is None or t > tmax + 1e-12:
+            tmax, last = t, {}
+        if abs(t - tmax) <= 1e-12:
+            last[r["apple"]] = (float(r["x_m"]), float(r["y_m"]), float(r["z_m"]))
+    apples = [(x, y, z, radii[name]) for name, (x, y, z) in last.items()]
+    return tmax, apples
+
+
+def pile_radii():
+    pile = json.load(open(os.path.join(HERE, "..", "..", "assets", "piles", "liggghts_1000.json")))
+    # A file generator `p` names apple `p17` of the file `p-p17`.
+    return {"p-" + a["name"]: a["diameter_m"] / 2 for a in pile}
+
+
+def main(argv):
+    what, out, exe, threads = [], "/work/lig-runs/models", None, 1
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a in ("drop", "pile", "roll", "time", "all"):
+            what.append(a)
+        elif a == "--out":
+            out = argv[i + 1]; i += 1
+        elif a == "--applesim":
+            exe = argv[i + 1]; i += 1
+        elif a == "--threads":
+            threads = int(argv[i + 1]); i += 1
+        elif a == "--scenarios":
+            global SC
+            SC = os.path.abspath(argv[i + 1]); i += 1
+        elif a in ("-h", "--help"):
+            print(__doc__); return 0
+        else:
+            print(f"unknown argument {a} (see --help)", file=sys.stderr); return 2
+        i += 1
+    if not what or "all" in what:
+        what = ["drop", "roll", "pile", "time"]
+    exe = exe or os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(HERE, "..", "..", "target")),
+                              "release", "applesim")
+    out = os.path.abspath(out)
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "applesim.json")
+    res = json.load(open(path)) if os.path.exists(path) else {}
+    res["applesim"] = exe
+    res["threads"] = threads
+    if "drop" in what:
+        res["drop"] = []
+        for name, _ in (x for x in lig_drop_names()):
+            folder, wall, err = run(exe, name, out, threads)
+            r = {"name": name, "wall_s": wall}
+            if err:
+                r["error"] = err
+                print(f"{name}: applesim refused or failed: {err}")
+            else:
+                r.update(drop_figures(folder))
+                print(f"{name:22s}: peak {r['peak_force_n']:.3f} N, contact {1e3*(r.get('contact_time_force_s') or float('nan')):.4f} ms (F > 0), "
+                      f"{1e3*(r['contact_time_overlap_s'] or float('nan')):.4f} ms (overlap > 0), e {r['restitution_separation']}; wall {wall:.1f} s")
+            res["drop"].append(r)
+    if "roll" in what:
+        res["roll"] = []
+        for model in ("cdt", "epsd2"):
+            name = f"roll_{model}"
+            folder, wall, err = run(exe, name, out, threads)
+            r = {"name": name, "roll": model, "wall_s": wall}
+            if err:
+                r["error"] = err
+                print(f"{name}: applesim refused or failed: {err}")
+            else:
+                r.update(lig.roll_figures(body_rows(folder), 0.5, 0.05))
+                print(f"{name}: stops after {r['stop_distance_m']} m at {r['stop_time_s']} s; wall {wall:.1f} s")
+            res["roll"].append(r)
+    if "pile" in what:
+        res["pile"] = {}
+        for model in ("epsd2", "cdt"):
+            name = f"pile_{model}_dt1e-4"
+            b = bench(exe, name, out, threads)
+            r = {"name": name, "bench": b}
+            if model == "epsd2" and "error" not in b:
+                folder, wall, err = run(exe, name, out, threads)
+                r["run_wall_s"] = wall
+                if err:
+                    r["run_error"] = err
+                else:
+                    t, apples = final_positions(folder, pile_radii())
+                    r["final_time_s"] = t
+                    r.update(lig.pile_geometry(apples))
+            res["pile"][model] = r
+            print(f"{name}: {json.dumps({k: v for k, v in r.items() if k != 'bench'})}; bench "
+                  f"{b.get('error') or (b['wall_s'], b['pile_height_m'])}")
+    if "time" in what:
+        res["time"] = {}
+        for acc in ("balanced", "preview"):
+            name = f"pile_epsd2_adaptive_{acc}"
+            b = bench(exe, name, out, threads)
+            res["time"][acc] = {"name": name, "bench": b}
+            print(f"{name}: {b.get('error') or (b['wall_s'], b['pile_height_m'], b['steps'])}")
+    with open(path, "w") as f:
+        json.dump(res, f, indent=1)
+    print(f"figures: {path}")
+    return 0
+
+
+def lig_drop_names():
+    for c in lig.drop_cases():
+        yield lig.case_name(c), c
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
