@@ -84,14 +84,48 @@ fn csv_columns_are_as_documented() {
             "restitution",
             "absorbed_energy_j",
             "steps",
-            "contact_point_m"
+            "contact_point_m",
+            "a_diameter_m",
+            "a_mass_kg",
+            "b_diameter_m",
+            "b_mass_kg",
+            "impact_peak_force_n",
+            "impact_t_peak_s",
+            "impact_duration_s",
+            "impact_impulse_n_s",
+            "impact_absorbed_energy_j",
+            "impact_max_pressure_pa",
+            "a_velocity_change_m_s",
+            "a_peak_g",
+            "b_velocity_change_m_s",
+            "b_peak_g",
+            "resting_s",
+            "resting_mean_force_n",
+            "resting_max_force_n",
+            "resting_mean_pressure_pa",
+            "resting_max_pressure_pa"
         ]
     );
     assert_eq!(
         header(&drop.join("bodies.csv")),
         [
-            "time_s", "apple", "x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s", "wx_rad_s",
-            "wy_rad_s", "wz_rad_s", "fx_n", "fy_n", "fz_n", "slip_m_s"
+            "time_s",
+            "apple",
+            "x_m",
+            "y_m",
+            "z_m",
+            "vx_m_s",
+            "vy_m_s",
+            "vz_m_s",
+            "wx_rad_s",
+            "wy_rad_s",
+            "wz_rad_s",
+            "fx_n",
+            "fy_n",
+            "fz_n",
+            "slip_m_s",
+            "diameter_m",
+            "mass_kg"
         ]
     );
     // README, Slip and roll; docs/transitions.md, Outputs.
@@ -141,7 +175,12 @@ fn csv_columns_are_as_documented() {
             "at_risk",
             "exceeded",
             "apple_at_risk",
-            "apple_peak_force_n"
+            "apple_peak_force_n",
+            "peak_g",
+            "static_max_force_n",
+            "static_force_threshold_n",
+            "static_max_pressure_pa",
+            "static_pressure_threshold_pa"
         ]
     );
     assert_eq!(
@@ -251,6 +290,8 @@ fn summary_keys_are_as_documented() {
         keys(&s["apples"][0]),
         sorted(&[
             "name",
+            "diameter_m",
+            "mass_kg",
             "final_position_m",
             "final_velocity_m_s",
             "final_angular_velocity_rad_s",
@@ -259,7 +300,19 @@ fn summary_keys_are_as_documented() {
             "contacts"
         ])
     );
-    let mut h = header(&slip.join("contacts.csv"));
+    // summary.json's contacts carry contacts.csv's columns, the impact and the resting load as
+    // objects (the CSV flattens them, and adds each apple's size, mass, velocity change and
+    // peak g, which need the roster).
+    let mut h: Vec<String> = header(&slip.join("contacts.csv"))
+        .into_iter()
+        .filter(|c| {
+            !(c.starts_with("impact_")
+                || c.starts_with("resting_")
+                || c.starts_with("a_")
+                || c.starts_with("b_"))
+        })
+        .chain(["impact".to_string(), "resting".to_string()])
+        .collect();
     h.sort();
     assert_eq!(keys(&s["contacts"][0]), h);
     // docs/analysis.md: metrics and the bruise section.

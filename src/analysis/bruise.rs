@@ -1,12 +1,16 @@
-//! Bruise assessment: every contact of every apple against the thresholds of its material.
+//! Bruise assessment: every contact of every apple against the thresholds of its material,
+//! impacts and static loads apart.
 //!
-//! The paper's criterion is the peak force: 80 N for firm varieties, 35-40 N for soft ones
-//! (physics.md section 8). Per material the scenario may change it and add a threshold on the
-//! peak mean contact pressure P / (pi a^2) and on the energy absorbed in the contact (the eq. 12
-//! hysteresis loss, the work that damages tissue instead of coming back as rebound). A contact is
-//! at risk when it exceeds (strictly) any threshold given; an apple is at risk when any of its
-//! contacts is. Each contact is also reported with the apple's velocity change, impulse / m, the
-//! quantity drop tests are often quoted in.
+//! A contact is an impact (from touch until the pulse is over) and possibly a resting time after
+//! it (`record::events`). The paper's criterion is the impact's peak force: 80 N for firm
+//! varieties, 35-40 N for soft ones (physics.md section 8). Per material the scenario may change
+//! it and add thresholds on the impact's peak mean contact pressure P / (pi a^2) and on the energy
+//! it absorbs (the eq. 12 hysteresis loss, the work that damages tissue instead of coming back as
+//! rebound), and thresholds on the static load of the resting time (its largest force and mean
+//! pressure: the loads storage bruising depends on). A contact is at risk when it exceeds
+//! (strictly) any threshold given; an apple is at risk when any of its contacts is. Each impact is
+//! also reported as an instrumented sphere reports it: peak acceleration in g and velocity change
+//! over the pulse (`analysis::impacts`); a contact that starts at rest has no impact.
 
 use crate::world::RosterApple;
 use crate::record::events::{ContactEvent, Party};
@@ -25,8 +29,12 @@ pub struct Thresholds {
     pub peak_force_n: f64,
     /// Peak mean contact pressure (Pa), if set.
     pub mean_pressure_pa: Option<f64>,
-    /// Energy absorbed in one contact (J), if set.
+    /// Energy absorbed in one impact (J), if set.
     pub absorbed_energy_j: Option<f64>,
+    /// Largest static force of a resting contact (N), if set.
+    pub static_force_n: Option<f64>,
+    /// Largest mean pressure of a resting contact (Pa), if set.
+    pub static_pressure_pa: Option<f64>,
 }
 
 impl Thresholds {
@@ -38,23 +46,37 @@ impl Thresholds {
                 .unwrap_or(DEFAULT_PEAK_FORCE_N),
             mean_pressure_pa: spec.and_then(|b| b.mean_pressure_pa),
             absorbed_energy_j: spec.and_then(|b| b.absorbed_energy_j),
+            static_force_n: spec.and_then(|b| b.static_force_n),
+            static_pressure_pa: spec.and_then(|b| b.static_pressure_pa),
         }
     }
 
-    /// Which thresholds a contact exceeds, joined by `+` (`force+pressure`); empty when none.
+    /// Which thresholds a contact exceeds, joined by `+` (`force+pressure`, `static-force`);
+    /// empty when none. The impact's figures meet the impact thresholds, the resting load's
+    /// the static ones.
     pub fn exceeded(&self, e: &ContactEvent) -> String {
         let mut why = Vec::new();
-        if e.peak_force_n > self.peak_force_n {
-            why.push("force");
+        if let Some(i) = &e.impact {
+            if i.peak_force_n > self.peak_force_n {
+                why.push("force");
+            }
+            if self.mean_pressure_pa.is_some_and(|p| i.max_pressure_pa > p) {
+                why.push("pressure");
+            }
+            if self
+                .absorbed_energy_j
+                .is_some_and(|w| i.absorbed_energy_j > w)
+            {
+                why.push("energy");
+            }
         }
-        if self.mean_pressure_pa.is_some_and(|p| e.max_pressure_pa > p) {
-            why.push("pressure");
-        }
-        if self
-            .absorbed_energy_j
-            .is_some_and(|w| e.absorbed_energy_j > w)
-        {
-            why.push("energy");
+        if let Some(r) = &e.resting {
+            if self.static_force_n.is_some_and(|f| r.max_force_n > f) {
+                why.push("static-force");
+            }
+            if self.static_pressure_pa.is_some_and(|p| r.max_pressure_pa > p) {
+                why.push("static-pressure");
+            }
         }
         why.join("+")
     }
@@ -75,16 +97,22 @@ pub struct ContactAssessment {
     pub t_peak_s: f64,
     /// Contact point at the peak force (m, world).
     pub contact_point_m: [f64; 3],
-    /// Peak normal force (N).
+    /// Peak normal force of the impact (N; 0 for a contact that starts at rest).
     pub peak_force_n: f64,
-    /// Peak mean contact pressure (Pa).
+    /// Peak mean contact pressure of the impact (Pa).
     pub mean_pressure_pa: f64,
-    /// Energy absorbed in the contact (J).
+    /// Energy absorbed in the impact (J).
     pub absorbed_energy_j: f64,
-    /// Velocity change of this apple from the contact's normal impulse, impulse / m (m/s).
+    /// Velocity change of this apple over the impact pulse (m/s; 0 without an impact).
     pub velocity_change_m_s: f64,
+    /// Peak acceleration of this apple in the impact, force / (m g) (g; 0 without an impact).
+    pub peak_g: f64,
     /// Normal approach speed at first touch (m/s).
     pub approach_speed_m_s: f64,
+    /// Largest force of the resting time after the impact, if any (N).
+    pub static_max_force_n: Option<f64>,
+    /// Largest mean pressure of the resting time, if any (Pa).
+    pub static_max_pressure_pa: Option<f64>,
     /// The thresholds of this apple's material.
     pub thresholds: Thresholds,
     /// Which thresholds were exceeded (`force`, `pressure`, `energy`, joined by `+`).
@@ -113,10 +141,14 @@ pub struct AppleAssessment {
     pub peak_force_n: f64,
     /// Largest mean contact pressure (Pa).
     pub peak_mean_pressure_pa: f64,
-    /// Energy absorbed in all its contacts (J); a contact between two apples counts for both.
+    /// Energy absorbed in all its impacts (J); an impact between two apples counts for both.
     pub absorbed_energy_j: f64,
-    /// Largest velocity change in one contact (m/s).
+    /// Largest velocity change in one impact (m/s).
     pub max_velocity_change_m_s: f64,
+    /// Largest peak acceleration in one impact (g).
+    pub max_peak_g: f64,
+    /// Largest static force of a resting contact (N).
+    pub max_static_force_n: f64,
     /// Whether any contact exceeded a threshold.
     pub at_risk: bool,
     /// Contacts that exceeded a threshold.
@@ -170,6 +202,7 @@ pub fn assess(
     roster: &BTreeMap<&str, &RosterApple>,
     order: &[&str],
 ) -> BruiseReport {
+    let gravity = crate::math::vec3(sc.gravity_m_s2);
     let thresholds = |material: &str| {
         Thresholds::from_spec(sc.materials.get(material).and_then(|m| m.bruise.as_ref()))
     };
@@ -187,6 +220,8 @@ pub fn assess(
             peak_mean_pressure_pa: 0.0,
             absorbed_energy_j: 0.0,
             max_velocity_change_m_s: 0.0,
+            max_peak_g: 0.0,
+            max_static_force_n: 0.0,
             at_risk: false,
             contacts_at_risk: 0,
             first_risk_with: None,
@@ -202,29 +237,36 @@ pub fn assess(
         .collect();
     let mut contacts = Vec::new();
     for (k, e) in events.iter().enumerate() {
-        let mut sides = vec![(e.a.clone(), e.b.clone())];
+        let mut sides = vec![(e.a.clone(), e.b.clone(), true)];
         if let Party::Apple(_) = e.b_party {
-            sides.push((e.b.clone(), e.a.clone()));
+            sides.push((e.b.clone(), e.a.clone(), false));
         }
-        for (name, other) in sides {
+        for (name, other, towards) in sides {
             let i = *index.entry(name.clone()).or_insert_with(|| {
                 apples.push(new_apple(&name));
                 apples.len() - 1
             });
             let th = apples[i].thresholds;
             let mass = roster.get(&*name).map_or(f64::NAN, |a| a.mass_kg);
+            let side = e
+                .impact
+                .as_ref()
+                .map(|p| super::impacts::for_apple(p, mass, gravity, towards));
             let c = ContactAssessment {
                 contact: k,
                 apple: name,
                 other,
                 t_start_s: e.t_start_s,
-                t_peak_s: e.t_peak_s,
+                t_peak_s: e.impact.map_or(e.t_peak_s, |i| i.t_peak_s),
                 contact_point_m: e.contact_point_m,
-                peak_force_n: e.peak_force_n,
-                mean_pressure_pa: e.max_pressure_pa,
-                absorbed_energy_j: e.absorbed_energy_j,
-                velocity_change_m_s: e.impulse_n_s / mass,
+                peak_force_n: e.impact.map_or(0.0, |i| i.peak_force_n),
+                mean_pressure_pa: e.impact.map_or(0.0, |i| i.max_pressure_pa),
+                absorbed_energy_j: e.impact.map_or(0.0, |i| i.absorbed_energy_j),
+                velocity_change_m_s: side.map_or(0.0, |s| s.velocity_change_m_s),
+                peak_g: side.map_or(0.0, |s| s.peak_g),
                 approach_speed_m_s: e.approach_speed_m_s,
+                static_max_force_n: e.resting.map(|r| r.max_force_n),
+                static_max_pressure_pa: e.resting.map(|r| r.max_pressure_pa),
                 thresholds: th,
                 exceeded: th.exceeded(e),
             };
@@ -234,6 +276,10 @@ pub fn assess(
             a.peak_mean_pressure_pa = a.peak_mean_pressure_pa.max(c.mean_pressure_pa);
             a.absorbed_energy_j += c.absorbed_energy_j;
             a.max_velocity_change_m_s = a.max_velocity_change_m_s.max(c.velocity_change_m_s);
+            a.max_peak_g = a.max_peak_g.max(c.peak_g);
+            a.max_static_force_n = a
+                .max_static_force_n
+                .max(c.static_max_force_n.unwrap_or(0.0));
             if c.at_risk() {
                 a.at_risk = true;
                 a.contacts_at_risk += 1;

@@ -7,6 +7,7 @@
 
 pub mod bruise;
 pub mod calibrate;
+pub mod impacts;
 pub mod pulse;
 pub mod tradeoff;
 
@@ -64,6 +65,10 @@ impl Analysis {
                 .iter()
                 .map(|c| c.velocity_change_m_s)
                 .fold(f64::NAN, f64::max),
+        );
+        m.insert(
+            "max_peak_g".into(),
+            b.contacts.iter().map(|c| c.peak_g).fold(f64::NAN, f64::max),
         );
         let median = |f: fn(&pulse::PulseFit) -> f64| {
             let mut v: Vec<f64> = self.pulse_fits.iter().map(f).collect();

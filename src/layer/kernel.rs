@@ -182,6 +182,7 @@ impl Ctx<'_> {
                 contact_radius_m: resp.contact_radius_m,
                 pressure_pa: resp.mean_pressure_pa,
                 point,
+                normal: n,
             });
         }
         // Leapfrog kick with variable steps (see `StepControl::gravity`): the force at this pose

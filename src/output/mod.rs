@@ -82,7 +82,7 @@ pub struct BruiseSummary<'a> {
 }
 
 /// Header of `contacts.csv`.
-pub const CONTACT_HEADER: [&str; 17] = [
+pub const CONTACT_HEADER: [&str; 36] = [
     "a",
     "b",
     "t_start_s",
@@ -100,6 +100,25 @@ pub const CONTACT_HEADER: [&str; 17] = [
     "absorbed_energy_j",
     "steps",
     "contact_point_m",
+    "a_diameter_m",
+    "a_mass_kg",
+    "b_diameter_m",
+    "b_mass_kg",
+    "impact_peak_force_n",
+    "impact_t_peak_s",
+    "impact_duration_s",
+    "impact_impulse_n_s",
+    "impact_absorbed_energy_j",
+    "impact_max_pressure_pa",
+    "a_velocity_change_m_s",
+    "a_peak_g",
+    "b_velocity_change_m_s",
+    "b_peak_g",
+    "resting_s",
+    "resting_mean_force_n",
+    "resting_max_force_n",
+    "resting_mean_pressure_pa",
+    "resting_max_pressure_pa",
 ];
 
 fn opt(v: Option<f64>) -> String {
@@ -107,11 +126,37 @@ fn opt(v: Option<f64>) -> String {
 }
 
 /// Writes `contacts.csv`.
-pub fn write_contacts(path: &Path, events: &[ContactEvent]) -> std::io::Result<()> {
+pub fn write_contacts(
+    path: &Path,
+    events: &[ContactEvent],
+    roster: &crate::world::Roster,
+    gravity: crate::math::Vec3,
+) -> std::io::Result<()> {
     let f = AtomicFile::create(path)?;
     let mut w = csv::Writer::from_writer(f);
     w.write_record(CONTACT_HEADER)?;
+    let by_name = roster.by_name();
+    let size = |name: &str| by_name.get(name).map(|a| (2.0 * a.radius_m, a.mass_kg));
     for e in events {
+        let a = size(&e.a);
+        let b = match e.b_party {
+            crate::record::events::Party::Apple(_) => size(&e.b),
+            crate::record::events::Party::Surface(_) => None,
+        };
+        let side = |s: Option<(f64, f64)>, towards: bool| {
+            match (e.impact.as_ref(), s) {
+                (Some(p), Some((_, m))) => {
+                    let x = crate::analysis::impacts::for_apple(p, m, gravity, towards);
+                    (x.velocity_change_m_s.to_string(), x.peak_g.to_string())
+                }
+                _ => (String::new(), String::new()),
+            }
+        };
+        let (a_dv, a_g) = side(a, true);
+        let (b_dv, b_g) = side(b, false);
+        let i = e.impact.as_ref();
+        let r = e.resting.as_ref();
+        let num = |x: Option<f64>| opt(x);
         w.write_record([
             e.a.to_string(),
             e.b.to_string(),
@@ -133,6 +178,25 @@ pub fn write_contacts(path: &Path, events: &[ContactEvent]) -> std::io::Result<(
                 "{} {} {}",
                 e.contact_point_m[0], e.contact_point_m[1], e.contact_point_m[2]
             ),
+            num(a.map(|x| x.0)),
+            num(a.map(|x| x.1)),
+            num(b.map(|x| x.0)),
+            num(b.map(|x| x.1)),
+            num(i.map(|p| p.peak_force_n)),
+            num(i.map(|p| p.t_peak_s)),
+            num(i.map(|p| p.duration_s)),
+            num(i.map(|p| p.impulse_n_s)),
+            num(i.map(|p| p.absorbed_energy_j)),
+            num(i.map(|p| p.max_pressure_pa)),
+            a_dv,
+            a_g,
+            b_dv,
+            b_g,
+            num(r.map(|x| x.duration_s)),
+            num(r.map(|x| x.mean_force_n)),
+            num(r.map(|x| x.max_force_n)),
+            num(r.map(|x| x.mean_pressure_pa)),
+            num(r.map(|x| x.max_pressure_pa)),
         ])?;
     }
     let f = w.into_inner().map_err(|e| e.into_error())?;
@@ -245,9 +309,24 @@ pub fn write_scenario(path: &Path, sc: &Scenario) -> std::io::Result<()> {
 /// Header of `bodies.csv` (one row per apple per sample).
 /// `slip_m_s` is the slip speed of the contact the apple slides or rolls on (0 in the air; empty
 /// when `output.transitions.enabled` is false).
-pub const BODIES_HEADER: [&str; 15] = [
-    "time_s", "apple", "x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s", "wx_rad_s", "wy_rad_s",
-    "wz_rad_s", "fx_n", "fy_n", "fz_n", "slip_m_s",
+pub const BODIES_HEADER: [&str; 17] = [
+    "time_s",
+    "apple",
+    "x_m",
+    "y_m",
+    "z_m",
+    "vx_m_s",
+    "vy_m_s",
+    "vz_m_s",
+    "wx_rad_s",
+    "wy_rad_s",
+    "wz_rad_s",
+    "fx_n",
+    "fy_n",
+    "fz_n",
+    "slip_m_s",
+    "diameter_m",
+    "mass_kg",
 ];
 
 /// A sample sink streaming `bodies.csv` to a temporary file, renamed on [`BodiesCsv::commit`].
@@ -294,6 +373,8 @@ impl SampleSink for BodiesCsv {
                 &f.y.to_string(),
                 &f.z.to_string(),
                 &a.slip_speed.map(|x| x.to_string()).unwrap_or_default(),
+                &a.diameter_m.to_string(),
+                &a.mass_kg.to_string(),
             ])?;
         }
         Ok(())
@@ -371,7 +452,7 @@ pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
 }
 
 /// Header of `bruise.csv`: one row per apple per contact.
-pub const BRUISE_HEADER: [&str; 18] = [
+pub const BRUISE_HEADER: [&str; 23] = [
     "contact",
     "apple",
     "other",
@@ -390,6 +471,11 @@ pub const BRUISE_HEADER: [&str; 18] = [
     "exceeded",
     "apple_at_risk",
     "apple_peak_force_n",
+    "peak_g",
+    "static_max_force_n",
+    "static_force_threshold_n",
+    "static_max_pressure_pa",
+    "static_pressure_threshold_pa",
 ];
 
 /// Writes `bruise.csv`.
@@ -421,6 +507,11 @@ pub fn write_bruise(path: &Path, a: &Analysis) -> std::io::Result<()> {
             apple
                 .map(|x| x.peak_force_n.to_string())
                 .unwrap_or_default(),
+            c.peak_g.to_string(),
+            opt(c.static_max_force_n),
+            opt(c.thresholds.static_force_n),
+            opt(c.static_max_pressure_pa),
+            opt(c.thresholds.static_pressure_pa),
         ])?;
     }
     let f = w.into_inner().map_err(|e| e.into_error())?;
@@ -550,7 +641,13 @@ pub fn run_into(
     let p = out_dir.join("bruise.csv");
     write_bruise(&p, &analysis).map_err(io_at(&p))?;
     let p = out_dir.join("contacts.csv");
-    write_contacts(&p, &result.events).map_err(io_at(&p))?;
+    write_contacts(
+        &p,
+        &result.events,
+        &result.roster,
+        crate::math::vec3(sc.gravity_m_s2),
+    )
+    .map_err(io_at(&p))?;
     if result.transition_summary.is_some() {
         let p = out_dir.join("transitions.csv");
         write_transitions(&p, &result.transitions).map_err(io_at(&p))?;

@@ -379,6 +379,13 @@ pub struct BruiseSpec {
     /// Energy absorbed in one impact (J, the eq. 12 hysteresis loss); no default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub absorbed_energy_j: Option<f64>,
+    /// Largest static force of a resting contact (N): the load of an apple under a pile; no
+    /// default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_force_n: Option<f64>,
+    /// Largest mean pressure of a resting contact (Pa); no default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_pressure_pa: Option<f64>,
 }
 
 /// Contact coefficients.

@@ -511,14 +511,20 @@ pub const INCLINE: Range = Range {
 /// Angular half-width of a trough.
 pub const HALF_ANGLE: Range = positive("trough half-angle", "a", 90.0, "deg", "`half_angle_deg`");
 /// Bruise thresholds: force.
-pub const BRUISE_FORCE: Range = positive("bruise force", "F", 1e6, "N", "`bruise.peak_force_n`");
+pub const BRUISE_FORCE: Range = positive(
+    "bruise force",
+    "F",
+    1e6,
+    "N",
+    "`bruise.peak_force_n`, `bruise.static_force_n`",
+);
 /// Bruise thresholds: pressure.
 pub const BRUISE_PRESSURE: Range = positive(
     "bruise pressure",
     "p",
     1e10,
     "Pa",
-    "`bruise.mean_pressure_pa`",
+    "`bruise.mean_pressure_pa`, `bruise.static_pressure_pa`",
 );
 /// Bruise thresholds: energy.
 pub const BRUISE_ENERGY: Range =

@@ -219,6 +219,12 @@ pub fn validate(sc: &Scenario) -> R {
             if let Some(v) = b.absorbed_energy_j {
                 ranges::BRUISE_ENERGY.check(&format!("{f}.absorbed_energy_j"), v)?;
             }
+            if let Some(v) = b.static_force_n {
+                ranges::BRUISE_FORCE.check(&format!("{f}.static_force_n"), v)?;
+            }
+            if let Some(v) = b.static_pressure_pa {
+                ranges::BRUISE_PRESSURE.check(&format!("{f}.static_pressure_pa"), v)?;
+            }
         }
     }
     law("contact", &sc.contact)?;

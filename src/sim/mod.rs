@@ -91,6 +91,10 @@ pub enum SimError {
 pub struct AppleFinal {
     /// Name.
     pub name: String,
+    /// Diameter (m).
+    pub diameter_m: f64,
+    /// Mass (kg).
+    pub mass_kg: f64,
     /// Centre at the end (m).
     pub final_position_m: [f64; 3],
     /// Centre velocity at the end (m/s).
@@ -338,6 +342,8 @@ impl Simulation {
                 angular_velocity: rb.angvel(),
                 contact_force: layer.apple_contact_force(id),
                 slip_speed: self.detector.as_ref().map(|d| d.current_slip(k)),
+                diameter_m: 2.0 * layer.apple_radius(id),
+                mass_kg: layer.apple_mass(id),
             });
         }
     }
@@ -605,6 +611,8 @@ impl Simulation {
             .enumerate()
             .map(|(k, s)| AppleFinal {
                 name: s.name.to_string(),
+                diameter_m: s.diameter_m,
+                mass_kg: s.mass_kg,
                 final_position_m: arr3(s.position),
                 final_velocity_m_s: arr3(s.velocity),
                 final_angular_velocity_rad_s: arr3(s.angular_velocity),
