@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """applesim side of the same-model comparison (issue 19, build items 4 and 5).
 
-usage: applesim.py [drop|pile|roll|time|all]... [--out DIR] [--applesim PATH] [--threads N]
+usage: applesim.py [drop|pile|roll|scatter|time|all]... [--out DIR] [--applesim PATH] [--threads N]
                    [--scenarios DIR]
 
 Runs the scenarios of bench/models/scenarios/ (written by make_scenarios.py) one after the other
@@ -16,7 +16,12 @@ and writes DIR/applesim.json (compare.py reads it):
         contacts per apple at 5 s) and `applesim run` of it (the final positions: the same
         height, top-25 mean and contact count as for LIGGGHTS, computed by the same function);
         the cdt pile by bench only.
-  time  `applesim bench --json` of pile_epsd2_adaptive_{balanced,preview}.json (item 5).
+  scatter  `applesim run` of pile_epsd2_dt1e-4.json from the three other starts of LIGGGHTS's
+        ensemble (liggghts.py scatter: every apple moved sideways by up to 1 um, seeds 1-3; read
+        from DIR/pile/pile_jitter{1,2,3}.data, written there if missing): with the gen.py start,
+        applesim's own ensemble of four equally valid piles, to set beside LIGGGHTS's.
+  time  `applesim bench --json` of pile_epsd2_adaptive_{balanced,preview}.json (item 5; one
+        run each: the timed, alternating rounds are time_to_answer.py's).
 
 A scenario applesim refuses (e.g. a field it does not parse yet) is recorded with its error and
 shows as pending in the table. --threads (default 1: LIGGGHTS runs on one core) is passed to
@@ -136,12 +141,42 @@ def pile_radii():
     return {"p-" + a["name"]: a["diameter_m"] / 2 for a in pile}
 
 
+def jittered_scenario(out, seed):
+    """pile_epsd2_dt1e-4.json with the start of LIGGGHTS's jittered data file `seed` (the same
+    apples, names and diameters, each moved sideways by up to 1 um): (scenario path, pile path)."""
+    data = lig.jittered_data(out, seed)
+    lines = open(data).read().splitlines()
+    k = lines.index("Atoms")
+    ref = json.load(open(os.path.join(HERE, "..", "..", "assets", "piles", "liggghts_1000.json")))
+    pile = []
+    for l in lines[k + 1:]:
+        p = l.split()
+        if len(p) != 7:
+            continue
+        i = int(p[0])
+        a = ref[i - 1]
+        assert a["name"] == f"p{i}" and abs(a["diameter_m"] - float(p[2])) < 1e-9, (a, l)
+        pile.append({"name": a["name"], "diameter_m": a["diameter_m"],
+                     "position_m": [float(p[4]), float(p[5]), float(p[6])]})
+    folder = os.path.join(out, "pile")
+    pile_path = os.path.join(folder, f"applesim_pile_jitter{seed}.json")
+    with open(pile_path, "w") as f:
+        json.dump(pile, f)
+    sc = json.load(open(os.path.join(SC, "pile_epsd2_dt1e-4.json")))
+    sc["generators"][0]["file"] = pile_path
+    sc["description"] += f" Start: LIGGGHTS's jittered start {seed} (bench/models/applesim.py scatter)."
+    sc_path = os.path.join(folder, f"pile_epsd2_dt1e-4_jitter{seed}.json")
+    with open(sc_path, "w") as f:
+        json.dump(sc, f, indent=1)
+    return sc_path
+
+
 def main(argv):
     what, out, exe, threads = [], "/work/lig-runs/models", None, 1
     i = 0
     while i < len(argv):
         a = argv[i]
-        if a in ("drop", "pile", "roll", "time", "all"):
+        if a in ("drop", "pile", "roll", "scatter", "time", "all"):
             what.append(a)
         elif a == "--out":
             out = argv[i + 1]; i += 1
@@ -158,7 +193,7 @@ def main(argv):
             print(f"unknown argument {a} (see --help)", file=sys.stderr); return 2
         i += 1
     if not what or "all" in what:
-        what = ["drop", "roll", "pile", "time"]
+        what = ["drop", "roll", "pile", "scatter", "time"]
     exe = exe or os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(HERE, "..", "..", "target")),
                               "release", "applesim")
     out = os.path.abspath(out)
@@ -211,6 +246,24 @@ def main(argv):
             res["pile"][model] = r
             print(f"{name}: {json.dumps({k: v for k, v in r.items() if k != 'bench'})}; bench "
                   f"{b.get('error') or (b['wall_s'], b['pile_height_m'])}")
+    if "scatter" in what:
+        res["pile_scatter"] = []
+        radii = pile_radii()
+        for seed in (1, 2, 3):
+            sc_path = jittered_scenario(out, seed)
+            folder = os.path.join(out, f"applesim_pile_epsd2_dt1e-4_jitter{seed}")
+            os.makedirs(folder, exist_ok=True)
+            cmd = [exe, "run", sc_path, "--out", folder] + (["--threads", str(threads)] if threads else [])
+            _, wall, err = call(cmd, os.path.join(folder, "command.log"))
+            r = {"name": f"pile_epsd2_dt1e-4_jitter{seed}", "jitter_seed": seed, "run_wall_s": wall}
+            if err:
+                r["error"] = err
+            else:
+                t, apples = final_positions(folder, radii)
+                r["final_time_s"] = t
+                r.update(lig.pile_geometry(apples))
+            res["pile_scatter"].append(r)
+            print(f"{r['name']}: {json.dumps(r)}")
     if "time" in what:
         res["time"] = {}
         for acc in ("balanced", "preview"):

@@ -92,6 +92,24 @@ if ens and lp:
         inside = "-" if a is None else ("inside" if e["min"] <= a <= e["max"] else "outside")
         rows.append((f"  LIGGGHTS range of the {ens['starts']} starts", f"[{e['min']:.4f}, {e['max']:.4f}]", inside,
                      "", f"spread {100 * e['spread_rel']:.2f} %", "", ""))
+# applesim's own ensemble: the gen.py start and LIGGGHTS's three jittered starts (applesim.py
+# scatter); its mean against LIGGGHTS's mean, and both ranges.
+asc = [r for r in A.get("pile_scatter", []) if "error" not in r]
+for r in A.get("pile_scatter", []):
+    if "error" in r:
+        errors[r["name"]] = r["error"]
+if ens and ap and "error" not in ap and "z_max_m" in ap and asc:
+    arun = [ap] + asc
+    for k, lab, bound in (("z_max_m", "height (max centre z)", 0.01),
+                          ("z_top25_mean_m", "mean z of the 25 highest", None),
+                          ("apple_apple_contacts_per_apple", "apple-apple contacts/apple", 0.03)):
+        v = [r[k] for r in arun]
+        m = sum(v) / len(v)
+        e = ens[k]
+        row(f"pile epsd2 dt 1e-4, {len(arun)}-start means (both codes): {lab}", e["mean"], m,
+            "m" if "z" in k else "", 1, 4, bound)
+        rows.append((f"  ranges of the {len(arun)} starts, each code", f"[{e['min']:.4f}, {e['max']:.4f}]",
+                     f"[{min(v):.4f}, {max(v):.4f}]", "", f"spread {100 * (max(v) - min(v)) / m:.2f} %", "", ""))
 lc = next((r for r in L.get("pile_cdt", []) if "error" not in r), None)
 ac = (A.get("pile") or {}).get("cdt")
 if lc:

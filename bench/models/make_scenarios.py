@@ -23,11 +23,13 @@ ROLLING = {"epsd2": "elastic-plastic", "cdt": "constant-torque"}
 
 
 def contact(e, mu, mur, roll):
-    # ke and lambda_s_m are the eq. 12 coefficients: not used by the viscoelastic damping; given
-    # (elastic, 1 and 0) because today's parser requires them.
-    return {"friction": mu, "ke": 1.0, "lambda_s_m": 0.0,
-            "damping": "viscoelastic", "restitution": e,
-            "tangential": "history", "rolling": ROLLING[roll], "rolling_friction": mur}
+    # No ke / lambda_s_m: only the eq. 12 dampings need them. epsd2 has no rolling dashpot, so
+    # "rolling_damping": 0 (applesim's default 1.0 is a critically damped dashpot, LIGGGHTS epsd).
+    c = {"friction": mu, "damping": "viscoelastic", "restitution": e,
+         "tangential": "history", "rolling": ROLLING[roll], "rolling_friction": mur}
+    if roll == "epsd2":
+        c["rolling_damping"] = 0.0
+    return c
 
 
 def plate():
