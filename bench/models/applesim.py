@@ -10,8 +10,9 @@ and writes DIR/applesim.json (compare.py reads it):
   drop  `applesim run` of drop_*.json: peak force, contact time (contacts.csv: touch to
         separation, i.e. overlap > 0; forces.csv: touch to the force's return to zero),
         restitution at separation.
-  roll  `applesim run` of roll_cdt.json and roll_epsd2.json: stopping time and distance from
-        bodies.csv (the first sample with vx <= 0, interpolated), as for LIGGGHTS.
+  roll  `applesim run` of roll_{cdt,epsd2}.json and roll_{cdt,epsd2}_soft.json (a plate of the
+        apple's E and nu): stopping time and distance from bodies.csv (the first sample with
+        vx <= 0, interpolated), as for LIGGGHTS.
   pile  `applesim bench --json` of pile_epsd2_dt1e-4.json (wall time, settled height, apple-apple
         contacts per apple at 5 s) and `applesim run` of it (the final positions: the same
         height, top-25 mean and contact count as for LIGGGHTS, computed by the same function);
@@ -54,14 +55,22 @@ def call(cmd, log):
     return p, wall, err
 
 
-def run(exe, name, out, threads):
-    folder = os.path.join(out, "applesim_" + name)
-    os.makedirs(folder, exist_ok=True)
-    cmd = [exe, "run", os.path.join(SC, name + ".json"), "--out", folder]
+def run_folder(exe, scenario, folder, threads):
+    """`applesim run SCENARIO --out FOLDER`; its command and output go to FOLDER.log, beside the
+    folder: applesim replaces a result folder only when it holds nothing but a previous run's
+    files."""
+    stale = os.path.join(folder, "command.log")  # where earlier versions of this script wrote it
+    if os.path.exists(stale):
+        os.remove(stale)
+    cmd = [exe, "run", scenario, "--out", folder]
     if threads:
         cmd += ["--threads", str(threads)]
-    _, wall, err = call(cmd, os.path.join(folder, "command.log"))
+    _, wall, err = call(cmd, folder + ".log")
     return folder, wall, err
+
+
+def run(exe, name, out, threads):
+    return run_folder(exe, os.path.join(SC, name + ".json"), os.path.join(out, "applesim_" + name), threads)
 
 
 def bench(exe, name, out, threads):
@@ -217,10 +226,10 @@ def main(argv):
             res["drop"].append(r)
     if "roll" in what:
         res["roll"] = []
-        for model in ("cdt", "epsd2"):
-            name = f"roll_{model}"
+        for model, plate in (("cdt", "steel"), ("epsd2", "steel"), ("cdt", "soft"), ("epsd2", "soft")):
+            name = f"roll_{model}{'_soft' if plate == 'soft' else ''}"
             folder, wall, err = run(exe, name, out, threads)
-            r = {"name": name, "roll": model, "wall_s": wall}
+            r = {"name": name, "roll": model, "plate": plate, "wall_s": wall}
             if err:
                 r["error"] = err
                 print(f"{name}: applesim refused or failed: {err}")
@@ -252,9 +261,7 @@ def main(argv):
         for seed in (1, 2, 3):
             sc_path = jittered_scenario(out, seed)
             folder = os.path.join(out, f"applesim_pile_epsd2_dt1e-4_jitter{seed}")
-            os.makedirs(folder, exist_ok=True)
-            cmd = [exe, "run", sc_path, "--out", folder] + (["--threads", str(threads)] if threads else [])
-            _, wall, err = call(cmd, os.path.join(folder, "command.log"))
+            _, wall, err = run_folder(exe, sc_path, folder, threads)
             r = {"name": f"pile_epsd2_dt1e-4_jitter{seed}", "jitter_seed": seed, "run_wall_s": wall}
             if err:
                 r["error"] = err

@@ -121,16 +121,19 @@ if lc:
     row("pile cdt dt 1e-4: apple-apple contacts/apple", lc["apple_apple_contacts_per_apple"], aw, "", 1, 4, 0.03)
 
 # Rolling: LIGGGHTS at dt 1e-5 (the scenarios' step).
-aroll = {r["roll"]: r for r in A.get("roll", [])}
+aroll = {(r["roll"], r.get("plate", "steel")): r for r in A.get("roll", [])}
 for r in L.get("roll", []):
     if r.get("dt_s") != 1e-5 or "error" in r:
         continue
-    a = aroll.get(r["roll"])
+    plate = r.get("plate", "steel")
+    a = aroll.get((r["roll"], plate))
+    lab = r["roll"] + (" on the soft plate" if plate == "soft" else "")
     if a and "error" in a:
-        errors["roll_" + r["roll"]] = a["error"]
-    row(f"roll {r['roll']}: stopping distance", r["stop_distance_m"], get(a, "stop_distance_m"), "m", 1, 5, 0.02)
-    row(f"roll {r['roll']}: stopping time", r["stop_time_s"], get(a, "stop_time_s"), "s", 1, 4, None)
-    if r["roll"] == "cdt":
+        errors[a["name"]] = a["error"]
+    row(f"roll {lab}: stopping distance", r["stop_distance_m"], get(a, "stop_distance_m"), "m", 1, 5,
+        0.02 if plate == "steel" else None)
+    row(f"roll {lab}: stopping time", r["stop_time_s"], get(a, "stop_time_s"), "s", 1, 4, None)
+    if r["roll"] == "cdt" and plate == "steel":
         rows.append((f"roll cdt: closed form 7 v0^2/(10 mu_r g)", fmt(r["closed_form_distance_m"], 1, 5), "", "m",
                      rel(r["stop_distance_m"], r["closed_form_distance_m"]) + " (LIGGGHTS)", "", ""))
 
@@ -185,6 +188,13 @@ for acc in ("balanced", "preview"):
           f"LIGGGHTS dt 1e-4 / applesim {lw / b['wall_s']:.2f}"
           + (f", LIGGGHTS dt {best:g} / applesim {lb['loop_s'] / b['wall_s']:.2f}" if lb else "")
           + (f", LIGGGHTS dt {ebest:g} / applesim {le['loop_s'] / b['wall_s']:.2f}" if le and ebest != best else ""))
+# The alternating timed rounds of time_to_answer.py, when they were run into this folder.
+tta = os.path.join(out, "time_to_answer.json")
+if os.path.exists(tta):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import time_to_answer  # noqa: E402
+    print("\nTime to an answer, alternating rounds (bench/models/time_to_answer.py, " + tta + "):")
+    time_to_answer.print_summary(json.load(open(tta)))
 if errors:
     print("\npending (applesim refused or failed):")
     for k, v in errors.items():

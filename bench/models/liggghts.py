@@ -19,7 +19,8 @@ records and writes DIR/liggghts.json (the figures; compare.py reads it) and prin
         dt). Plus the cdt variant at 1e-4.
   roll  one apple launched rolling (v0 0.5 m/s, omega = v0/R) on a steel plate with gravity,
         rolling friction 0.05, cdt and epsd2, dt 1e-5 and 1e-6: stopping time and distance
-        against the cdt closed form.
+        against the cdt closed form; and at dt 1e-5 on a soft plate (the apple's E and nu: the
+        lever arm R - delta/2 then the same in both codes).
   scatter  the pile again from three starts with every apple moved sideways by up to 1 um
         (seeds 1-3) at dt 1e-4, 2e-4, 3e-4, 5e-4, 6e-4, 7e-4: with gen.py's start, an ensemble of
         four equally valid settled piles per dt (their scatter is chaos, not the step); the
@@ -51,9 +52,15 @@ E_APPLE, NU_APPLE, E_STEEL, NU_STEEL = 2.6e6, 0.18, 2.0e11, 0.30
 Y_STAR_WALL = 1.0 / ((1 - NU_APPLE ** 2) / E_APPLE + (1 - NU_STEEL ** 2) / E_STEEL)
 
 
-def static_overlap_wall():
+def static_overlap_wall(y_star=Y_STAR_WALL):
     """Overlap of an apple resting on the plate: (3 m g / (4 E* sqrt(R)))^(2/3)."""
-    return (3.0 * MASS * G / (4.0 * Y_STAR_WALL * math.sqrt(R))) ** (2.0 / 3.0)
+    return (3.0 * MASS * G / (4.0 * y_star * math.sqrt(R))) ** (2.0 / 3.0)
+
+
+# The soft plate of the rolling variant: the apple's own modulus and Poisson ratio, so that
+# applesim's contact point (R - u c1/(c1 + c2), compliance share) sits at R - u/2 as LIGGGHTS's
+# does on every wall (R - delta/2): the lever arm difference of the steel plate removed.
+Y_STAR_SOFT = 1.0 / (2 * (1 - NU_APPLE ** 2) / E_APPLE)
 
 
 REUSE = False
@@ -375,22 +382,26 @@ def roll_figures(rows, v0, mur):
 def run_roll(out):
     res = []
     v0, mur = 0.5, 0.05
-    z0 = R - static_overlap_wall()
-    for roll in ("cdt", "epsd2"):
-        for dt in (1e-5, 1e-6):
-            name = f"roll_{roll}_dt{dt:g}"
+    cases = [(roll, dt, "steel") for roll in ("cdt", "epsd2") for dt in (1e-5, 1e-6)]
+    cases += [("cdt", 1e-5, "soft"), ("epsd2", 1e-5, "soft")]
+    for roll, dt, plate in cases:
+            soft = plate == "soft"
+            z0 = R - static_overlap_wall(Y_STAR_SOFT if soft else Y_STAR_WALL)
+            name = f"roll_{roll}{'_soft' if soft else ''}_dt{dt:g}"
             folder = os.path.join(out, name)
             every = int(round(1e-4 / dt))
-            wall, loop, err = run_deck("roll.in", folder, {
-                "roll": roll, "mur": mur, "v0": v0, "z0": f"{z0:.9f}", "dt": dt, "tend": 2.0,
-                "every": every, "out": "rec.txt"})
+            var = {"roll": roll, "mur": mur, "v0": v0, "z0": f"{z0:.9f}", "dt": dt, "tend": 2.0,
+                   "every": every, "out": "rec.txt"}
+            if soft:
+                var.update(Ew=E_APPLE, nuw=NU_APPLE)
+            wall, loop, err = run_deck("roll.in", folder, var)
             if err:
-                res.append({"name": name, "roll": roll, "dt_s": dt, "error": err})
+                res.append({"name": name, "roll": roll, "plate": plate, "dt_s": dt, "error": err})
                 print(f"{name}: LIGGGHTS failed: {err}")
                 continue
             fig = roll_figures(read_rec(os.path.join(folder, "rec.txt")), v0, mur)
-            res.append({"name": name, "roll": roll, "dt_s": dt, "v0": v0, "mur": mur, "z0_m": z0,
-                        "wall_s": wall, "loop_s": loop, **fig})
+            res.append({"name": name, "roll": roll, "plate": plate, "dt_s": dt, "v0": v0, "mur": mur,
+                        "z0_m": z0, "wall_s": wall, "loop_s": loop, **fig})
             print(f"{name:18s}: stops after {fig['stop_distance_m']:.5f} m ({100*fig['rel_distance']:+.2f} % of "
                   f"{fig['closed_form_distance_m']:.5f}) at {fig['stop_time_s']:.4f} s ({100*fig['rel_time']:+.2f} % of "
                   f"{fig['closed_form_time_s']:.4f}); deceleration {fig['deceleration_m_s2']:.5f} m/s^2 (closed "
