@@ -22,7 +22,8 @@ and writes DIR/applesim.json (compare.py reads it):
         from DIR/pile/pile_jitter{1,2,3}.data, written there if missing): with the gen.py start,
         applesim's own ensemble of four equally valid piles, to set beside LIGGGHTS's.
   time  `applesim bench --json` of pile_epsd2_adaptive_{balanced,preview}.json (item 5; one
-        run each: the timed, alternating rounds are time_to_answer.py's).
+        run each: the timed, alternating rounds are time_to_answer.py's), and `applesim run` of
+        them for the final positions (top-25 mean z, contacts counted from the positions).
 
 A scenario applesim refuses (e.g. a field it does not parse yet) is recorded with its error and
 shows as pending in the table. --threads (default 1: LIGGGHTS runs on one core) is passed to
@@ -276,8 +277,18 @@ def main(argv):
         for acc in ("balanced", "preview"):
             name = f"pile_epsd2_adaptive_{acc}"
             b = bench(exe, name, out, threads)
-            res["time"][acc] = {"name": name, "bench": b}
-            print(f"{name}: {b.get('error') or (b['wall_s'], b['pile_height_m'], b['steps'])}")
+            r = {"name": name, "bench": b}
+            if "error" not in b:
+                # The final positions too: the top-25 mean and the contacts, as for LIGGGHTS.
+                folder, wall, err = run(exe, name, out, threads)
+                r["run_wall_s"] = wall
+                if err:
+                    r["run_error"] = err
+                else:
+                    r.update(lig.pile_geometry(final_positions(folder, pile_radii())[1]))
+            res["time"][acc] = r
+            print(f"{name}: {b.get('error') or (b['wall_s'], b['pile_height_m'], b['steps'])}; "
+                  f"{json.dumps({k: v for k, v in r.items() if k not in ('bench', 'name')})}")
     with open(path, "w") as f:
         json.dump(res, f, indent=1)
     print(f"figures: {path}")

@@ -182,8 +182,12 @@ for acc in ("balanced", "preview"):
         print(f"  applesim adaptive {acc}: pending")
         continue
     aw = b["windows"][-1]["apple_apple_contacts_per_apple"] if b.get("windows") else None
+    awake = {w["label"]: w["mean_awake_apples"] for w in b.get("windows", [])}
+    top = t.get("z_top25_mean_m")
     print(f"  applesim adaptive {acc}: time loop {b['wall_s']:.2f} s ({b['steps']} steps), height "
           f"{b['pile_height_m']:.4f} m ({rel(b['pile_height_m'], lp and lp['z_max_m'])} vs LIGGGHTS dt 1e-4), "
+          + (f"top-25 mean {top:.4f} m ({rel(top, ens and ens['z_top25_mean_m']['mean'])} vs LIGGGHTS's 4-start mean), " if top else "")
+          + f"mean awake apples {', '.join(f'{k} {v:.0f}' for k, v in awake.items())}, "
           f"contacts/apple {fmt(aw)} ({rel(aw, lp and lp['apple_apple_contacts_per_apple'])}); "
           f"LIGGGHTS dt 1e-4 / applesim {lw / b['wall_s']:.2f}"
           + (f", LIGGGHTS dt {best:g} / applesim {lb['loop_s'] / b['wall_s']:.2f}" if lb else "")

@@ -30,7 +30,8 @@ records and writes DIR/liggghts.json (the figures; compare.py reads it) and prin
         each, alternating: the wall times of item 5 (minimum and median).
 --quick: the pile only 0.5 s at dt 1e-4 and 2e-4 (to check the scripts).
 --reuse: read a case's folder instead of running it again when it holds a finished run of the
-         same command (its wall time is the one measured then).
+         same command (the same deck name and variables, from any checkout; its wall time is the
+         one measured then).
 """
 import json
 import math
@@ -66,6 +67,13 @@ Y_STAR_SOFT = 1.0 / (2 * (1 - NU_APPLE ** 2) / E_APPLE)
 REUSE = False
 
 
+def same_command(a, b):
+    """Whether two recorded command lines are the same run: the same deck (by name: the folder
+    of this checkout may differ) with the same variables."""
+    norm = lambda l: re.sub(r"-in \S*/([^/\s]+\.in)", r"-in \1", l.strip())
+    return norm(a) == norm(b)
+
+
 def run_deck(deck, folder, variables):
     """Runs one deck; returns (wall seconds of the process, summed 'Loop time' of its runs,
     the error if it failed). With --reuse a folder that already holds a finished run of the
@@ -77,7 +85,7 @@ def run_deck(deck, folder, variables):
     line = "OMP_NUM_THREADS=1 " + " ".join(cmd) + "\n"
     cmd_file, wall_file = os.path.join(folder, "command.txt"), os.path.join(folder, "wall_s.txt")
     if (REUSE and os.path.exists(wall_file) and os.path.exists(cmd_file)
-            and open(cmd_file).read() == line):
+            and same_command(open(cmd_file).read(), line)):
         wall = float(open(wall_file).read())
         print(f"(reusing {folder})")
     else:
