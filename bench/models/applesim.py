@@ -20,7 +20,8 @@ and writes DIR/applesim.json (compare.py reads it):
   scatter  `applesim run` of pile_epsd2_dt1e-4.json from the three other starts of LIGGGHTS's
         ensemble (liggghts.py scatter: every apple moved sideways by up to 1 um, seeds 1-3; read
         from DIR/pile/pile_jitter{1,2,3}.data, written there if missing): with the gen.py start,
-        applesim's own ensemble of four equally valid piles, to set beside LIGGGHTS's.
+        applesim's own ensemble of four equally valid piles, to set beside LIGGGHTS's; the same
+        for pile_cdt_dt1e-4.json (its gen.py start run too, for the positions).
   time  `applesim bench --json` of pile_epsd2_adaptive_{balanced,preview}.json (item 5; one
         run each: the timed, alternating rounds are time_to_answer.py's), and `applesim run` of
         them for the final positions (top-25 mean z, contacts counted from the positions).
@@ -151,8 +152,8 @@ def pile_radii():
     return {"p-" + a["name"]: a["diameter_m"] / 2 for a in pile}
 
 
-def jittered_scenario(out, seed):
-    """pile_epsd2_dt1e-4.json with the start of LIGGGHTS's jittered data file `seed` (the same
+def jittered_scenario(out, seed, model="epsd2"):
+    """pile_{model}_dt1e-4.json with the start of LIGGGHTS's jittered data file `seed` (the same
     apples, names and diameters, each moved sideways by up to 1 um): (scenario path, pile path)."""
     data = lig.jittered_data(out, seed)
     lines = open(data).read().splitlines()
@@ -172,10 +173,10 @@ def jittered_scenario(out, seed):
     pile_path = os.path.join(folder, f"applesim_pile_jitter{seed}.json")
     with open(pile_path, "w") as f:
         json.dump(pile, f)
-    sc = json.load(open(os.path.join(SC, "pile_epsd2_dt1e-4.json")))
+    sc = json.load(open(os.path.join(SC, f"pile_{model}_dt1e-4.json")))
     sc["generators"][0]["file"] = pile_path
     sc["description"] += f" Start: LIGGGHTS's jittered start {seed} (bench/models/applesim.py scatter)."
-    sc_path = os.path.join(folder, f"pile_epsd2_dt1e-4_jitter{seed}.json")
+    sc_path = os.path.join(folder, f"pile_{model}_dt1e-4_jitter{seed}.json")
     with open(sc_path, "w") as f:
         json.dump(sc, f, indent=1)
     return sc_path
@@ -259,11 +260,15 @@ def main(argv):
     if "scatter" in what:
         res["pile_scatter"] = []
         radii = pile_radii()
-        for seed in (1, 2, 3):
-            sc_path = jittered_scenario(out, seed)
-            folder = os.path.join(out, f"applesim_pile_epsd2_dt1e-4_jitter{seed}")
+        for model, seed in [("epsd2", s) for s in (1, 2, 3)] + [("cdt", s) for s in (0, 1, 2, 3)]:
+            if seed == 0:  # the cdt pile from gen.py's start: its positions (the pile target only benches it)
+                sc_path = os.path.join(SC, "pile_cdt_dt1e-4.json")
+            else:
+                sc_path = jittered_scenario(out, seed, model)
+            name = f"pile_{model}_dt1e-4" + (f"_jitter{seed}" if seed else "")
+            folder = os.path.join(out, "applesim_" + name)
             _, wall, err = run_folder(exe, sc_path, folder, threads)
-            r = {"name": f"pile_epsd2_dt1e-4_jitter{seed}", "jitter_seed": seed, "run_wall_s": wall}
+            r = {"name": name, "roll": model, "jitter_seed": seed, "run_wall_s": wall}
             if err:
                 r["error"] = err
             else:

@@ -94,7 +94,7 @@ if ens and lp:
                      "", f"spread {100 * e['spread_rel']:.2f} %", "", ""))
 # applesim's own ensemble: the gen.py start and LIGGGHTS's three jittered starts (applesim.py
 # scatter); its mean against LIGGGHTS's mean, and both ranges.
-asc = [r for r in A.get("pile_scatter", []) if "error" not in r]
+asc = [r for r in A.get("pile_scatter", []) if "error" not in r and r.get("roll", "epsd2") == "epsd2"]
 for r in A.get("pile_scatter", []):
     if "error" in r:
         errors[r["name"]] = r["error"]
@@ -119,6 +119,20 @@ if lc:
     row("pile cdt dt 1e-4: height (max centre z)", lc["z_max_m"], get(ab, "pile_height_m"), "m", 1, 4, 0.01)
     aw = ab["windows"][-1]["apple_apple_contacts_per_apple"] if ab and "error" not in ab and ab.get("windows") else None
     row("pile cdt dt 1e-4: apple-apple contacts/apple", lc["apple_apple_contacts_per_apple"], aw, "", 1, 4, 0.03)
+# The cdt pile's two ensembles (gen.py's start and the same three jittered starts in each code).
+lce = (L.get("pile_scatter_summary") or {}).get("cdt_1e-4")
+acs = [r for r in A.get("pile_scatter", []) if "error" not in r and r.get("roll") == "cdt"]
+if lce and acs:
+    for k, lab, bound in (("z_max_m", "height (max centre z)", 0.01),
+                          ("z_top25_mean_m", "mean z of the 25 highest", None),
+                          ("apple_apple_contacts_per_apple", "apple-apple contacts/apple", 0.03)):
+        v = [r[k] for r in acs]
+        m = sum(v) / len(v)
+        e = lce[k]
+        row(f"pile cdt dt 1e-4, {lce['starts']}/{len(acs)}-start means: {lab}", e["mean"], m,
+            "m" if "z" in k else "", 1, 4, bound)
+        rows.append((f"  ranges of the starts, each code", f"[{e['min']:.4f}, {e['max']:.4f}]",
+                     f"[{min(v):.4f}, {max(v):.4f}]", "", f"spread {100 * (max(v) - min(v)) / m:.2f} %", "", ""))
 
 # Rolling: LIGGGHTS at dt 1e-5 (the scenarios' step).
 aroll = {(r["roll"], r.get("plate", "steel")): r for r in A.get("roll", [])}

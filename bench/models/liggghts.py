@@ -25,7 +25,8 @@ records and writes DIR/liggghts.json (the figures; compare.py reads it) and prin
         (seeds 1-3) at dt 1e-4, 2e-4, 3e-4, 5e-4, 6e-4, 7e-4: with gen.py's start, an ensemble of
         four equally valid settled piles per dt (their scatter is chaos, not the step); the
         largest dt whose ensemble means stay within 1 % of dt 1e-4's. Also dt 1e-4 with
-        neighbour skins 6, 10, 12 mm (only the summation order of the forces changes) and dt 5e-5.
+        neighbour skins 6, 10, 12 mm (only the summation order of the forces changes) and dt 5e-5;
+        and the cdt pile from the same three starts at dt 1e-4.
   timing  the pile (gen.py's start) at dt 1e-4 and at the largest dt of the scatter, three times
         each, alternating: the wall times of item 5 (minimum and median).
 --quick: the pile only 0.5 s at dt 1e-4 and 2e-4 (to check the scripts).
@@ -436,6 +437,11 @@ def run_scatter(out):
             for r in run_pile(out, [dt], tag=f"_jitter{seed}", data=jittered_data(out, seed)):
                 r["jitter_seed"] = seed
                 res.append(r)
+    # The cdt pile from the same three starts (dt 1e-4 only): its own ensemble.
+    for seed in (1, 2, 3):
+        for r in run_pile(out, [1e-4], roll="cdt", tag=f"_jitter{seed}", data=jittered_data(out, seed)):
+            r["jitter_seed"] = seed
+            res.append(r)
     return res
 
 
@@ -448,7 +454,7 @@ def stats(rs):
     return row
 
 
-def scatter_summary(pile, scatter):
+def scatter_summary(pile, scatter, pile_cdt=()):
     """Per dt: the ensemble of the gen.py start and the jittered starts (mean, min, max); at
     1e-4 also the skin runs on their own; each ensemble mean against the one at dt 1e-4."""
     ok = [r for r in pile + scatter if "error" not in r and r["roll"] == "epsd2"]
@@ -459,6 +465,9 @@ def scatter_summary(pile, scatter):
     skins = [r for r in ok if r["dt_s"] == 1e-4 and "jitter_seed" not in r]
     if skins:
         out["skins_1e-4"] = stats(skins)
+    cdt = [r for r in pile_cdt + scatter if "error" not in r and r["roll"] == "cdt" and r["dt_s"] == 1e-4]
+    if cdt:
+        out["cdt_1e-4"] = dict(stats(cdt), dt_s=1e-4, starts=len(cdt))
     ref = next((o for o in out["ensembles"] if o["dt_s"] == 1e-4), None)
     largest = None
     if ref:
@@ -542,13 +551,17 @@ def main(argv):
                               "runs": run_timing(out, dts=(1e-4, best)),
                               "load_average_after": os.getloadavg()}
     if "pile_scatter" in res and "pile" in res:
-        res["pile_scatter_summary"] = sm = scatter_summary(res["pile"], res["pile_scatter"])
+        res["pile_scatter_summary"] = sm = scatter_summary(res["pile"], res["pile_scatter"], res.get("pile_cdt", []))
         res.pop("pile_dt_check_ensemble", None)
         for o in sm["ensembles"]:
             print(f"dt {o['dt_s']:g}, {o['starts']} start(s): " + ", ".join(
                 f"{k} {o[k]['mean']:.4f} [{o[k]['min']:.4f}, {o[k]['max']:.4f}]" for k in KEYS)
                 + f"; vs dt 1e-4 " + ", ".join(f"{100 * v:+.2f} %" for v in o.get("rel_to_1e-4", {}).values())
                 + f"; mean loop {o['loop_s_mean']:.1f} s")
+        if sm.get("cdt_1e-4"):
+            o = sm["cdt_1e-4"]
+            print(f"cdt, dt 1e-4, {o['starts']} starts: " + ", ".join(
+                f"{k} {o[k]['mean']:.4f} [{o[k]['min']:.4f}, {o[k]['max']:.4f}]" for k in KEYS))
         if sm["skins_1e-4"]:
             o = sm["skins_1e-4"]
             print(f"dt 1e-4, skins 6/8/10/12 mm: " + ", ".join(
