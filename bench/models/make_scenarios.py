@@ -150,6 +150,35 @@ def all_scenarios():
     yield pile("epsd2", 5e-4)  # LIGGGHTS's largest dt within 1 %, for the timing (item 5)
     yield pile("epsd2", "adaptive", "balanced")
     yield pile("epsd2", "adaptive", "preview")
+    yield from diagnosis()
+
+
+def variant(name, sc, what, **contact):
+    """A pile scenario changed for the diagnosis of the awake pile (time_to_answer.py --diagnose)."""
+    sc = json.loads(json.dumps(sc))
+    sc["description"] = ("Diagnosis of the pile that stays awake at accuracy preview (issue 19 item 5, "
+                         "docs/liggghts_models.md): " + what + " Otherwise as this: " + sc["description"])
+    sc["contact"].update(contact)
+    return name, sc
+
+
+def diagnosis():
+    _, fixed = pile("epsd2", 1e-4)
+    _, prev = pile("epsd2", "adaptive", "preview")
+    _, bal = pile("epsd2", "adaptive", "balanced")
+    fixed6 = dict(fixed, time_step_s=6e-4)
+    yield variant("diag_pile_epsd2_dt6e-4", fixed6,
+                  "fixed step 6e-4 s, LIGGGHTS's first step that no longer settles.")
+    for n in (16, 24):
+        sc = dict(bal, accuracy=n)
+        yield variant(f"diag_pile_epsd2_adaptive_{n}", sc,
+                      f"accuracy {n} steps per contact: resting contacts get t/{max(n / 4, 4):g} "
+                      "(src/layer/adaptive.rs contact_step_limit).")
+    yield variant("diag_pile_epsd2_mindlin_adaptive_preview", prev,
+                  "tangential mindlin (applesim's own dashpot, bounded by the velocity-kill rate) "
+                  "instead of history.", tangential="mindlin")
+    yield variant("diag_pile_epsd2_e0.65_adaptive_preview", prev,
+                  "restitution 0.65 (the history damping ratio 0.23 instead of 0.61).", restitution=0.65)
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 and applesim, timed in alternating rounds.
 
 usage: time_to_answer.py [--out DIR] [--rounds N] [--applesim PATH] [--threads N] [--no-fixed]
+       time_to_answer.py --diagnose [--out DIR] [--applesim PATH] [--threads N]
 
 Each round runs, strictly one after the other (never two at once):
   LIGGGHTS dt 1e-4 (the reference step), applesim adaptive `balanced`, LIGGGHTS dt 5e-4 (its
@@ -18,6 +19,11 @@ apple-apple contacts per apple, and for applesim the mean awake apples per windo
 
 Writes DIR/time_to_answer.json (default DIR /work/lig-runs/models; LIGGGHTS's runs go to
 DIR/pile_epsd2_dt*_tta{round}) and prints the medians and the ratios LIGGGHTS / applesim.
+
+--diagnose: instead, `applesim bench` once each of the scenarios diag_*.json (make_scenarios.py:
+why the pile stays awake at preview: a fixed 6e-4 s step, accuracy 16 and 24, tangential
+mindlin, restitution 0.65) and of the two adaptive piles; the awake apples per window, the
+steps, the height and contacts; DIR/diagnose.json.
 """
 import json
 import os
@@ -56,7 +62,7 @@ def app_run(exe, out, name, case, k, threads):
 
 
 def main(argv):
-    out, rounds, exe, threads, fixed = "/work/lig-runs/models", 3, None, 1, True
+    out, rounds, exe, threads, fixed, diagnose = "/work/lig-runs/models", 3, None, 1, True, False
     i = 0
     while i < len(argv):
         a = argv[i]
@@ -70,6 +76,8 @@ def main(argv):
             threads = int(argv[i + 1]); i += 1
         elif a == "--no-fixed":
             fixed = False
+        elif a == "--diagnose":
+            diagnose = True
         elif a in ("-h", "--help"):
             print(__doc__); return 0
         else:
@@ -79,6 +87,8 @@ def main(argv):
                               "release", "applesim")
     out = os.path.abspath(out)
     os.makedirs(out, exist_ok=True)
+    if diagnose:
+        return run_diagnosis(exe, out, threads)
     lig.REUSE = False
     runs = []
     t0 = time.time()
@@ -120,6 +130,25 @@ def main(argv):
     with open(os.path.join(out, "time_to_answer.json"), "w") as f:
         json.dump(res, f, indent=1)
     print_summary(res)
+    return 0
+
+
+def run_diagnosis(exe, out, threads):
+    names = ["pile_epsd2_adaptive_balanced", "pile_epsd2_adaptive_preview"] + sorted(
+        f[:-5] for f in os.listdir(app.SC) if f.startswith("diag_") and f.endswith(".json"))
+    res = []
+    for name in names:
+        r = app_run(exe, out, name, name, 1, threads)
+        res.append(r)
+        if r.get("error"):
+            print(f"{name:42s} error {r['error']}")
+            continue
+        print(f"{name:42s} loop {r['loop_s']:5.2f} s (load {r['load_before']:.1f}), {r['steps']:5d} steps "
+              f"({', '.join(f'{k} {v}' for k, v in r['window_steps'].items())}), height {r['height_m']:.4f} m, "
+              f"contacts/apple {r['contacts_per_apple']:.3f}, mean awake {', '.join(f'{k} {v:.0f}' for k, v in r['awake'].items())}",
+              flush=True)
+    with open(os.path.join(out, "diagnose.json"), "w") as f:
+        json.dump(res, f, indent=1)
     return 0
 
 
