@@ -110,15 +110,17 @@ def drop_figures(folder):
         h = [(float(r["time_s"]), float(r["force_n"])) for r in rows_of(fpath) if r["contact"] == "0"]
         pos = [i for i, (_, f) in enumerate(h) if f > 0]
         if pos:
-            # The force's first return to zero after the peak (linear between the samples).
+            # The force's first return to zero after the peak: extrapolated linearly from the last
+            # two samples with F > 0, as liggghts.py does (the force is clamped at 0, so the line
+            # to the first zero sample would put the zero at that sample: up to one sample late;
+            # forces.csv keeps every 4th step of this 9000-step contact).
             k = max(range(len(h)), key=lambda i: h[i][1])
             while k + 1 < len(h) and h[k + 1][1] > 0:
                 k += 1
+            (ta, fa), (tb, fb) = h[k - 1], h[k]
+            t_zero = tb + fb / (fa - fb) * (tb - ta) if fa > fb else tb
             if k + 1 < len(h):
-                (ta, fa), (tb, fb) = h[k], h[k + 1]
-                t_zero = ta + fa / (fa - fb) * (tb - ta)
-            else:
-                t_zero = h[k][0]
+                t_zero = min(t_zero, h[k + 1][0])
             fig["contact_time_force_s"] = t_zero - t0
             fig["force_samples"] = len(h)
     return fig
