@@ -160,7 +160,8 @@ for r in [head] + rows:
 
 # Time to an answer (item 5).
 print("\nTime to an answer, the same-model pile 0-5 s (LIGGGHTS serial on one core; applesim "
-      f"--threads {A.get('threads', 1)}):")
+      f"--threads {A.get('threads', 1)}); single runs made at different times, not alternated: item 5's "
+      "figures are time_to_answer.py's alternating rounds (below when run into this folder):")
 lw = lp and lp["loop_s"]
 timing = {r["dt_s"]: r for r in (L.get("pile_timing") or {}).get("runs", []) if r.get("median_s")}
 if 1e-4 in timing:
