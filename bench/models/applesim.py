@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """applesim side of the same-model comparison (issue 19, build items 4 and 5).
 
-usage: applesim.py [drop|pile|roll|time|all]... [--out DIR] [--applesim PATH] [--threads N]
+usage: applesim.py [drop|pile|roll|scatter|time|all]... [--out DIR] [--applesim PATH] [--threads N]
                    [--scenarios DIR]
 
 Runs the scenarios of bench/models/scenarios/ (written by make_scenarios.py) one after the other
@@ -10,13 +10,21 @@ and writes DIR/applesim.json (compare.py reads it):
   drop  `applesim run` of drop_*.json: peak force, contact time (contacts.csv: touch to
         separation, i.e. overlap > 0; forces.csv: touch to the force's return to zero),
         restitution at separation.
-  roll  `applesim run` of roll_cdt.json and roll_epsd2.json: stopping time and distance from
-        bodies.csv (the first sample with vx <= 0, interpolated), as for LIGGGHTS.
+  roll  `applesim run` of roll_{cdt,epsd2}.json and roll_{cdt,epsd2}_soft.json (a plate of the
+        apple's E and nu): stopping time and distance from bodies.csv (the first sample with
+        vx <= 0, interpolated), as for LIGGGHTS.
   pile  `applesim bench --json` of pile_epsd2_dt1e-4.json (wall time, settled height, apple-apple
         contacts per apple at 5 s) and `applesim run` of it (the final positions: the same
         height, top-25 mean and contact count as for LIGGGHTS, computed by the same function);
         the cdt pile by bench only.
-  time  `applesim bench --json` of pile_epsd2_adaptive_{balanced,preview}.json (item 5).
+  scatter  `applesim run` of pile_epsd2_dt1e-4.json from the three other starts of LIGGGHTS's
+        ensemble (liggghts.py scatter: every apple moved sideways by up to 1 um, seeds 1-3; read
+        from DIR/pile/pile_jitter{1,2,3}.data, written there if missing): with the gen.py start,
+        applesim's own ensemble of four equally valid piles, to set beside LIGGGHTS's; the same
+        for pile_cdt_dt1e-4.json (its gen.py start run too, for the positions).
+  time  `applesim bench --json` of pile_epsd2_adaptive_{balanced,preview}.json (item 5; one
+        run each: the timed, alternating rounds are time_to_answer.py's), and `applesim run` of
+        them for the final positions (top-25 mean z, contacts counted from the positions).
 
 A scenario applesim refuses (e.g. a field it does not parse yet) is recorded with its error and
 shows as pending in the table. --threads (default 1: LIGGGHTS runs on one core) is passed to
@@ -49,14 +57,22 @@ def call(cmd, log):
     return p, wall, err
 
 
-def run(exe, name, out, threads):
-    folder = os.path.join(out, "applesim_" + name)
-    os.makedirs(folder, exist_ok=True)
-    cmd = [exe, "run", os.path.join(SC, name + ".json"), "--out", folder]
+def run_folder(exe, scenario, folder, threads):
+    """`applesim run SCENARIO --out FOLDER`; its command and output go to FOLDER.log, beside the
+    folder: applesim replaces a result folder only when it holds nothing but a previous run's
+    files."""
+    stale = os.path.join(folder, "command.log")  # where earlier versions of this script wrote it
+    if os.path.exists(stale):
+        os.remove(stale)
+    cmd = [exe, "run", scenario, "--out", folder]
     if threads:
         cmd += ["--threads", str(threads)]
-    _, wall, err = call(cmd, os.path.join(folder, "command.log"))
+    _, wall, err = call(cmd, folder + ".log")
     return folder, wall, err
+
+
+def run(exe, name, out, threads):
+    return run_folder(exe, os.path.join(SC, name + ".json"), os.path.join(out, "applesim_" + name), threads)
 
 
 def bench(exe, name, out, threads):
@@ -94,15 +110,17 @@ def drop_figures(folder):
         h = [(float(r["time_s"]), float(r["force_n"])) for r in rows_of(fpath) if r["contact"] == "0"]
         pos = [i for i, (_, f) in enumerate(h) if f > 0]
         if pos:
-            # The force's first return to zero after the peak (linear between the samples).
+            # The force's first return to zero after the peak: extrapolated linearly from the last
+            # two samples with F > 0, as liggghts.py does (the force is clamped at 0, so the line
+            # to the first zero sample would put the zero at that sample: up to one sample late;
+            # forces.csv keeps every 4th step of this 9000-step contact).
             k = max(range(len(h)), key=lambda i: h[i][1])
             while k + 1 < len(h) and h[k + 1][1] > 0:
                 k += 1
+            (ta, fa), (tb, fb) = h[k - 1], h[k]
+            t_zero = tb + fb / (fa - fb) * (tb - ta) if fa > fb else tb
             if k + 1 < len(h):
-                (ta, fa), (tb, fb) = h[k], h[k + 1]
-                t_zero = ta + fa / (fa - fb) * (tb - ta)
-            else:
-                t_zero = h[k][0]
+                t_zero = min(t_zero, h[k + 1][0])
             fig["contact_time_force_s"] = t_zero - t0
             fig["force_samples"] = len(h)
     return fig
@@ -136,12 +154,42 @@ def pile_radii():
     return {"p-" + a["name"]: a["diameter_m"] / 2 for a in pile}
 
 
+def jittered_scenario(out, seed, model="epsd2"):
+    """pile_{model}_dt1e-4.json with the start of LIGGGHTS's jittered data file `seed` (the same
+    apples, names and diameters, each moved sideways by up to 1 um): (scenario path, pile path)."""
+    data = lig.jittered_data(out, seed)
+    lines = open(data).read().splitlines()
+    k = lines.index("Atoms")
+    ref = json.load(open(os.path.join(HERE, "..", "..", "assets", "piles", "liggghts_1000.json")))
+    pile = []
+    for l in lines[k + 1:]:
+        p = l.split()
+        if len(p) != 7:
+            continue
+        i = int(p[0])
+        a = ref[i - 1]
+        assert a["name"] == f"p{i}" and abs(a["diameter_m"] - float(p[2])) < 1e-9, (a, l)
+        pile.append({"name": a["name"], "diameter_m": a["diameter_m"],
+                     "position_m": [float(p[4]), float(p[5]), float(p[6])]})
+    folder = os.path.join(out, "pile")
+    pile_path = os.path.join(folder, f"applesim_pile_jitter{seed}.json")
+    with open(pile_path, "w") as f:
+        json.dump(pile, f)
+    sc = json.load(open(os.path.join(SC, f"pile_{model}_dt1e-4.json")))
+    sc["generators"][0]["file"] = pile_path
+    sc["description"] += f" Start: LIGGGHTS's jittered start {seed} (bench/models/applesim.py scatter)."
+    sc_path = os.path.join(folder, f"pile_{model}_dt1e-4_jitter{seed}.json")
+    with open(sc_path, "w") as f:
+        json.dump(sc, f, indent=1)
+    return sc_path
+
+
 def main(argv):
     what, out, exe, threads = [], "/work/lig-runs/models", None, 1
     i = 0
     while i < len(argv):
         a = argv[i]
-        if a in ("drop", "pile", "roll", "time", "all"):
+        if a in ("drop", "pile", "roll", "scatter", "time", "all"):
             what.append(a)
         elif a == "--out":
             out = argv[i + 1]; i += 1
@@ -158,7 +206,7 @@ def main(argv):
             print(f"unknown argument {a} (see --help)", file=sys.stderr); return 2
         i += 1
     if not what or "all" in what:
-        what = ["drop", "roll", "pile", "time"]
+        what = ["drop", "roll", "pile", "scatter", "time"]
     exe = exe or os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(HERE, "..", "..", "target")),
                               "release", "applesim")
     out = os.path.abspath(out)
@@ -182,10 +230,10 @@ def main(argv):
             res["drop"].append(r)
     if "roll" in what:
         res["roll"] = []
-        for model in ("cdt", "epsd2"):
-            name = f"roll_{model}"
+        for model, plate in (("cdt", "steel"), ("epsd2", "steel"), ("cdt", "soft"), ("epsd2", "soft")):
+            name = f"roll_{model}{'_soft' if plate == 'soft' else ''}"
             folder, wall, err = run(exe, name, out, threads)
-            r = {"name": name, "roll": model, "wall_s": wall}
+            r = {"name": name, "roll": model, "plate": plate, "wall_s": wall}
             if err:
                 r["error"] = err
                 print(f"{name}: applesim refused or failed: {err}")
@@ -211,13 +259,43 @@ def main(argv):
             res["pile"][model] = r
             print(f"{name}: {json.dumps({k: v for k, v in r.items() if k != 'bench'})}; bench "
                   f"{b.get('error') or (b['wall_s'], b['pile_height_m'])}")
+    if "scatter" in what:
+        res["pile_scatter"] = []
+        radii = pile_radii()
+        for model, seed in [("epsd2", s) for s in (1, 2, 3)] + [("cdt", s) for s in (0, 1, 2, 3)]:
+            if seed == 0:  # the cdt pile from gen.py's start: its positions (the pile target only benches it)
+                sc_path = os.path.join(SC, "pile_cdt_dt1e-4.json")
+            else:
+                sc_path = jittered_scenario(out, seed, model)
+            name = f"pile_{model}_dt1e-4" + (f"_jitter{seed}" if seed else "")
+            folder = os.path.join(out, "applesim_" + name)
+            _, wall, err = run_folder(exe, sc_path, folder, threads)
+            r = {"name": name, "roll": model, "jitter_seed": seed, "run_wall_s": wall}
+            if err:
+                r["error"] = err
+            else:
+                t, apples = final_positions(folder, radii)
+                r["final_time_s"] = t
+                r.update(lig.pile_geometry(apples))
+            res["pile_scatter"].append(r)
+            print(f"{r['name']}: {json.dumps(r)}")
     if "time" in what:
         res["time"] = {}
         for acc in ("balanced", "preview"):
             name = f"pile_epsd2_adaptive_{acc}"
             b = bench(exe, name, out, threads)
-            res["time"][acc] = {"name": name, "bench": b}
-            print(f"{name}: {b.get('error') or (b['wall_s'], b['pile_height_m'], b['steps'])}")
+            r = {"name": name, "bench": b}
+            if "error" not in b:
+                # The final positions too: the top-25 mean and the contacts, as for LIGGGHTS.
+                folder, wall, err = run(exe, name, out, threads)
+                r["run_wall_s"] = wall
+                if err:
+                    r["run_error"] = err
+                else:
+                    r.update(lig.pile_geometry(final_positions(folder, pile_radii())[1]))
+            res["time"][acc] = r
+            print(f"{name}: {b.get('error') or (b['wall_s'], b['pile_height_m'], b['steps'])}; "
+                  f"{json.dumps({k: v for k, v in r.items() if k not in ('bench', 'name')})}")
     with open(path, "w") as f:
         json.dump(res, f, indent=1)
     print(f"figures: {path}")

@@ -92,6 +92,24 @@ if ens and lp:
         inside = "-" if a is None else ("inside" if e["min"] <= a <= e["max"] else "outside")
         rows.append((f"  LIGGGHTS range of the {ens['starts']} starts", f"[{e['min']:.4f}, {e['max']:.4f}]", inside,
                      "", f"spread {100 * e['spread_rel']:.2f} %", "", ""))
+# applesim's own ensemble: the gen.py start and LIGGGHTS's three jittered starts (applesim.py
+# scatter); its mean against LIGGGHTS's mean, and both ranges.
+asc = [r for r in A.get("pile_scatter", []) if "error" not in r and r.get("roll", "epsd2") == "epsd2"]
+for r in A.get("pile_scatter", []):
+    if "error" in r:
+        errors[r["name"]] = r["error"]
+if ens and ap and "error" not in ap and "z_max_m" in ap and asc:
+    arun = [ap] + asc
+    for k, lab, bound in (("z_max_m", "height (max centre z)", 0.01),
+                          ("z_top25_mean_m", "mean z of the 25 highest", None),
+                          ("apple_apple_contacts_per_apple", "apple-apple contacts/apple", 0.03)):
+        v = [r[k] for r in arun]
+        m = sum(v) / len(v)
+        e = ens[k]
+        row(f"pile epsd2 dt 1e-4, {len(arun)}-start means (both codes): {lab}", e["mean"], m,
+            "m" if "z" in k else "", 1, 4, bound)
+        rows.append((f"  ranges of the {len(arun)} starts, each code", f"[{e['min']:.4f}, {e['max']:.4f}]",
+                     f"[{min(v):.4f}, {max(v):.4f}]", "", f"spread {100 * (max(v) - min(v)) / m:.2f} %", "", ""))
 lc = next((r for r in L.get("pile_cdt", []) if "error" not in r), None)
 ac = (A.get("pile") or {}).get("cdt")
 if lc:
@@ -101,18 +119,35 @@ if lc:
     row("pile cdt dt 1e-4: height (max centre z)", lc["z_max_m"], get(ab, "pile_height_m"), "m", 1, 4, 0.01)
     aw = ab["windows"][-1]["apple_apple_contacts_per_apple"] if ab and "error" not in ab and ab.get("windows") else None
     row("pile cdt dt 1e-4: apple-apple contacts/apple", lc["apple_apple_contacts_per_apple"], aw, "", 1, 4, 0.03)
+# The cdt pile's two ensembles (gen.py's start and the same three jittered starts in each code).
+lce = (L.get("pile_scatter_summary") or {}).get("cdt_1e-4")
+acs = [r for r in A.get("pile_scatter", []) if "error" not in r and r.get("roll") == "cdt"]
+if lce and acs:
+    for k, lab, bound in (("z_max_m", "height (max centre z)", 0.01),
+                          ("z_top25_mean_m", "mean z of the 25 highest", None),
+                          ("apple_apple_contacts_per_apple", "apple-apple contacts/apple", 0.03)):
+        v = [r[k] for r in acs]
+        m = sum(v) / len(v)
+        e = lce[k]
+        row(f"pile cdt dt 1e-4, {lce['starts']}/{len(acs)}-start means: {lab}", e["mean"], m,
+            "m" if "z" in k else "", 1, 4, bound)
+        rows.append((f"  ranges of the starts, each code", f"[{e['min']:.4f}, {e['max']:.4f}]",
+                     f"[{min(v):.4f}, {max(v):.4f}]", "", f"spread {100 * (max(v) - min(v)) / m:.2f} %", "", ""))
 
 # Rolling: LIGGGHTS at dt 1e-5 (the scenarios' step).
-aroll = {r["roll"]: r for r in A.get("roll", [])}
+aroll = {(r["roll"], r.get("plate", "steel")): r for r in A.get("roll", [])}
 for r in L.get("roll", []):
     if r.get("dt_s") != 1e-5 or "error" in r:
         continue
-    a = aroll.get(r["roll"])
+    plate = r.get("plate", "steel")
+    a = aroll.get((r["roll"], plate))
+    lab = r["roll"] + (" on the soft plate" if plate == "soft" else "")
     if a and "error" in a:
-        errors["roll_" + r["roll"]] = a["error"]
-    row(f"roll {r['roll']}: stopping distance", r["stop_distance_m"], get(a, "stop_distance_m"), "m", 1, 5, 0.02)
-    row(f"roll {r['roll']}: stopping time", r["stop_time_s"], get(a, "stop_time_s"), "s", 1, 4, None)
-    if r["roll"] == "cdt":
+        errors[a["name"]] = a["error"]
+    row(f"roll {lab}: stopping distance", r["stop_distance_m"], get(a, "stop_distance_m"), "m", 1, 5,
+        0.02 if plate == "steel" else None)
+    row(f"roll {lab}: stopping time", r["stop_time_s"], get(a, "stop_time_s"), "s", 1, 4, None)
+    if r["roll"] == "cdt" and plate == "steel":
         rows.append((f"roll cdt: closed form 7 v0^2/(10 mu_r g)", fmt(r["closed_form_distance_m"], 1, 5), "", "m",
                      rel(r["stop_distance_m"], r["closed_form_distance_m"]) + " (LIGGGHTS)", "", ""))
 
@@ -125,7 +160,8 @@ for r in [head] + rows:
 
 # Time to an answer (item 5).
 print("\nTime to an answer, the same-model pile 0-5 s (LIGGGHTS serial on one core; applesim "
-      f"--threads {A.get('threads', 1)}):")
+      f"--threads {A.get('threads', 1)}); single runs made at different times, not alternated: item 5's "
+      "figures are time_to_answer.py's alternating rounds (below when run into this folder):")
 lw = lp and lp["loop_s"]
 timing = {r["dt_s"]: r for r in (L.get("pile_timing") or {}).get("runs", []) if r.get("median_s")}
 if 1e-4 in timing:
@@ -161,12 +197,23 @@ for acc in ("balanced", "preview"):
         print(f"  applesim adaptive {acc}: pending")
         continue
     aw = b["windows"][-1]["apple_apple_contacts_per_apple"] if b.get("windows") else None
+    awake = {w["label"]: w["mean_awake_apples"] for w in b.get("windows", [])}
+    top = t.get("z_top25_mean_m")
     print(f"  applesim adaptive {acc}: time loop {b['wall_s']:.2f} s ({b['steps']} steps), height "
           f"{b['pile_height_m']:.4f} m ({rel(b['pile_height_m'], lp and lp['z_max_m'])} vs LIGGGHTS dt 1e-4), "
+          + (f"top-25 mean {top:.4f} m ({rel(top, ens and ens['z_top25_mean_m']['mean'])} vs LIGGGHTS's 4-start mean), " if top else "")
+          + f"mean awake apples {', '.join(f'{k} {v:.0f}' for k, v in awake.items())}, "
           f"contacts/apple {fmt(aw)} ({rel(aw, lp and lp['apple_apple_contacts_per_apple'])}); "
           f"LIGGGHTS dt 1e-4 / applesim {lw / b['wall_s']:.2f}"
           + (f", LIGGGHTS dt {best:g} / applesim {lb['loop_s'] / b['wall_s']:.2f}" if lb else "")
           + (f", LIGGGHTS dt {ebest:g} / applesim {le['loop_s'] / b['wall_s']:.2f}" if le and ebest != best else ""))
+# The alternating timed rounds of time_to_answer.py, when they were run into this folder.
+tta = os.path.join(out, "time_to_answer.json")
+if os.path.exists(tta):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import time_to_answer  # noqa: E402
+    print("\nTime to an answer, alternating rounds (bench/models/time_to_answer.py, " + tta + "):")
+    time_to_answer.print_summary(json.load(open(tta)))
 if errors:
     print("\npending (applesim refused or failed):")
     for k, v in errors.items():

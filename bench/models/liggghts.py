@@ -19,17 +19,20 @@ records and writes DIR/liggghts.json (the figures; compare.py reads it) and prin
         dt). Plus the cdt variant at 1e-4.
   roll  one apple launched rolling (v0 0.5 m/s, omega = v0/R) on a steel plate with gravity,
         rolling friction 0.05, cdt and epsd2, dt 1e-5 and 1e-6: stopping time and distance
-        against the cdt closed form.
+        against the cdt closed form; and at dt 1e-5 on a soft plate (the apple's E and nu: the
+        lever arm R - delta/2 then the same in both codes).
   scatter  the pile again from three starts with every apple moved sideways by up to 1 um
         (seeds 1-3) at dt 1e-4, 2e-4, 3e-4, 5e-4, 6e-4, 7e-4: with gen.py's start, an ensemble of
         four equally valid settled piles per dt (their scatter is chaos, not the step); the
         largest dt whose ensemble means stay within 1 % of dt 1e-4's. Also dt 1e-4 with
-        neighbour skins 6, 10, 12 mm (only the summation order of the forces changes) and dt 5e-5.
+        neighbour skins 6, 10, 12 mm (only the summation order of the forces changes) and dt 5e-5;
+        and the cdt pile from the same three starts at dt 1e-4.
   timing  the pile (gen.py's start) at dt 1e-4 and at the largest dt of the scatter, three times
         each, alternating: the wall times of item 5 (minimum and median).
 --quick: the pile only 0.5 s at dt 1e-4 and 2e-4 (to check the scripts).
 --reuse: read a case's folder instead of running it again when it holds a finished run of the
-         same command (its wall time is the one measured then).
+         same command (the same deck name and variables, from any checkout; its wall time is the
+         one measured then).
 """
 import json
 import math
@@ -51,12 +54,25 @@ E_APPLE, NU_APPLE, E_STEEL, NU_STEEL = 2.6e6, 0.18, 2.0e11, 0.30
 Y_STAR_WALL = 1.0 / ((1 - NU_APPLE ** 2) / E_APPLE + (1 - NU_STEEL ** 2) / E_STEEL)
 
 
-def static_overlap_wall():
+def static_overlap_wall(y_star=Y_STAR_WALL):
     """Overlap of an apple resting on the plate: (3 m g / (4 E* sqrt(R)))^(2/3)."""
-    return (3.0 * MASS * G / (4.0 * Y_STAR_WALL * math.sqrt(R))) ** (2.0 / 3.0)
+    return (3.0 * MASS * G / (4.0 * y_star * math.sqrt(R))) ** (2.0 / 3.0)
+
+
+# The soft plate of the rolling variant: the apple's own modulus and Poisson ratio, so that
+# applesim's contact point (R - u c1/(c1 + c2), compliance share) sits at R - u/2 as LIGGGHTS's
+# does on every wall (R - delta/2): the lever arm difference of the steel plate removed.
+Y_STAR_SOFT = 1.0 / (2 * (1 - NU_APPLE ** 2) / E_APPLE)
 
 
 REUSE = False
+
+
+def same_command(a, b):
+    """Whether two recorded command lines are the same run: the same deck (by name: the folder
+    of this checkout may differ) with the same variables."""
+    norm = lambda l: re.sub(r"-in \S*/([^/\s]+\.in)", r"-in \1", l.strip())
+    return norm(a) == norm(b)
 
 
 def run_deck(deck, folder, variables):
@@ -70,7 +86,7 @@ def run_deck(deck, folder, variables):
     line = "OMP_NUM_THREADS=1 " + " ".join(cmd) + "\n"
     cmd_file, wall_file = os.path.join(folder, "command.txt"), os.path.join(folder, "wall_s.txt")
     if (REUSE and os.path.exists(wall_file) and os.path.exists(cmd_file)
-            and open(cmd_file).read() == line):
+            and same_command(open(cmd_file).read(), line)):
         wall = float(open(wall_file).read())
         print(f"(reusing {folder})")
     else:
@@ -375,22 +391,26 @@ def roll_figures(rows, v0, mur):
 def run_roll(out):
     res = []
     v0, mur = 0.5, 0.05
-    z0 = R - static_overlap_wall()
-    for roll in ("cdt", "epsd2"):
-        for dt in (1e-5, 1e-6):
-            name = f"roll_{roll}_dt{dt:g}"
+    cases = [(roll, dt, "steel") for roll in ("cdt", "epsd2") for dt in (1e-5, 1e-6)]
+    cases += [("cdt", 1e-5, "soft"), ("epsd2", 1e-5, "soft")]
+    for roll, dt, plate in cases:
+            soft = plate == "soft"
+            z0 = R - static_overlap_wall(Y_STAR_SOFT if soft else Y_STAR_WALL)
+            name = f"roll_{roll}{'_soft' if soft else ''}_dt{dt:g}"
             folder = os.path.join(out, name)
             every = int(round(1e-4 / dt))
-            wall, loop, err = run_deck("roll.in", folder, {
-                "roll": roll, "mur": mur, "v0": v0, "z0": f"{z0:.9f}", "dt": dt, "tend": 2.0,
-                "every": every, "out": "rec.txt"})
+            var = {"roll": roll, "mur": mur, "v0": v0, "z0": f"{z0:.9f}", "dt": dt, "tend": 2.0,
+                   "every": every, "out": "rec.txt"}
+            if soft:
+                var.update(Ew=E_APPLE, nuw=NU_APPLE)
+            wall, loop, err = run_deck("roll.in", folder, var)
             if err:
-                res.append({"name": name, "roll": roll, "dt_s": dt, "error": err})
+                res.append({"name": name, "roll": roll, "plate": plate, "dt_s": dt, "error": err})
                 print(f"{name}: LIGGGHTS failed: {err}")
                 continue
             fig = roll_figures(read_rec(os.path.join(folder, "rec.txt")), v0, mur)
-            res.append({"name": name, "roll": roll, "dt_s": dt, "v0": v0, "mur": mur, "z0_m": z0,
-                        "wall_s": wall, "loop_s": loop, **fig})
+            res.append({"name": name, "roll": roll, "plate": plate, "dt_s": dt, "v0": v0, "mur": mur,
+                        "z0_m": z0, "wall_s": wall, "loop_s": loop, **fig})
             print(f"{name:18s}: stops after {fig['stop_distance_m']:.5f} m ({100*fig['rel_distance']:+.2f} % of "
                   f"{fig['closed_form_distance_m']:.5f}) at {fig['stop_time_s']:.4f} s ({100*fig['rel_time']:+.2f} % of "
                   f"{fig['closed_form_time_s']:.4f}); deceleration {fig['deceleration_m_s2']:.5f} m/s^2 (closed "
@@ -417,6 +437,11 @@ def run_scatter(out):
             for r in run_pile(out, [dt], tag=f"_jitter{seed}", data=jittered_data(out, seed)):
                 r["jitter_seed"] = seed
                 res.append(r)
+    # The cdt pile from the same three starts (dt 1e-4 only): its own ensemble.
+    for seed in (1, 2, 3):
+        for r in run_pile(out, [1e-4], roll="cdt", tag=f"_jitter{seed}", data=jittered_data(out, seed)):
+            r["jitter_seed"] = seed
+            res.append(r)
     return res
 
 
@@ -429,7 +454,7 @@ def stats(rs):
     return row
 
 
-def scatter_summary(pile, scatter):
+def scatter_summary(pile, scatter, pile_cdt=()):
     """Per dt: the ensemble of the gen.py start and the jittered starts (mean, min, max); at
     1e-4 also the skin runs on their own; each ensemble mean against the one at dt 1e-4."""
     ok = [r for r in pile + scatter if "error" not in r and r["roll"] == "epsd2"]
@@ -440,6 +465,9 @@ def scatter_summary(pile, scatter):
     skins = [r for r in ok if r["dt_s"] == 1e-4 and "jitter_seed" not in r]
     if skins:
         out["skins_1e-4"] = stats(skins)
+    cdt = [r for r in pile_cdt + scatter if "error" not in r and r["roll"] == "cdt" and r["dt_s"] == 1e-4]
+    if cdt:
+        out["cdt_1e-4"] = dict(stats(cdt), dt_s=1e-4, starts=len(cdt))
     ref = next((o for o in out["ensembles"] if o["dt_s"] == 1e-4), None)
     largest = None
     if ref:
@@ -523,13 +551,17 @@ def main(argv):
                               "runs": run_timing(out, dts=(1e-4, best)),
                               "load_average_after": os.getloadavg()}
     if "pile_scatter" in res and "pile" in res:
-        res["pile_scatter_summary"] = sm = scatter_summary(res["pile"], res["pile_scatter"])
+        res["pile_scatter_summary"] = sm = scatter_summary(res["pile"], res["pile_scatter"], res.get("pile_cdt", []))
         res.pop("pile_dt_check_ensemble", None)
         for o in sm["ensembles"]:
             print(f"dt {o['dt_s']:g}, {o['starts']} start(s): " + ", ".join(
                 f"{k} {o[k]['mean']:.4f} [{o[k]['min']:.4f}, {o[k]['max']:.4f}]" for k in KEYS)
                 + f"; vs dt 1e-4 " + ", ".join(f"{100 * v:+.2f} %" for v in o.get("rel_to_1e-4", {}).values())
                 + f"; mean loop {o['loop_s_mean']:.1f} s")
+        if sm.get("cdt_1e-4"):
+            o = sm["cdt_1e-4"]
+            print(f"cdt, dt 1e-4, {o['starts']} starts: " + ", ".join(
+                f"{k} {o[k]['mean']:.4f} [{o[k]['min']:.4f}, {o[k]['max']:.4f}]" for k in KEYS))
         if sm["skins_1e-4"]:
             o = sm["skins_1e-4"]
             print(f"dt 1e-4, skins 6/8/10/12 mm: " + ", ".join(

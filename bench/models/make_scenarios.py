@@ -23,15 +23,17 @@ ROLLING = {"epsd2": "elastic-plastic", "cdt": "constant-torque"}
 
 
 def contact(e, mu, mur, roll):
-    # ke and lambda_s_m are the eq. 12 coefficients: not used by the viscoelastic damping; given
-    # (elastic, 1 and 0) because today's parser requires them.
-    return {"friction": mu, "ke": 1.0, "lambda_s_m": 0.0,
-            "damping": "viscoelastic", "restitution": e,
-            "tangential": "history", "rolling": ROLLING[roll], "rolling_friction": mur}
+    # No ke / lambda_s_m: only the eq. 12 dampings need them. epsd2 has no rolling dashpot, so
+    # "rolling_damping": 0 (applesim's default 1.0 is a critically damped dashpot, LIGGGHTS epsd).
+    c = {"friction": mu, "damping": "viscoelastic", "restitution": e,
+         "tangential": "history", "rolling": ROLLING[roll], "rolling_friction": mur}
+    if roll == "epsd2":
+        c["rolling_damping"] = 0.0
+    return c
 
 
-def plate():
-    return [{"name": "plate", "type": "plane", "material": "steel",
+def plate_surface(material="steel"):
+    return [{"name": "plate", "type": "plane", "material": material,
              "point_m": [0, 0, 0], "normal": [0, 0, 1]}]
 
 
@@ -56,26 +58,30 @@ def drop(v0, e, g):
         "contact": contact(e, 0.5, 0.03, "epsd2"),
         "apples": [{"name": "a1", "material": "apple", "diameter_m": 2 * R,
                     "position_m": [0, 0, R + 1e-5], "velocity_m_s": [0, 0, -v0]}],
-        "surfaces": plate(),
+        "surfaces": plate_surface(),
     }
 
 
-def static_overlap():
+def static_overlap(soft=False):
     m = 800 * 4 / 3 * math.pi * R ** 3
-    y = 1 / ((1 - 0.18 ** 2) / 2.6e6 + (1 - 0.3 ** 2) / 2e11)
+    y = 1 / ((1 - 0.18 ** 2) / 2.6e6 + ((1 - 0.18 ** 2) / 2.6e6 if soft else (1 - 0.3 ** 2) / 2e11))
     return (3 * m * 9.81 / (4 * y * math.sqrt(R))) ** (2 / 3)
 
 
-def roll(model):
+def roll(model, plate="steel"):
     v0, mur = 0.5, 0.05
-    z0 = round(R - static_overlap(), 9)
+    soft = plate == "soft"
+    z0 = round(R - static_overlap(soft), 9)
     d = 7 * v0 ** 2 / (10 * mur * 9.81)
     t = 7 * v0 / (5 * mur * 9.81)
-    return f"roll_{model}", {
+    plate_text = ("a soft plate (the apple's E 2.6 MPa and nu 0.18, so that the contact point "
+                  "sits at R - u/2 as on LIGGGHTS's walls)" if soft else "a steel plate")
+    return f"roll_{model}{'_soft' if soft else ''}", {
         "description": (
             f"Issue 19, same model as LIGGGHTS (bench/models/roll.in, vars roll {model} mur 0.05 "
-            f"v0 0.5 z0 {z0} dt 1e-5 tend 2): an apple (D 80 mm, 800 kg/m^3) launched rolling "
-            "without slip (vx 0.5 m/s, omega_y = v0 / R) on a steel plate, gravity, resting "
+            f"v0 0.5 z0 {z0} dt 1e-5 tend 2{' Ew 2.6e6 nuw 0.18' if soft else ''}): an apple "
+            "(D 80 mm, 800 kg/m^3) launched rolling "
+            f"without slip (vx 0.5 m/s, omega_y = v0 / R) on {plate_text}, gravity, resting "
             "overlap at the start; viscoelastic Hertz (restitution 0.3), tangential history "
             f"(friction 0.5), {model} rolling friction 0.05 ({ROLLING[model]}). Closed form (cdt): "
             f"stops after 7 v0^2 / (10 mu_r g) = {d:.4f} m at 7 v0 / (5 mu_r g) = {t:.4f} s."),
@@ -84,26 +90,27 @@ def roll(model):
         "gravity_m_s2": [0, 0, -9.81],
         "output": {"sample_interval_s": 1e-4, "force_history": False,
                    "transitions": {"enabled": False}},
-        "materials": MATERIALS,
+        "materials": dict(MATERIALS, soft={"youngs_modulus_pa": 2.6e6, "poisson_ratio": 0.18}) if soft else MATERIALS,
         "contact": contact(0.3, 0.5, mur, model),
         "apples": [{"name": "a1", "material": "apple", "diameter_m": 2 * R,
                     "position_m": [0, 0, z0], "velocity_m_s": [v0, 0, 0],
                     "angular_velocity_rad_s": [0, v0 / R, 0]}],
-        "surfaces": plate(),
+        "surfaces": plate_surface("soft" if soft else "steel"),
     }
 
 
 def pile(model, step, accuracy=None):
-    tag = "dt1e-4" if step == 1e-4 else f"adaptive_{accuracy}"
+    label = {1e-4: "1e-4", 5e-4: "5e-4"}.get(step)
+    tag = f"dt{label}" if step != "adaptive" else f"adaptive_{accuracy}"
     sc = {
         "description": (
             f"Issue 19, same model as LIGGGHTS (bench/models/pile.in, vars roll {model} e 0.3 mu 0.5 "
-            f"mur 0.03 dt 1e-4): the 1000-apple reference pile of shared/bench/liggghts (gen.py 5 5 "
+            f"mur 0.03 dt {label or '1e-4'}): the 1000-apple reference pile of shared/bench/liggghts (gen.py 5 5 "
             "40 0.1 1, read from assets/piles/liggghts_1000.json) in the open steel box of "
             "half-width 0.25 m, 5 s; viscoelastic Hertz (restitution 0.3), tangential history "
             f"(friction 0.5), {model} rolling friction 0.03 ({ROLLING[model]}), apple-apple and "
             "apple-steel. "
-            + ("Fixed step 1e-4 s as LIGGGHTS. " if step == 1e-4 else
+            + (f"Fixed step {label} s as LIGGGHTS. " if step != "adaptive" else
                f"Adaptive step at accuracy '{accuracy}' (issue 19 item 5, time to an answer). ")
             + "Settled height, contacts per apple and wall time: applesim bench SCENARIO --json; "
             "positions: applesim run."),
@@ -137,10 +144,41 @@ def all_scenarios():
                 yield drop(v0, e, g)
     for m in ("cdt", "epsd2"):
         yield roll(m)
+        yield roll(m, "soft")
     yield pile("epsd2", 1e-4)
     yield pile("cdt", 1e-4)
+    yield pile("epsd2", 5e-4)  # LIGGGHTS's largest dt within 1 %, for the timing (item 5)
     yield pile("epsd2", "adaptive", "balanced")
     yield pile("epsd2", "adaptive", "preview")
+    yield from diagnosis()
+
+
+def variant(name, sc, what, **contact):
+    """A pile scenario changed for the diagnosis of the awake pile (time_to_answer.py --diagnose)."""
+    sc = json.loads(json.dumps(sc))
+    sc["description"] = ("Diagnosis of the pile that stays awake at accuracy preview (issue 19 item 5, "
+                         "docs/liggghts_models.md): " + what + " Otherwise as this: " + sc["description"])
+    sc["contact"].update(contact)
+    return name, sc
+
+
+def diagnosis():
+    _, fixed = pile("epsd2", 1e-4)
+    _, prev = pile("epsd2", "adaptive", "preview")
+    _, bal = pile("epsd2", "adaptive", "balanced")
+    fixed6 = dict(fixed, time_step_s=6e-4)
+    yield variant("diag_pile_epsd2_dt6e-4", fixed6,
+                  "fixed step 6e-4 s, LIGGGHTS's first step that no longer settles.")
+    for n in (16, 24):
+        sc = dict(bal, accuracy=n)
+        yield variant(f"diag_pile_epsd2_adaptive_{n}", sc,
+                      f"accuracy {n} steps per contact: resting contacts get t/{max(n / 4, 4):g} "
+                      "(src/layer/adaptive.rs contact_step_limit).")
+    yield variant("diag_pile_epsd2_mindlin_adaptive_preview", prev,
+                  "tangential mindlin (applesim's own dashpot, bounded by the velocity-kill rate) "
+                  "instead of history.", tangential="mindlin")
+    yield variant("diag_pile_epsd2_e0.65_adaptive_preview", prev,
+                  "restitution 0.65 (the history damping ratio 0.23 instead of 0.61).", restitution=0.65)
 
 
 if __name__ == "__main__":
