@@ -10,7 +10,7 @@
 //! seen this step); what it finds goes into the contact slab, the frame's contact counts, the
 //! finished events and the step statistics, which it borrows for the pass ([`Parts`]).
 
-use super::adaptive::{limit_in_contact, stick_half_period, time_to_touch};
+use super::adaptive::{damping_step, limit_in_contact, stick_half_period, time_to_touch};
 use super::clock::{StepClock, StepLimit};
 use super::config::LayerConfig;
 use super::contacts::{Contact, ContactStore};
@@ -252,14 +252,19 @@ impl Detection {
                         slot => cx.contacts.get_mut(slot).record.as_mut(),
                     };
                     let ke = if energy_loss { law.ke } else { 1.0 };
-                    let t_stick = if friction && law.friction > 0.0 {
+                    let (t_stick, h_damping) = if friction && law.friction > 0.0 {
                         let m_t = 1.0
                             / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
-                        stick_half_period(law.g_star_pa, r_star, u, m_t)
+                        (
+                            stick_half_period(law.g_star_pa, r_star, u, m_t),
+                            history_damping_step(&law, r_star, u, m_n, m_t),
+                        )
                     } else {
-                        f64::INFINITY
+                        (f64::INFINITY, f64::INFINITY)
                     };
-                    let lim = limit_in_contact(&c, record, m_n, k_n, u, rate, ke, time_s, t_stick);
+                    let lim = limit_in_contact(
+                        &c, record, m_n, k_n, u, rate, ke, time_s, t_stick, h_damping,
+                    );
                     cx.out.stats.limit(lim.0, lim.1);
                 }
             }
@@ -393,11 +398,15 @@ impl Detection {
                             let record =
                                 best.and_then(|(k, _)| cx.contacts.get_mut(k).record.as_mut());
                             let ke = if energy_loss { law.ke } else { 1.0 };
-                            let t_stick = if friction && law.friction > 0.0 {
+                            let (t_stick, h_damping) = if friction && law.friction > 0.0 {
                                 let m_t = 1.0 / registry.apples[a].inv_tangential_mass;
-                                stick_half_period(law.g_star_pa, r_star, hit.overlap_m, m_t)
+                                let u = hit.overlap_m;
+                                (
+                                    stick_half_period(law.g_star_pa, r_star, u, m_t),
+                                    history_damping_step(&law, r_star, u, m_n, m_t),
+                                )
                             } else {
-                                f64::INFINITY
+                                (f64::INFINITY, f64::INFINITY)
                             };
                             let lim = limit_in_contact(
                                 &c,
@@ -409,6 +418,7 @@ impl Detection {
                                 ke,
                                 time_s,
                                 t_stick,
+                                h_damping,
                             );
                             cx.out.stats.limit(lim.0, lim.1);
                         }
@@ -623,4 +633,23 @@ fn close_surface_contact(cx: &mut Parts, k: u32, geometry: Option<(f64, f64)>, t
             .finished
             .push(open.finish(time_s, cx.clock.dt_back, u, sep, names));
     }
+}
+
+/// The stable step of a contact's LIGGGHTS tangential damping (see
+/// [`super::adaptive::damping_step`]); infinite for the Mindlin model, whose dashpot is bounded by
+/// the velocity-kill rate.
+fn history_damping_step(
+    law: &crate::contact::PairLaw,
+    r_star: f64,
+    u: f64,
+    m_n: f64,
+    m_t: f64,
+) -> f64 {
+    if law.models.tangential != crate::contact::TangentialModel::History {
+        return f64::INFINITY;
+    }
+    let k_t = contact::friction::mindlin_stiffness(law.g_star_pa, (r_star * u).sqrt());
+    let gamma_t =
+        -2.0 * contact::damping::SQRT_FIVE_SIXTHS * law.beta * (k_t * m_n).sqrt();
+    damping_step(gamma_t, m_t)
 }
