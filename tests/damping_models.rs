@@ -432,17 +432,19 @@ fn static_overlap_of_each_model() {
 }
 
 /// A bug, shown (the consequence): an apple released at rest at exactly its closed-form sag should
-/// stay there, and does with the viscoelastic law. With the two eq. 12 laws it sinks: at dt 1e-4
-/// s its overlap grows by 19 % (eq12) and 17 % (elastic-rest) within 0.1 s and only returns to
-/// the sag after about 1 s; at dt 1e-5 s by 2.4 % and relaxes over seconds (the "disturbed resting
-/// contact relaxes over seconds" of docs/physics.md's applesim section). It also raises the
-/// `constant-torque` torque of a rolling apple (it uses the Hertz part): with eq12-elastic-rest
-/// at dt 1e-5 s the deceleration is 1.7 % high and the stopping distance 2.4 % short.
+/// stay there, and does with the viscoelastic law (0.000 %). With the two eq. 12 laws it sinks:
+/// the largest overlap over the first second is 20 % (eq12) and 25 % (elastic-rest) above the sag
+/// at dt 1e-4 s, back on it after about 1 s; 2.7 % and 3.0 % at dt 1e-5 s, relaxing over
+/// seconds (the "disturbed resting contact relaxes over seconds" of docs/physics.md's applesim
+/// section). It also raises the `constant-torque` torque of a rolling apple (the torque takes the
+/// Hertz part): with eq12-elastic-rest at dt 1e-5 s the deceleration is 1.7 % high and the
+/// stopping distance 2.4 % short.
 #[test]
-#[ignore = "bug: eq12 and eq12-elastic-rest sink an apple released at its sag by 19 % / 17 % of the overlap at dt 1e-4 (the step-mean rate predictor ignores gravity; see the next test)"]
+#[ignore = "bug: eq12 and eq12-elastic-rest sink an apple released at its sag by 20 % / 25 % of the overlap at dt 1e-4 (the step-mean rate predictor ignores gravity; see the next test)"]
 fn released_at_its_sag_an_apple_stays_there() {
     let k = ode::fig1_k();
     let ke = 0.09;
+    let mut failures = Vec::new();
     for dt in [1e-4, 1e-5] {
         for model in [
             Model::Visco { e: 0.3 },
@@ -473,13 +475,15 @@ fn released_at_its_sag_an_apple_stays_there() {
                 "dt {dt} {model:?}: largest departure from the sag over 1 s {:.3} %",
                 100.0 * worst
             );
-            assert!(
-                worst < 5e-3,
-                "{model:?} at dt {dt}: {:.2} % off its sag",
-                100.0 * worst
-            );
+            if worst >= 5e-3 {
+                failures.push(format!(
+                    "{model:?} at dt {dt}: {:.2} % off its sag",
+                    100.0 * worst
+                ));
+            }
         }
     }
+    assert!(failures.is_empty(), "{failures:?}");
 }
 
 /// A bug, shown (the cause): the eq. 12 laws average their tanh over the step, from the rate
