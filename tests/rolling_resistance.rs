@@ -252,19 +252,42 @@ fn elastic_plastic_on_a_flat_stops_at_the_same_closed_form() {
     }
 }
 
-/// A bug, shown: with the eq. 12 damping (the default) `constant-torque` takes the Hertz part
-/// k u^(3/2) of the normal force (as LIGGGHTS's cdt takes k_n delta), but eq. 12's resting contact
-/// carries only (1 + ke)/2 of it: the torque is 2 / (1 + ke) = 1.83 times mu_r R m g, and the apple
-/// stops 1.9 times too soon (measured at dt 1e-4: deceleration +88 %, distance -50 %; the rest
-/// of the excess is the apple riding deeper than its sag, see tests/damping_models.rs).
+/// A bug, shown: `constant-torque` takes the Hertz part k u^(3/2) of the normal force (as
+/// LIGGGHTS's cdt takes k_n delta), which is the load only when the damping carries the whole
+/// Hertz force at rest. With eq. 12 (the default damping) the resting contact carries (1 + ke)/2
+/// of it: the torque is 2 / (1 + ke) = 1.83 times mu_r R m g and the apple stops 1.9 times too
+/// soon (measured at dt 1e-4 s: deceleration +88 %, distance -50 %; the rest of the excess is the
+/// apple riding deeper than its sag, tests/damping_models.rs). With eq12-elastic-rest the Hertz
+/// part is the load at the sag, but the apple rides deeper (same test): at dt 1e-5 s deceleration
+/// +1.7 %, distance -2.4 %. Each against the R - u forms, the 1 %.
 #[test]
-#[ignore = "bug: constant-torque with eq12 damping uses the Hertz part (2/(1+ke) = 1.83x the load at rest): deceleration +88 % against 5/7 mu_r g (src/contact/mod.rs rolling_torque passes resp.hertz_force_n)"]
-fn constant_torque_with_eq12_damping_decelerates_at_five_sevenths_mu_r_g() {
+#[ignore = "bug: constant-torque takes the Hertz part, not the load: with eq12 damping 2/(1+ke) = 1.83x at rest (deceleration +88 %), with eq12-elastic-rest +1.7 % (src/contact/mod.rs rolling_torque passes resp.hertz_force_n)"]
+fn constant_torque_with_the_eq12_dampings_decelerates_at_five_sevenths_mu_r_g() {
     let (v0, mu_r) = (0.5, 0.03);
-    let (sc, rho) = plane_scene(Damp::Eq12, "constant-torque", mu_r, 0.3, 0.0, v0, 2.6, 1e-4);
-    let (_, s) = run(&sc);
-    let stop = stop_of(&s.of(0));
-    check_stop("cdt with eq12", &stop, v0, mu_r, rho, 1e-2);
+    let mut failures = Vec::new();
+    for (d, dt) in [(Damp::Eq12, 1e-4), (Damp::ElasticRest, 1e-5)] {
+        let (sc, rho) = plane_scene(d, "constant-torque", mu_r, 0.3, 0.0, v0, 2.6, dt);
+        let (_, s) = run(&sc);
+        let stop = stop_of(&s.of(0));
+        let a = flat_deceleration(mu_r, rho);
+        let (e_a, e_d) = (
+            stop.deceleration / a - 1.0,
+            stop.distance_m / (v0 * v0 / (2.0 * a)) - 1.0,
+        );
+        println!(
+            "cdt with {d:?} at dt {dt}: deceleration {:+.2} %, distance {:+.2} %",
+            100.0 * e_a,
+            100.0 * e_d
+        );
+        if e_a.abs() > 0.01 || e_d.abs() > 0.01 {
+            failures.push(format!(
+                "{d:?}: {:+.2} %, {:+.2} %",
+                100.0 * e_a,
+                100.0 * e_d
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
 }
 
 /// A bug, shown: the module documentation of `constant_torque` says a stopped apple does not
