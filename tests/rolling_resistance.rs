@@ -4,16 +4,19 @@
 //! - flat, `constant-torque` (LIGGGHTS `cdt`): a rolling apple decelerates at
 //!   a = mu_r g R rho / (rho^2 + 2/5 R^2) = 5/7 mu_r g (1 + 3/7 u/R + ...), rho = R - u the
 //!   contact-point lever on a rigid flat, and stops after v0^2 / (2 a) in v0 / a
-//!   (with rho = R: 7 v0^2 / (10 mu_r g), 7 v0 / (5 mu_r g)). The issue's 1 % against the R forms;
-//!   the rho forms to 0.01 % (11.3).
+//!   (with rho = R: 7 v0^2 / (10 mu_r g), 7 v0 / (5 mu_r g)). The issue's 1 % against the R forms
+//!   (stated 0.25 %, the lever); the rho forms to 0.025 % (11.3).
 //! - flat, `elastic-plastic`: while rolling the spring sits at its cap, the same closed forms.
 //! - slope: rolls down at a = g (sin t - mu_r cos t R / rho) / (1 + 2/5 R^2 / rho^2)
 //!   (= 5/7 g (sin t - mu_r cos t) with rho = R) when tan t > mu_r; with `elastic-plastic` it stays
-//!   (drift under 1 mm over 2 s, the issue's bound) when tan t < mu_r (11.4).
+//!   (drift under 1 mm over 2 s, the issue's bound) when tan t < mu_r (11.3).
 //! - belt: an apple set at rest on a belt running at V reaches V after exactly
 //!   T = (rho / R) V / (mu_r g), slip phase included (its angular momentum about a point of the
-//!   belt changes only by the rolling torque), and then rides with it (within 2 % of V) (11.5).
-//! - a settled pile and a lone apple on a gentle slope with the default model stay put (11.6).
+//!   belt changes only by the rolling torque), and then rides with it (within 2 % of V) (11.3).
+//! - a settled pile and a lone apple on a gentle slope with the default model stay put (11.5).
+//!
+//! Each measured figure stated in docs/physics.md is checked at twice its value (docs/claims.md),
+//! as well as at the issue's tolerance.
 //!
 //! The apple is the paper's Figs. 6-7 apple (D 80 mm, G 1 MPa, nu 0.18, 0.107 kg) on steel,
 //! friction 0.3 (0.5 on the belt), mu_r 0.03 (the default) and 0.05. `constant-torque` runs with
@@ -157,29 +160,30 @@ fn stop_of(s: &[(f64, &AppleState)]) -> Stop {
     }
 }
 
-/// Checks a stop against the closed forms: the issue's 1 % with the lever R (7 v0^2 / (10 mu_r g),
-/// 7 v0 / (5 mu_r g), 5/7 mu_r g) and `tight` with the lever rho = R - u.
+/// Checks a stop against the closed forms with the lever R (7 v0^2 / (10 mu_r g), 7 v0 / (5 mu_r
+/// g), 5/7 mu_r g) at 0.5 %, twice the stated 0.25 % (the issue's 1 % is looser), and at `tight`
+/// with the lever rho = R - u.
 fn check_stop(what: &str, got: &Stop, v0: f64, mu_r: f64, rho: f64, tight: f64) {
     let a_r = 5.0 / 7.0 * mu_r * G;
     assert_ref(
         &format!("{what}: deceleration, lever R"),
         got.deceleration,
         a_r,
-        0.01,
+        5e-3,
         "closed form",
     );
     assert_ref(
         &format!("{what}: stopping distance 7 v0^2 / (10 mu_r g)"),
         got.distance_m,
         7.0 * v0 * v0 / (10.0 * mu_r * G),
-        0.01,
+        5e-3,
         "closed form",
     );
     assert_ref(
         &format!("{what}: stopping time 7 v0 / (5 mu_r g)"),
         got.time_s,
         7.0 * v0 / (5.0 * mu_r * G),
-        0.01,
+        5e-3,
         "closed form",
     );
     let a = flat_deceleration(mu_r, rho);
@@ -207,9 +211,9 @@ fn check_stop(what: &str, got: &Stop, v0: f64, mu_r: f64, rho: f64, tight: f64) 
 }
 
 /// Item 1: `constant-torque` on a flat (viscoelastic damping, its LIGGGHTS pairing), two speeds,
-/// two coefficients, dt 1e-4 s and 1e-5 s. docs/physics.md 11.3: within 1 % of the R forms (u/R
-/// = 0.34 % moves them by 3/7 of that: 0.15 %), within 0.025 % of the R - u forms (measured
-/// 0.013 % at most), checked at twice that.
+/// two coefficients, dt 1e-4 s and 1e-5 s. docs/physics.md 11.3: within 1 % of the R forms (the
+/// issue; u/R = 0.34 % moves them by 3/7 of that: measured 0.16 % at most, stated 0.25 %), within
+/// 0.025 % of the R - u forms (measured 0.016 % at most), each checked at twice the stated figure.
 #[test]
 fn constant_torque_on_a_flat_stops_at_the_closed_form() {
     for (v0, mu_r, dt) in [(0.5, 0.03, 1e-4), (0.25, 0.05, 1e-4), (0.5, 0.03, 1e-5)] {
@@ -239,8 +243,9 @@ fn constant_torque_on_a_flat_stops_at_the_closed_form() {
 
 /// Item 1 with the default rolling model: `elastic-plastic` on a flat stops at the same closed
 /// forms (its spring sits at the cap mu_r R |F_n| while rolling, F_n the whole normal force, which
-/// averages m g whatever the damping). docs/physics.md 11.3: within 0.025 % of the R - u forms
-/// (measured 0.020 % at most, the distance of the eq. 12 run), checked at twice that.
+/// averages m g whatever the damping). docs/physics.md 11.3: within 0.25 % of the R forms
+/// (measured 0.24 %, eq. 12's deeper sag) and 0.025 % of the R - u forms (measured 0.020 %, the
+/// distance of the eq. 12 run), each checked at twice that.
 #[test]
 fn elastic_plastic_on_a_flat_stops_at_the_same_closed_form() {
     let (v0, mu_r) = (0.5, 0.03);
@@ -344,7 +349,8 @@ fn slope_acceleration(d: Damp, rolling: &str, mu_r: f64, theta_deg: f64, dt: f64
 
 /// Item 2: on a slope with tan t > mu_r (3 and 5 degrees, mu_r 0.03: tan t = 1.7 and 2.9 mu_r)
 /// both models roll down at a = g (sin t - mu_r cos t R/rho) / (1 + 2/5 R^2/rho^2) (docs/physics.md
-/// 11.4): within 1 % (measured 0.06 % at most, eq. 12 at 3 degrees). The plain 5/7 g (sin t -
+/// 11.3): within 1 % (the issue) and 0.07 % (stated; measured 0.062 %, eq. 12 at 3 degrees),
+/// checked at twice that. The plain 5/7 g (sin t -
 /// mu_r cos t) within 1 % at 5 degrees (measured -0.59 %); near the threshold the lever matters:
 /// at 3 degrees with eq. 12's sag it is -1.05 % off (checked to be more than 1 % off).
 #[test]
@@ -364,7 +370,7 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
                 &format!("{what}: acceleration, lever R - u"),
                 a,
                 cf,
-                0.01,
+                2.0 * 0.07e-2,
                 "closed form",
             );
             let plain = 5.0 / 7.0 * G * (th.sin() - mu_r * th.cos());
@@ -387,7 +393,7 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
 
 /// Item 2: with `elastic-plastic` and tan t < mu_r (1 and 1.5 degrees: 0.58 and 0.87 mu_r) a
 /// lone apple released at rest stays: the issue's bound, under 1 mm over 2 s. docs/physics.md
-/// 11.4: it settles within 6 um (the rolling spring and the stick spring taking the load:
+/// 11.3: it settles within 6 um (the rolling spring and the stick spring taking the load:
 /// measured 2.9-5.3 um) and moves less than 0.1 um from 0.5 to 2 s, at dt 1e-4 s.
 #[test]
 fn elastic_plastic_holds_an_apple_on_a_slope_below_mu_r() {
@@ -415,7 +421,7 @@ fn elastic_plastic_holds_an_apple_on_a_slope_below_mu_r() {
     }
 }
 
-/// docs/physics.md 11.4: `constant-torque` cannot hold an apple on a slope, however gentle: its
+/// docs/physics.md 11.3: `constant-torque` cannot hold an apple on a slope, however gentle: its
 /// torque points against the rolling and vanishes with it (bounded by the velocity-kill rate
 /// times |w|), so the apple creeps down at the speed where that bound carries the load. Measured
 /// at 1.5 degrees (tan t = 0.87 mu_r), viscoelastic damping, dt 1e-4 s: 76 um over 2 s, still
@@ -467,11 +473,12 @@ fn belt_scene(
 }
 
 /// Item 3: an apple set at rest on a belt reaches the belt speed V after T = (rho/R) V / (mu_r g)
-/// (docs/physics.md 11.5, the slip phase included) and rides with it. Within 1 % (the issue;
-/// measured 0.027 % at most); the issue's first-order form 2V/(7 mu g) + V/(mu_r g) is 2.0-3.3 %
+/// (docs/physics.md 11.3, the slip phase included) and rides with it. Within 1 % (the issue;
+/// stated 0.03 %, measured 0.027 % at most, checked at twice that); the issue's first-order form 2V/(7 mu g) + V/(mu_r g) is 2.0-3.3 %
 /// late (2 mu_r / (7 mu) = 1.7 and 2.9 % from neglecting the rolling resistance during the slip,
 /// the rest from the lever; checked to be more than 1 % off); after
-/// T the centre speed stays within 2 % of V (the issue; measured 0.1 % at most). Default model
+/// T the centre speed stays within 2 % of V (the issue) and 0.1 % (stated; measured 0.092 %,
+/// checked at twice that). Default model
 /// (eq. 12, `elastic-plastic`) and `constant-torque` with viscoelastic damping; belt 0.4 m/s with
 /// mu_r 0.03 and 0.8 m/s with 0.05, friction 0.5.
 #[test]
@@ -504,7 +511,7 @@ fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
                 &format!("{what}: time to V, (rho/R) V/(mu_r g)"),
                 t_reach,
                 exact,
-                0.01,
+                2.0 * 0.03e-2,
                 "closed form",
             );
             let first_order = 2.0 * v_belt / (7.0 * mu * G) + t_cf;
@@ -523,7 +530,8 @@ fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
                 "{what}: after T, |v - V| up to {worst:.3e} m/s ({:.3} % of V)",
                 100.0 * worst / v_belt
             );
-            assert!(worst <= 0.02 * v_belt, "rides with the belt");
+            assert!(worst <= 0.02 * v_belt, "rides with the belt (the issue)");
+            assert!(worst <= 2.0 * 0.1e-2 * v_belt, "rides with the belt");
         }
     }
 }
@@ -582,7 +590,7 @@ fn pile(eta_r: Option<f64>) -> (f64, f64, usize) {
 /// eta_r 1) does not creep: the largest displacement from 4 to 6 s under 1 nm (the issue's
 /// example; measured 0.036 nm; 23 nm from 2 to 4 s, under 50 nm). Without the rolling dashpot
 /// (eta_r = 0, LIGGGHTS's epsd2) the spring rocks the pile for ever: more than 1 um from 4 to 6 s
-/// (measured 2.8 um), which is why the default is eta_r = 1 (docs/physics.md 11.6).
+/// (measured 2.8 um), which is why the default is eta_r = 1 (docs/physics.md 11.5).
 #[test]
 fn a_settled_pile_with_the_default_rolling_model_does_not_creep() {
     let (early, late, open) = pile(None);
