@@ -473,14 +473,13 @@ fn belt_scene(
 }
 
 /// Item 3: an apple set at rest on a belt reaches the belt speed V after T = (rho/R) V / (mu_r g)
-/// (docs/physics.md 11.3, the slip phase included) and rides with it. Within 1 % (the issue;
-/// stated 0.03 %, measured 0.027 % at most, checked at twice that); the issue's first-order form 2V/(7 mu g) + V/(mu_r g) is 2.0-3.3 %
-/// late (2 mu_r / (7 mu) = 1.7 and 2.9 % from neglecting the rolling resistance during the slip,
-/// the rest from the lever; checked to be more than 1 % off); after
-/// T the centre speed stays within 2 % of V (the issue) and 0.1 % (stated; measured 0.092 %,
-/// checked at twice that). Default model
-/// (eq. 12, `elastic-plastic`) and `constant-torque` with viscoelastic damping; belt 0.4 m/s with
-/// mu_r 0.03 and 0.8 m/s with 0.05, friction 0.5.
+/// (docs/physics.md 11.3, the slip phase included) and rides with it. Within 1 % (the issue) and
+/// 0.03 % (stated; measured 0.027 % at most), checked at twice that. The issue's first-order form
+/// 2V/(7 mu g) + V/(mu_r g) is 2.0-3.3 % late (2 mu_r / (7 mu) = 1.7 and 2.9 % from neglecting the
+/// rolling resistance during the slip, the rest from the lever; checked to be more than 1 % off).
+/// After T the centre speed stays within 2 % of V (the issue) and 0.1 % (stated; measured 0.092 %,
+/// checked at twice that). Default model (eq. 12, `elastic-plastic`) and `constant-torque` with
+/// viscoelastic damping; belt 0.4 m/s with mu_r 0.03 and 0.8 m/s with 0.05, friction 0.5.
 #[test]
 fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
     let mu = 0.5;
