@@ -106,54 +106,55 @@ fn reference(model: Model, v0: f64, gravity: bool) -> ode::Impact {
     }
 }
 
-/// One drop against its RK4: restitution, peak force and contact time within 0.5 % (the issue's
-/// tolerance on the restitution); returns the run's event.
-fn check_against_rk4(model: Model, v0: f64, gravity: bool) -> ContactEvent {
+/// One drop against its RK4 at dt 2e-6 s: restitution, peak force and contact time within 0.5 %
+/// (the issue's tolerance on the restitution) and within twice `stated` (the model's worst error
+/// as docs/physics.md 11.1 states it); returns the run's event.
+fn check_against_rk4(model: Model, v0: f64, gravity: bool, stated: f64) -> ContactEvent {
     let ev = drop(model, v0, gravity, 2e-6);
     let rk = reference(model, v0, gravity);
     let what = format!("{model:?} v0 {v0} gravity {gravity}");
-    assert_ref(
-        &format!("{what}: restitution"),
-        ev.restitution.unwrap(),
-        rk.rebound_m_s.unwrap() / v0,
-        5e-3,
-        "RK4",
-    );
-    assert_ref(
-        &format!("{what}: peak force"),
-        ev.peak_force_n,
-        rk.peak_force_n,
-        5e-3,
-        "RK4",
-    );
-    assert_ref(
-        &format!("{what}: contact time"),
-        ev.duration_s.unwrap(),
-        rk.contact_time_s.unwrap(),
-        5e-3,
-        "RK4",
-    );
+    let pairs = [
+        (
+            "restitution",
+            ev.restitution.unwrap(),
+            rk.rebound_m_s.unwrap() / v0,
+        ),
+        ("peak force", ev.peak_force_n, rk.peak_force_n),
+        (
+            "contact time",
+            ev.duration_s.unwrap(),
+            rk.contact_time_s.unwrap(),
+        ),
+    ];
+    for (name, got, want) in pairs {
+        assert!(
+            rel(got, want) <= 5e-3,
+            "{what}: {name} beyond the issue's 0.5 %"
+        );
+        assert_ref(&format!("{what}: {name}"), got, want, 2.0 * stated, "RK4");
+    }
     ev
 }
 
 /// Eq. 12 (section 3): restitution, peak and contact time against RK4 for ke = 0.09 and 0.4225
 /// (e -> 0.3 and 0.65, the paper's apples and the Luli apple-apple value), lambda = 1000 s/m
 /// (lambda v0 >> 1) and 10 s/m (lambda v0 = 5 and 10), 0.5 and 1 m/s, with and without gravity:
-/// within 0.5 % (measured 0.04 % at most). Without gravity at lambda v0 >> 1 the closed form
-/// e = sqrt(ke) within 0.5 % (measured 0.004 %).
+/// within 0.5 % (the issue) and 0.04 % (stated; measured 0.036 %, the restitution). Without
+/// gravity at lambda v0 >> 1 the closed form e = sqrt(ke) within 0.006 % (stated; measured
+/// 0.004 %). Each stated figure checked at twice its value.
 #[test]
 fn eq12_against_rk4_and_sqrt_ke() {
     for ke in [0.09, 0.4225] {
         for lambda in [1000.0, 10.0] {
             for v0 in [0.5, 1.0] {
                 for gravity in [false, true] {
-                    let ev = check_against_rk4(Model::Eq12 { ke, lambda }, v0, gravity);
+                    let ev = check_against_rk4(Model::Eq12 { ke, lambda }, v0, gravity, 0.04e-2);
                     if lambda == 1000.0 && !gravity {
                         assert_ref(
                             "e = sqrt(ke)",
                             ev.restitution.unwrap(),
                             ke.sqrt(),
-                            5e-3,
+                            2.0 * 0.006e-2,
                             "closed form",
                         );
                     }
@@ -163,25 +164,30 @@ fn eq12_against_rk4_and_sqrt_ke() {
     }
 }
 
-/// Eq. 12's elastic-at-rest variant: the same grid against RK4, within 0.5 % (measured 0.08 % at
-/// most). Closed forms without gravity: e = sqrt(ke) at lambda v0 >> 1 (section 3's argument:
-/// loading on H, unloading on ke H), within 0.5 % (measured 0.006 %); and, its loading being
-/// elastic whatever ke and lambda, the elastic peak force P_max = k u_max^(3/2),
-/// u_max = (5 m v0^2 / (4 k))^(2/5) (physics.md section 4), within 0.01 % (measured 0.0001 %).
+/// Eq. 12's elastic-at-rest variant: the same grid against RK4, within 0.5 % (the issue) and
+/// 0.08 % (stated; measured 0.076 %, the restitution at lambda v0 = 10 with gravity). At dt 1e-5 s
+/// that case is still within the issue's 0.5 % (stated 0.39 %). Closed forms without gravity:
+/// e = sqrt(ke) at lambda v0 >> 1 (section 3's argument: loading on H, unloading on ke H), within
+/// 0.006 % (stated; measured 0.0054 %); and, its loading being elastic whatever ke and lambda, the
+/// elastic peak force P_max = k u_max^(3/2), u_max = (5 m v0^2 / (4 k))^(2/5) (physics.md
+/// section 4), within 0.0001 % (stated; measured 0.00005 %). Each stated figure checked at twice
+/// its value. And the RK4 figures of docs/physics.md 11.1 (ke 0.09, no gravity, +-1 digit): this
+/// law returns 0.428 at lambda v0 = 5 and 0.345 at 10, eq. 12 0.394 and 0.332.
 #[test]
 fn eq12_elastic_rest_against_rk4_and_closed_forms() {
     for ke in [0.09, 0.4225] {
         for lambda in [1000.0, 10.0] {
             for v0 in [0.5, 1.0] {
                 for gravity in [false, true] {
-                    let ev = check_against_rk4(Model::ElasticRest { ke, lambda }, v0, gravity);
+                    let ev =
+                        check_against_rk4(Model::ElasticRest { ke, lambda }, v0, gravity, 0.08e-2);
                     if !gravity {
                         let (_, p_max, _, _) = ode::elastic_closed_form(M, v0, ode::fig1_k(), R);
                         assert_ref(
                             "elastic peak force",
                             ev.peak_force_n,
                             p_max,
-                            1e-4,
+                            2.0 * 0.0001e-2,
                             "closed form",
                         );
                         if lambda == 1000.0 {
@@ -189,7 +195,7 @@ fn eq12_elastic_rest_against_rk4_and_closed_forms() {
                                 "e = sqrt(ke)",
                                 ev.restitution.unwrap(),
                                 ke.sqrt(),
-                                5e-3,
+                                2.0 * 0.006e-2,
                                 "closed form",
                             );
                         }
@@ -198,20 +204,52 @@ fn eq12_elastic_rest_against_rk4_and_closed_forms() {
             }
         }
     }
+    // At dt 1e-5 s (the scenarios' usual step for drops), the worst case of the grid.
+    let model = Model::ElasticRest {
+        ke: 0.09,
+        lambda: 10.0,
+    };
+    let e = drop(model, 1.0, true, 1e-5).restitution.unwrap();
+    let want = reference(model, 1.0, true).rebound_m_s.unwrap();
+    assert_ref("dt 1e-5 s: restitution", e, want, 5e-3, "RK4");
+    assert!(rel(e, want) <= 0.39e-2 + 0.005e-2);
+    // The finite lambda v0 figures of 11.1 (RK4 only, no gravity, v0 1 m/s).
+    for (lambda_v0, elastic_rest, eq12) in [(5.0, 0.428, 0.394), (10.0, 0.345, 0.332)] {
+        let er = reference(
+            Model::ElasticRest {
+                ke: 0.09,
+                lambda: lambda_v0,
+            },
+            1.0,
+            false,
+        );
+        let e12 = reference(
+            Model::Eq12 {
+                ke: 0.09,
+                lambda: lambda_v0,
+            },
+            1.0,
+            false,
+        );
+        let (er, e12) = (er.rebound_m_s.unwrap(), e12.rebound_m_s.unwrap());
+        println!("lambda v0 {lambda_v0}: elastic-rest e {er:.4}, eq12 e {e12:.4}");
+        assert!((er - elastic_rest).abs() <= 1e-3 && (e12 - eq12).abs() <= 1e-3);
+    }
 }
 
 /// LIGGGHTS's viscoelastic Hertz: restitution, peak force and contact time against RK4 for
-/// `restitution` 0.3 and 0.65, 0.5 and 1 m/s, with and without gravity: within 0.5 % (measured
-/// 0.025 % at most). Closed form without gravity: the law is scale-free (c grows as u^(1/4):
-/// rescaling u and t leaves c / sqrt(k m) alone), so e does not depend on v0: the two speeds
-/// within 1e-4.
+/// `restitution` 0.3 and 0.65, 0.5 and 1 m/s, with and without gravity: within 0.5 % (the issue)
+/// and 0.025 % (stated; measured 0.0247 %, a peak force), checked at twice that. Closed form
+/// without gravity: the law is scale-free (c grows as u^(1/4): rescaling u and t leaves
+/// c / sqrt(k m) alone), so e does not depend on v0: the two speeds within 5e-6 (stated;
+/// measured 3.1e-6), checked at twice that.
 #[test]
 fn viscoelastic_against_rk4() {
     for e in [0.3, 0.65] {
         let mut no_gravity = Vec::new();
         for v0 in [0.5, 1.0] {
             for gravity in [false, true] {
-                let ev = check_against_rk4(Model::Visco { e }, v0, gravity);
+                let ev = check_against_rk4(Model::Visco { e }, v0, gravity, 0.025e-2);
                 if !gravity {
                     no_gravity.push(ev.restitution.unwrap());
                 }
@@ -221,7 +259,9 @@ fn viscoelastic_against_rk4() {
             "restitution {e}: e {:.5} at 0.5 m/s, {:.5} at 1 m/s",
             no_gravity[0], no_gravity[1]
         );
-        assert!((no_gravity[0] - no_gravity[1]).abs() < 1e-4);
+        let spread = (no_gravity[0] - no_gravity[1]).abs();
+        println!("restitution {e}: the two speeds {spread:.2e} apart");
+        assert!(spread <= 2.0 * 5e-6);
     }
 }
 
@@ -232,8 +272,8 @@ fn viscoelastic_against_rk4() {
 /// 0.3971, 0.65 -> 0.6747 (the table of 11.1, +-1 in the last digit). The same RK4 reproduces
 /// LIGGGHTS 3.8's own drops of docs/liggghts_models.md (E 2.6 MPa apple, 800 kg/m^3, D 80 mm, on
 /// 200 GPa steel, 1 m/s, no gravity, dt 1e-6: e 0.3 -> 71.380 N, 9.1628 ms with overlap, e 0.3971;
-/// e 0.65 -> 81.280 N, 8.3049 ms, 0.6747) within 0.02 %, and so does applesim (dt 2e-6 s) within
-/// 0.05 % (measured 0.026 %).
+/// e 0.65 -> 81.280 N, 8.3049 ms, 0.6747) within 0.011 % (measured 0.0102 %), and so does applesim
+/// (dt 2e-6 s) within 0.01 % (measured 0.0088 %); both checked at 0.02 %.
 #[test]
 fn viscoelastic_restitution_is_raised_by_the_clamp() {
     let e_star = ode::e_star(APPLE.0, APPLE.1, STEEL.0, STEEL.1);
@@ -341,21 +381,21 @@ fn viscoelastic_restitution_is_raised_by_the_clamp() {
             &format!("{what}: applesim peak"),
             ev.peak_force_n,
             peak,
-            5e-4,
+            2e-4,
             "LIGGGHTS",
         );
         assert_ref(
             &format!("{what}: applesim contact time"),
             ev.duration_s.unwrap(),
             t_c,
-            5e-4,
+            2e-4,
             "LIGGGHTS",
         );
         assert_ref(
             &format!("{what}: applesim e"),
             ev.restitution.unwrap(),
             e_out,
-            5e-4,
+            2e-4,
             "LIGGGHTS",
         );
     }
@@ -364,21 +404,23 @@ fn viscoelastic_restitution_is_raised_by_the_clamp() {
 /// Static overlap (docs/physics.md 11.2) of an apple resting on steel: eq. 12 carries
 /// (1 + ke)/2 of Hertz at rest, u = (2 m g / ((1 + ke) k))^(2/3); the elastic-rest variant and the
 /// viscoelastic law the whole, u = (m g / k)^(2/3). For the Fig. 1 apple (0.107 kg) and a 0.2 kg
-/// apple of the same size and flesh, ke 0.09: within 0.5 % (the issue) after 2.5 s at dt 1e-4 s
-/// (measured 1.5e-6 at most, checked at 1e-5); released at rest 1 % below its sag. Also the doc's table of 11.2 (the
-/// closed forms, +-1 in the last digit).
+/// apple of the same size and flesh, ke 0.09: within 0.5 % (the issue) and 2e-6 (stated; measured
+/// 1.5e-6, checked at twice that) after 2.5 s at dt 1e-4 s, released at rest 1 % below its sag.
+/// Also the doc's table of 11.2 (the closed forms, +-1 in the last digit) and its k.
 #[test]
 fn static_overlap_of_each_model() {
     let k = ode::fig1_k();
     let ke = 0.09;
-    // (mass, model, overlap mm, contact radius mm, mean pressure kPa) as docs/physics.md 11.2.
+    assert!((k - 7.154e5).abs() <= 0.001e5, "k {k}");
+    // (mass, model, overlap mm, u/R %, contact radius mm, mean and peak pressure kPa) as
+    // docs/physics.md 11.2.
     let doc = [
-        (0.107, "eq12", 0.1935, 2.782, 43.2),
-        (0.107, "elastic", 0.1291, 2.273, 64.7),
-        (0.2, "eq12", 0.2936, 3.427, 53.2),
-        (0.2, "elastic", 0.1959, 2.799, 79.7),
+        (0.107, "eq12", 0.1935, 0.48, 2.782, 43.2, 64.7),
+        (0.107, "elastic", 0.1291, 0.32, 2.273, 64.7, 97.0),
+        (0.2, "eq12", 0.2936, 0.73, 3.427, 53.2, 79.8),
+        (0.2, "elastic", 0.1959, 0.49, 2.799, 79.7, 119.5),
     ];
-    for (m, kind, u_doc, a_doc, p_doc) in doc {
+    for (m, kind, u_doc, ratio_doc, a_doc, p_doc, p0_doc) in doc {
         let f = if kind == "eq12" {
             0.5 * (1.0 + ke)
         } else {
@@ -388,14 +430,27 @@ fn static_overlap_of_each_model() {
         let a = (R * u).sqrt();
         let p = m * G / (std::f64::consts::PI * a * a);
         println!(
-            "{m} kg {kind}: u {:.4} mm, a {:.3} mm, p_mean {:.1} kPa",
+            "{m} kg {kind}: u {:.4} mm ({:.2} % of R), a {:.3} mm, p_mean {:.1} kPa, p0 {:.1} kPa",
             u * 1e3,
+            100.0 * u / R,
             a * 1e3,
-            p * 1e-3
+            p * 1e-3,
+            1.5 * p * 1e-3
         );
-        assert!((u * 1e3 - u_doc).abs() <= 1e-4 && (a * 1e3 - a_doc).abs() <= 1e-3);
-        assert!((p * 1e-3 - p_doc).abs() <= 0.1);
+        assert!((u * 1e3 - u_doc).abs() <= 1e-4 && (100.0 * u / R - ratio_doc).abs() <= 0.01);
+        assert!((a * 1e3 - a_doc).abs() <= 1e-3);
+        assert!((p * 1e-3 - p_doc).abs() <= 0.1 && (1.5 * p * 1e-3 - p0_doc).abs() <= 0.1);
     }
+    // The ratios of 11.2: eq. 12 against elastic Hertz at ke 0.09 (and the sag at 0.4225).
+    let sag = (2.0 / (1.0 + ke)).powf(2.0 / 3.0);
+    println!(
+        "eq12 / elastic: sag {sag:.4}, radius {:.4}, pressure {:.4}",
+        sag.sqrt(),
+        1.0 / sag
+    );
+    assert!((sag - 1.50).abs() <= 0.01 && (sag.sqrt() - 1.22).abs() <= 0.01);
+    assert!((1.0 / sag - 0.667).abs() <= 0.001);
+    assert!(((2.0f64 / 1.4225).powf(2.0 / 3.0) - 1.26).abs() <= 0.01);
     for m in [0.107, 0.2] {
         for model in [
             Model::Eq12 { ke, lambda: 1000.0 },
@@ -426,7 +481,7 @@ fn static_overlap_of_each_model() {
                 5e-3,
                 "closed form",
             );
-            assert!(rel(u, u_cf) < 1e-5);
+            assert!(rel(u, u_cf) <= 2.0 * 2e-6);
         }
     }
 }
