@@ -673,6 +673,13 @@ fn a_lone_apple_on_a_gentle_slope_stays_with_the_default_model() {
         (sc.contact.rolling_friction, sc.contact.rolling_damping),
         (0.03, 1.0)
     );
+    assert_eq!(
+        (sc.contact.damping, sc.contact.tangential),
+        (
+            applesim::scenario::models::Damping::Eq12,
+            applesim::scenario::models::Tangential::Mindlin
+        )
+    );
     let (_, s) = run(&sc);
     let s = s.of(0);
     let down = Vec3::new(th.cos(), 0.0, -th.sin());
@@ -680,4 +687,47 @@ fn a_lone_apple_on_a_gentle_slope_stays_with_the_default_model() {
     println!("default model, 1.5 degrees: drift over 2 s {drift:.3e} m");
     assert!(drift.abs() < 1e-3, "the issue's bound");
     assert!(drift.abs() < 6e-6, "drift {drift} m");
+}
+
+/// docs/physics.md 11.4: the paper's scenarios keep the paper's model: `eq12`, `mindlin`, no
+/// rolling resistance, in `contact` and every `pairs[]` entry (the shipped single scenarios of
+/// scenarios/paper/ and the three top-level paper cases; the batch specs there build on them).
+#[test]
+fn the_papers_scenarios_keep_the_papers_model() {
+    use applesim::scenario::models::{Damping, Rolling, Tangential};
+    let mut files = vec![
+        "scenarios/drop_on_steel.json".to_string(),
+        "scenarios/slip_to_roll.json".to_string(),
+        "scenarios/two_apples_head_on.json".to_string(),
+    ];
+    for entry in std::fs::read_dir(repo("scenarios/paper")).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let v: Value = serde_json::from_str(&text).unwrap();
+        if v.get("base").is_none() {
+            files.push(format!(
+                "scenarios/paper/{}",
+                path.file_name().unwrap().to_string_lossy()
+            ));
+        }
+    }
+    assert!(files.len() >= 11, "{files:?}");
+    for f in files {
+        let sc = shipped(&f);
+        let c = &sc.contact;
+        assert_eq!(
+            (c.damping, c.tangential, c.rolling),
+            (Damping::Eq12, Tangential::Mindlin, Rolling::None),
+            "{f}"
+        );
+        for p in &sc.pairs {
+            let c = p.over(&sc.contact);
+            assert_eq!(
+                (c.damping, c.tangential, c.rolling),
+                (Damping::Eq12, Tangential::Mindlin, Rolling::None),
+                "{f}: pair {:?}",
+                p.materials
+            );
+        }
+    }
 }
