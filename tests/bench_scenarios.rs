@@ -47,12 +47,12 @@ fn both_piles_load_with_the_reference_scene() {
                 apple.poisson_ratio,
                 apple.density_kg_m3
             ),
-            (Some(2.6e6), 0.18, Some(800.0))
+            (Some(2.6e6), Some(0.18), Some(800.0))
         );
         let steel = &sc.materials["steel"];
         assert_eq!(
             (steel.youngs_modulus_pa, steel.poisson_ratio),
-            (Some(2.0e11), 0.3)
+            (Some(2.0e11), Some(0.3))
         );
         assert_eq!(
             (sc.contact.friction, sc.contact.ke, sc.contact.lambda_s_m),

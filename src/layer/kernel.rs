@@ -306,7 +306,7 @@ impl Ctx<'_> {
     }
 
     /// Adds one evaluated contact to the loads of its bodies.
-    #[inline]
+    #[inline(always)]
     fn add_load(&self, sums: &mut Sums, i: u32, other: Party, o: &ContactOut) {
         let loads = &mut *sums.loads;
         let ii = i as usize;

@@ -9,6 +9,7 @@ pub mod budget;
 mod de;
 pub mod generators;
 pub mod models;
+pub mod presets;
 pub mod ranges;
 pub mod stepping;
 pub mod surfaces;
@@ -341,14 +342,19 @@ impl Default for OutputSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
+    /// A preset of the material table ([`presets`], docs/materials.md) whose values fill what the
+    /// scenario leaves out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
     /// Shear modulus G (Pa).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shear_modulus_pa: Option<f64>,
     /// Young's modulus E (Pa).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub youngs_modulus_pa: Option<f64>,
-    /// Poisson's ratio, in (-1, 0.5).
-    pub poisson_ratio: f64,
+    /// Poisson's ratio, in (-1, 0.5) (required, unless a preset gives it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
     /// Density (kg/m^3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density_kg_m3: Option<f64>,
@@ -624,7 +630,9 @@ pub struct AppleSpec {
 /// scenario's closing brace is refused (a second scenario pasted below the first would otherwise
 /// be ignored in silence).
 pub fn from_json(text: &str, file: &str) -> Result<Scenario, ScenarioError> {
-    parse_one(text, file)
+    let mut sc: Scenario = parse_one(text, file)?;
+    presets::resolve(&mut sc)?;
+    Ok(sc)
 }
 
 /// Parses exactly one JSON value of type `T` from `text` (after an optional byte-order mark),

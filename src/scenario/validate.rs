@@ -58,7 +58,17 @@ fn name(field: &str, n: &str) -> R {
 /// The material built from a spec, with the error naming the field.
 pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, ScenarioError> {
     let base = format!("materials.{name}");
-    ranges::POISSON.check(&format!("{base}.poisson_ratio"), m.poisson_ratio)?;
+    let preset_note = || match &m.preset {
+        Some(p) => format!(" (the preset '{p}' does not give one: its source does not)"),
+        None => String::new(),
+    };
+    let Some(nu) = m.poisson_ratio else {
+        return Err(ScenarioError::invalid(
+            format!("{base}.poisson_ratio"),
+            format!("missing: a material needs its Poisson's ratio{}", preset_note()),
+        ));
+    };
+    ranges::POISSON.check(&format!("{base}.poisson_ratio"), nu)?;
     if let Some(rho) = m.density_kg_m3 {
         ranges::DENSITY.check(&format!("{base}.density_kg_m3"), rho)?;
     }
@@ -66,11 +76,11 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
         match (m.shear_modulus_pa, m.youngs_modulus_pa) {
             (Some(g), None) => {
                 ranges::MODULUS.check(&format!("{base}.shear_modulus_pa"), g)?;
-                Material::from_shear(g, m.poisson_ratio, m.density_kg_m3)
+                Material::from_shear(g, nu, m.density_kg_m3)
             }
             (None, Some(e)) => {
                 ranges::MODULUS.check(&format!("{base}.youngs_modulus_pa"), e)?;
-                Material::from_youngs(e, m.poisson_ratio, m.density_kg_m3)
+                Material::from_youngs(e, nu, m.density_kg_m3)
             }
             (Some(_), Some(_)) => return Err(ScenarioError::invalid(
                 base,
@@ -79,7 +89,7 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
             (None, None) => {
                 return Err(ScenarioError::invalid(
                     base,
-                    "needs shear_modulus_pa or youngs_modulus_pa",
+                    format!("needs shear_modulus_pa or youngs_modulus_pa{}", preset_note()),
                 ))
             }
         };
@@ -105,7 +115,7 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
                 format!("{base}.poisson_ratio"),
                 format!(
                     "{} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
-                    num(m.poisson_ratio),
+                    num(nu),
                     ranges::num3(v),
                     ranges::MODULUS.describe()
                 ),

@@ -109,8 +109,8 @@ fn material(ex: &Executed, sc: &Scenario, name: &str) -> Result<Elastic, Validat
         .get(name)
         .ok_or_else(|| shape(ex, format!("no material '{name}'")))?;
     match (m.shear_modulus_pa, m.youngs_modulus_pa) {
-        (Some(g), _) => Ok(Elastic::from_shear(g, m.poisson_ratio)),
-        (None, Some(e)) => Ok(Elastic::from_youngs(e, m.poisson_ratio)),
+        (Some(g), _) => Ok(Elastic::from_shear(g, m.poisson_ratio.unwrap_or(f64::NAN))),
+        (None, Some(e)) => Ok(Elastic::from_youngs(e, m.poisson_ratio.unwrap_or(f64::NAN))),
         (None, None) => Err(shape(ex, format!("material '{name}' has no modulus"))),
     }
 }
