@@ -1,0 +1,733 @@
+//! Rolling resistance (issue 19; docs/physics.md section 11) against the closed forms derived
+//! there, each with its tolerance and the figure measured with this build:
+//!
+//! - flat, `constant-torque` (LIGGGHTS `cdt`): a rolling apple decelerates at
+//!   a = mu_r g R rho / (rho^2 + 2/5 R^2) = 5/7 mu_r g (1 + 3/7 u/R + ...), rho = R - u the
+//!   contact-point lever on a rigid flat, and stops after v0^2 / (2 a) in v0 / a
+//!   (with rho = R: 7 v0^2 / (10 mu_r g), 7 v0 / (5 mu_r g)). The issue's 1 % against the R forms
+//!   (stated 0.25 %, the lever); the rho forms to 0.025 % (11.3).
+//! - flat, `elastic-plastic`: while rolling the spring sits at its cap, the same closed forms.
+//! - slope: rolls down at a = g (sin t - mu_r cos t R / rho) / (1 + 2/5 R^2 / rho^2)
+//!   (= 5/7 g (sin t - mu_r cos t) with rho = R) when tan t > mu_r; with `elastic-plastic` it stays
+//!   (drift under 1 mm over 2 s, the issue's bound) when tan t < mu_r (11.3).
+//! - belt: an apple set at rest on a belt running at V reaches V after exactly
+//!   T = (rho / R) V / (mu_r g), slip phase included (its angular momentum about a point of the
+//!   belt changes only by the rolling torque), and then rides with it (within 2 % of V) (11.3).
+//! - a settled pile and a lone apple on a gentle slope with the default model stay put (11.5).
+//!
+//! Each measured figure stated in docs/physics.md is checked at twice its value (docs/claims.md),
+//! as well as at the issue's tolerance.
+//!
+//! The apple is the paper's Figs. 6-7 apple (D 80 mm, G 1 MPa, nu 0.18, 0.107 kg) on steel,
+//! friction 0.3 (0.5 on the belt), mu_r 0.03 (the default) and 0.05. `constant-torque` runs with
+//! the viscoelastic damping (its LIGGGHTS pairing: at rest the Hertz part that LIGGGHTS's torque
+//! uses is the load); with the eq. 12 dampings it does not give 5/7 mu_r g (bug test below).
+//! Every reference is written here (no crate helper); the lever uses the closed-form static sag.
+
+mod common;
+use applesim::math::Vec3;
+use applesim::record::series::AppleState;
+use applesim::scenario::{self, Scenario};
+use common::ode;
+use common::*;
+use serde_json::{json, Value};
+
+const R: f64 = 0.04;
+const M: f64 = 0.107;
+const G: f64 = 9.81;
+const APPLE: (f64, f64) = (1.0e6, 0.18);
+const STEEL: (f64, f64) = (8.1e10, 0.28);
+const KE: f64 = 0.09;
+
+/// The normal damping of a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Damp {
+    /// The paper's eq. 12 (ke 0.09, lambda 1000 s/m): at rest (1 + ke)/2 of Hertz.
+    Eq12,
+    /// Eq. 12 with the full Hertz force at rest.
+    ElasticRest,
+    /// LIGGGHTS's viscoelastic Hertz, restitution 0.3.
+    Visco,
+}
+
+fn contact(d: Damp, mu: f64, rolling: &str, mu_r: f64) -> Value {
+    let mut c = match d {
+        Damp::Eq12 => json!({"friction": mu, "ke": KE, "lambda_s_m": 1000, "damping": "eq12"}),
+        Damp::ElasticRest => json!({"friction": mu, "ke": KE, "lambda_s_m": 1000,
+            "damping": "eq12-elastic-rest"}),
+        Damp::Visco => json!({"friction": mu, "damping": "viscoelastic", "restitution": 0.3}),
+    };
+    c["rolling"] = json!(rolling);
+    c["rolling_friction"] = json!(mu_r);
+    c
+}
+
+fn materials() -> Value {
+    json!({
+        "apple": {"shear_modulus_pa": APPLE.0, "poisson_ratio": APPLE.1, "density_kg_m3": 800},
+        "steel": {"shear_modulus_pa": STEEL.0, "poisson_ratio": STEEL.1}})
+}
+
+/// Static overlap under the normal load `load_n` on steel (docs/physics.md 11.2): eq. 12 carries
+/// (1 + ke)/2 of Hertz at rest, the other two the whole.
+fn sag(d: Damp, load_n: f64) -> f64 {
+    let k = ode::hertz_k(APPLE.0, APPLE.1, STEEL.0, STEEL.1, R);
+    match d {
+        Damp::Eq12 => ode::resting_sag(k, KE, load_n),
+        _ => (load_n / k).powf(2.0 / 3.0),
+    }
+}
+
+/// An apple on a steel plane tilted by `theta_deg` about y (its down-slope direction is
+/// (cos t, 0, -sin t)), at its static sag, launched down the slope at `v0` rolling without slip
+/// about the lever rho = R - u. Returns the scenario and rho.
+#[allow(clippy::too_many_arguments)]
+fn plane_scene(
+    d: Damp,
+    rolling: &str,
+    mu_r: f64,
+    mu: f64,
+    theta_deg: f64,
+    v0: f64,
+    duration_s: f64,
+    dt: f64,
+) -> (Scenario, f64) {
+    let th = theta_deg.to_radians();
+    let n = Vec3::new(th.sin(), 0.0, th.cos());
+    let rho = R - sag(d, M * G * th.cos());
+    let c = n * rho;
+    let v = Vec3::new(th.cos(), 0.0, -th.sin()) * v0;
+    let s = json!({
+        "duration_s": duration_s, "time_step_s": dt, "gravity_m_s2": [0, 0, -G],
+        "output": {"sample_interval_s": 1e-3, "force_history": false},
+        "materials": materials(),
+        "contact": contact(d, mu, rolling, mu_r),
+        "model": {"sleep": {"enabled": false}},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * R, "mass_kg": M,
+            "position_m": [c.x, c.y, c.z], "velocity_m_s": [v.x, v.y, v.z],
+            "angular_velocity_rad_s": [0, v0 / rho, 0]}],
+        "surfaces": [{"name": "floor", "type": "plane", "material": "steel",
+            "point_m": [0, 0, 0], "normal": [n.x, n.y, n.z]}]
+    });
+    (scenario::from_json(&s.to_string(), "rolling").unwrap(), rho)
+}
+
+/// Least-squares slope of y(t).
+fn slope(pts: &[(f64, f64)]) -> f64 {
+    let n = pts.len() as f64;
+    let (mt, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    pts.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum::<f64>()
+        / pts.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>()
+}
+
+/// Deceleration a = mu_r g R rho / (rho^2 + 2/5 R^2) of an apple rolling on a flat against the
+/// torque mu_r R m g (docs/physics.md 11.3; rho = R gives 5/7 mu_r g).
+fn flat_deceleration(mu_r: f64, rho: f64) -> f64 {
+    mu_r * G * R * rho / (rho * rho + 0.4 * R * R)
+}
+
+/// What a run on a flat measured: deceleration (fit over 10-90 % of the stop), stopping time
+/// (v through 0, interpolated) and distance (the farthest x).
+struct Stop {
+    deceleration: f64,
+    time_s: f64,
+    distance_m: f64,
+}
+
+fn stop_of(s: &[(f64, &AppleState)]) -> Stop {
+    let k = s
+        .iter()
+        .position(|(_, a)| a.velocity.x <= 1e-5)
+        .expect("the apple stops");
+    let ((t1, v1), (t2, v2)) = (
+        (s[k - 1].0, s[k - 1].1.velocity.x),
+        (s[k].0, s[k].1.velocity.x),
+    );
+    let time_s = t1 + v1 * (t2 - t1) / (v1 - v2);
+    let pts: Vec<(f64, f64)> = s
+        .iter()
+        .filter(|(t, _)| *t > 0.1 * time_s && *t < 0.9 * time_s)
+        .map(|(t, a)| (*t, a.velocity.x))
+        .collect();
+    Stop {
+        deceleration: -slope(&pts),
+        time_s,
+        distance_m: s.iter().map(|(_, a)| a.position.x).fold(f64::MIN, f64::max)
+            - s[0].1.position.x,
+    }
+}
+
+/// Checks a stop against the closed forms with the lever R (7 v0^2 / (10 mu_r g), 7 v0 / (5 mu_r
+/// g), 5/7 mu_r g) at 0.5 %, twice the stated 0.25 % (the issue's 1 % is looser), and at `tight`
+/// with the lever rho = R - u.
+fn check_stop(what: &str, got: &Stop, v0: f64, mu_r: f64, rho: f64, tight: f64) {
+    let a_r = 5.0 / 7.0 * mu_r * G;
+    assert_ref(
+        &format!("{what}: deceleration, lever R"),
+        got.deceleration,
+        a_r,
+        5e-3,
+        "closed form",
+    );
+    assert_ref(
+        &format!("{what}: stopping distance 7 v0^2 / (10 mu_r g)"),
+        got.distance_m,
+        7.0 * v0 * v0 / (10.0 * mu_r * G),
+        5e-3,
+        "closed form",
+    );
+    assert_ref(
+        &format!("{what}: stopping time 7 v0 / (5 mu_r g)"),
+        got.time_s,
+        7.0 * v0 / (5.0 * mu_r * G),
+        5e-3,
+        "closed form",
+    );
+    let a = flat_deceleration(mu_r, rho);
+    assert_ref(
+        &format!("{what}: deceleration, lever R - u"),
+        got.deceleration,
+        a,
+        tight,
+        "closed form",
+    );
+    assert_ref(
+        &format!("{what}: distance, lever R - u"),
+        got.distance_m,
+        v0 * v0 / (2.0 * a),
+        tight,
+        "closed form",
+    );
+    assert_ref(
+        &format!("{what}: time, lever R - u"),
+        got.time_s,
+        v0 / a,
+        tight,
+        "closed form",
+    );
+}
+
+/// Item 1: `constant-torque` on a flat (viscoelastic damping, its LIGGGHTS pairing), two speeds,
+/// two coefficients, dt 1e-4 s and 1e-5 s. docs/physics.md 11.3: within 1 % of the R forms (the
+/// issue; u/R = 0.34 % moves them by 3/7 of that: measured 0.16 % at most, stated 0.25 %), within
+/// 0.025 % of the R - u forms (measured 0.016 % at most), each checked at twice the stated figure.
+#[test]
+fn constant_torque_on_a_flat_stops_at_the_closed_form() {
+    // docs/physics.md 11.3: the example (v0 0.5 m/s, mu_r 0.03; +-1 digit) and the first-order
+    // expansion a = 5/7 mu_r g (1 + 3/7 u/R) (to (u/R)^2).
+    let a_r = 5.0 / 7.0 * 0.03 * G;
+    assert!((a_r - 0.2102).abs() <= 1e-4);
+    assert!((0.25 * 0.7 / (0.03 * G) - 0.5946).abs() <= 1e-4);
+    assert!((0.5 * 1.4 / (0.03 * G) - 2.379).abs() <= 1e-3);
+    for d in [Damp::Visco, Damp::Eq12] {
+        let u = sag(d, M * G);
+        let exact = flat_deceleration(0.03, R - u) / a_r - 1.0;
+        println!(
+            "{d:?}: u/R {:.3} %, a / (5/7 mu_r g) - 1 = {:.3} %",
+            100.0 * u / R,
+            100.0 * exact
+        );
+        assert!((exact - 3.0 / 7.0 * u / R).abs() <= (u / R).powi(2));
+    }
+    for (v0, mu_r, dt) in [(0.5, 0.03, 1e-4), (0.25, 0.05, 1e-4), (0.5, 0.03, 1e-5)] {
+        let t_stop = 7.0 * v0 / (5.0 * mu_r * G);
+        let (sc, rho) = plane_scene(
+            Damp::Visco,
+            "constant-torque",
+            mu_r,
+            0.3,
+            0.0,
+            v0,
+            1.1 * t_stop,
+            dt,
+        );
+        let (_, s) = run(&sc);
+        let stop = stop_of(&s.of(0));
+        check_stop(
+            &format!("cdt v0 {v0} mu_r {mu_r} dt {dt}"),
+            &stop,
+            v0,
+            mu_r,
+            rho,
+            5e-4,
+        );
+    }
+}
+
+/// Item 1 with the default rolling model: `elastic-plastic` on a flat stops at the same closed
+/// forms (its spring sits at the cap mu_r R |F_n| while rolling, F_n the whole normal force, which
+/// averages m g whatever the damping). docs/physics.md 11.3: within 0.25 % of the R forms
+/// (measured 0.24 %, eq. 12's deeper sag) and 0.025 % of the R - u forms (measured 0.020 %, the
+/// distance of the eq. 12 run), each checked at twice that.
+#[test]
+fn elastic_plastic_on_a_flat_stops_at_the_same_closed_form() {
+    let (v0, mu_r) = (0.5, 0.03);
+    for d in [Damp::Eq12, Damp::ElasticRest, Damp::Visco] {
+        let (sc, rho) = plane_scene(d, "elastic-plastic", mu_r, 0.3, 0.0, v0, 2.6, 1e-4);
+        let (_, s) = run(&sc);
+        let stop = stop_of(&s.of(0));
+        check_stop(&format!("epsd {d:?}"), &stop, v0, mu_r, rho, 5e-4);
+    }
+}
+
+/// A bug, shown: `constant-torque` takes the Hertz part k u^(3/2) of the normal force (as
+/// LIGGGHTS's cdt takes k_n delta), which is the load only when the damping carries the whole
+/// Hertz force at rest. With eq. 12 (the default damping) the resting contact carries (1 + ke)/2
+/// of it: the torque is 2 / (1 + ke) = 1.83 times mu_r R m g and the apple stops 1.9 times too
+/// soon (measured at dt 1e-4 s: deceleration +88 %, distance -50 %; the rest of the excess is the
+/// apple riding deeper than its sag, tests/damping_models.rs). With eq12-elastic-rest the Hertz
+/// part is the load at the sag, but the apple rides deeper (same test): at dt 1e-5 s deceleration
+/// +1.7 %, distance -2.4 %. Each against the R - u forms, the issue's 1 %.
+#[test]
+#[ignore = "bug: constant-torque takes the Hertz part, not the load: with eq12 damping 2/(1+ke) = 1.83x at rest (deceleration +88 %), with eq12-elastic-rest +1.7 % (src/contact/mod.rs rolling_torque passes resp.hertz_force_n)"]
+fn constant_torque_with_the_eq12_dampings_decelerates_at_five_sevenths_mu_r_g() {
+    let (v0, mu_r) = (0.5, 0.03);
+    let mut failures = Vec::new();
+    for (d, dt) in [(Damp::Eq12, 1e-4), (Damp::ElasticRest, 1e-5)] {
+        let (sc, rho) = plane_scene(d, "constant-torque", mu_r, 0.3, 0.0, v0, 2.6, dt);
+        let (_, s) = run(&sc);
+        let stop = stop_of(&s.of(0));
+        let a = flat_deceleration(mu_r, rho);
+        let (e_a, e_d) = (
+            stop.deceleration / a - 1.0,
+            stop.distance_m / (v0 * v0 / (2.0 * a)) - 1.0,
+        );
+        println!(
+            "cdt with {d:?} at dt {dt}: deceleration {:+.2} %, distance {:+.2} %",
+            100.0 * e_a,
+            100.0 * e_d
+        );
+        if e_a.abs() > 0.01 || e_d.abs() > 0.01 {
+            failures.push(format!(
+                "{d:?}: {:+.2} %, {:+.2} %",
+                100.0 * e_a,
+                100.0 * e_d
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
+/// A bug, shown: the module documentation of `constant_torque` says a stopped apple does not
+/// rock (the torque is bounded by the one that stops the relative rolling within one step). It
+/// rocks: the bound is kill_rate I_r |w| with I_r = I + m R^2 the moment about the contact point,
+/// but within one step the torque turns the apple about its centre (I): it reverses w by
+/// 0.5 (I + m R^2) / I = 1.75 times w every step. Measured at dt 1e-4 after the stop: w
+/// alternates -1.22e-3 / +1.05e-3 rad/s every step, and the centre creeps back at 3.5e-6 m/s
+/// (7 um in 2 s); at dt 1e-5, +-1.1e-4 rad/s. (`elastic-plastic` stops: |v| < 1e-20 m/s 1 s
+/// later.)
+#[test]
+#[ignore = "bug: constant-torque rocks a stopped apple (w flips sign every step, +-1.1e-3 rad/s at dt 1e-4) and it creeps back at 3.5e-6 m/s: the velocity-kill bound uses I + m R^2, the step turns the apple with I"]
+fn constant_torque_after_the_stop_stays_stopped() {
+    let (v0, mu_r) = (0.5, 0.03);
+    let (mut sc, _) = plane_scene(
+        Damp::Visco,
+        "constant-torque",
+        mu_r,
+        0.3,
+        0.0,
+        v0,
+        4.5,
+        1e-4,
+    );
+    sc.output.sample_interval_s = 1e-4;
+    let (_, s) = run(&sc);
+    let s = s.of(0);
+    let at = |t: f64| s.iter().find(|(x, _)| *x >= t - 1e-9).unwrap().1;
+    let creep = (at(4.5).position.x - at(2.5).position.x).abs();
+    let rock = s
+        .iter()
+        .filter(|(t, _)| *t >= 4.0)
+        .map(|(_, a)| a.angular_velocity.y.abs())
+        .fold(0.0, f64::max);
+    println!("after the stop (2.5 .. 4.5 s): moved {creep:.3e} m; |w| up to {rock:.3e} rad/s");
+    assert!(creep < 10e-9, "crept {creep} m");
+    assert!(rock < 1e-6, "rocks at {rock} rad/s");
+}
+
+/// Acceleration down a slope (fit over 0.05-0.5 s) of an apple released at rest.
+fn slope_acceleration(d: Damp, rolling: &str, mu_r: f64, theta_deg: f64, dt: f64) -> (f64, f64) {
+    let (sc, rho) = plane_scene(d, rolling, mu_r, 0.3, theta_deg, 0.0, 0.5, dt);
+    let (_, s) = run(&sc);
+    let th = theta_deg.to_radians();
+    let down = Vec3::new(th.cos(), 0.0, -th.sin());
+    let pts: Vec<(f64, f64)> = s
+        .of(0)
+        .iter()
+        .filter(|(t, _)| *t >= 0.05)
+        .map(|(t, a)| (*t, a.velocity.dot(down)))
+        .collect();
+    (slope(&pts), rho)
+}
+
+/// Item 2: on a slope with tan t > mu_r (3 and 5 degrees, mu_r 0.03: tan t = 1.7 and 2.9 mu_r)
+/// both models roll down at a = g (sin t - mu_r cos t R/rho) / (1 + 2/5 R^2/rho^2) (docs/physics.md
+/// 11.3): within 1 % (the issue) and 0.07 % (stated; measured 0.062 %, eq. 12 at 3 degrees),
+/// checked at twice that. The plain 5/7 g (sin t -
+/// mu_r cos t) within 1 % at 5 degrees (measured -0.59 %); near the threshold the lever matters:
+/// at 3 degrees with eq. 12's sag it is -1.05 % off (checked to be more than 1 % off).
+#[test]
+fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
+    let mu_r = 0.03;
+    for (d, rolling) in [
+        (Damp::Visco, "constant-torque"),
+        (Damp::Eq12, "elastic-plastic"),
+    ] {
+        for theta_deg in [3.0f64, 5.0] {
+            let th = theta_deg.to_radians();
+            assert!(th.tan() > mu_r);
+            let (a, rho) = slope_acceleration(d, rolling, mu_r, theta_deg, 1e-4);
+            let cf = G * (th.sin() - mu_r * th.cos() * R / rho) / (1.0 + 0.4 * R * R / (rho * rho));
+            let what = format!("{d:?} {rolling} {theta_deg} deg");
+            assert_ref(
+                &format!("{what}: acceleration, lever R - u"),
+                a,
+                cf,
+                2.0 * 0.07e-2,
+                "closed form",
+            );
+            let plain = 5.0 / 7.0 * G * (th.sin() - mu_r * th.cos());
+            if theta_deg == 5.0 {
+                assert_ref(
+                    &format!("{what}: 5/7 g (sin - mu_r cos)"),
+                    a,
+                    plain,
+                    0.01,
+                    "closed form",
+                );
+            } else if d == Damp::Eq12 {
+                let off = rel(a, plain);
+                println!("{what}: 5/7 g (sin - mu_r cos) off by {:.3} %", 100.0 * off);
+                assert!(off > 0.01, "the lever matters here: {off}");
+            }
+        }
+    }
+}
+
+/// docs/physics.md 11.3: with rolling resistance an apple rolls down without slip while
+/// tan t <= (7 mu - 5 mu_r)/2 (44.3 degrees at mu 0.3, mu_r 0.03) and slides beyond, at
+/// g (sin t - mu cos t) whatever resists its rolling. `constant-torque` (viscoelastic): at 40
+/// degrees it rolls at the R - u form (stated 0.07 %, as above), at 50 degrees it slides
+/// (within 1 %, physics.md section 6's rule; measured to 1e-8).
+#[test]
+fn slides_beyond_the_rolling_limit_of_the_slope() {
+    let (mu, mu_r) = (0.3, 0.03);
+    let limit = ((7.0 * mu - 5.0 * mu_r) / 2.0f64).atan().to_degrees();
+    assert!((limit - 44.3).abs() <= 0.05, "{limit}");
+    let th = 40f64.to_radians();
+    let (a, rho) = slope_acceleration(Damp::Visco, "constant-torque", mu_r, 40.0, 1e-4);
+    let cf = G * (th.sin() - mu_r * th.cos() * R / rho) / (1.0 + 0.4 * R * R / (rho * rho));
+    assert_ref("40 degrees: rolls", a, cf, 2.0 * 0.07e-2, "closed form");
+    let th = 50f64.to_radians();
+    let (a, _) = slope_acceleration(Damp::Visco, "constant-torque", mu_r, 50.0, 1e-4);
+    assert_ref(
+        "50 degrees: slides at g (sin t - mu cos t)",
+        a,
+        G * (th.sin() - mu * th.cos()),
+        0.01,
+        "closed form",
+    );
+}
+
+/// Item 2: with `elastic-plastic` and tan t < mu_r (1 and 1.5 degrees: 0.58 and 0.87 mu_r) a
+/// lone apple released at rest stays: the issue's bound, under 1 mm over 2 s. docs/physics.md
+/// 11.3: it settles within 6 um (the rolling spring and the stick spring taking the load:
+/// measured 2.9-5.3 um) and moves less than 0.1 um from 0.5 to 2 s, at dt 1e-4 s.
+#[test]
+fn elastic_plastic_holds_an_apple_on_a_slope_below_mu_r() {
+    let mu_r = 0.03;
+    for d in [Damp::Eq12, Damp::ElasticRest, Damp::Visco] {
+        for theta_deg in [1.0f64, 1.5] {
+            let th = theta_deg.to_radians();
+            assert!(th.tan() < mu_r);
+            let (sc, _) = plane_scene(d, "elastic-plastic", mu_r, 0.3, theta_deg, 0.0, 2.0, 1e-4);
+            let (_, s) = run(&sc);
+            let s = s.of(0);
+            let down = Vec3::new(th.cos(), 0.0, -th.sin());
+            let at = |t: f64| s.iter().find(|(x, _)| *x >= t - 1e-9).unwrap().1.position;
+            let drift = (at(2.0) - at(0.0)).dot(down);
+            let late = (at(2.0) - at(0.5)).dot(down).abs();
+            println!(
+                "{d:?} {theta_deg} deg: drift 0 .. 2 s {drift:.3e} m, 0.5 .. 2 s {late:.3e} m"
+            );
+            assert!(drift.abs() < 1e-3, "the issue's bound");
+            assert!(
+                drift.abs() < 6e-6 && late < 1e-7,
+                "drift {drift} m, late {late} m"
+            );
+        }
+    }
+}
+
+/// docs/physics.md 11.3: `constant-torque` cannot hold an apple on a slope, however gentle: its
+/// torque points against the rolling and vanishes with it (bounded by the velocity-kill rate
+/// times |w|), so the apple creeps down at the speed where that bound carries the load. Measured
+/// at 1.5 degrees (tan t = 0.87 mu_r), viscoelastic damping, dt 1e-4 s: 76 um over 2 s, still
+/// moving (55 um from 0.5 to 2 s); checked to be more than 10 um. Use `elastic-plastic`.
+#[test]
+fn constant_torque_cannot_hold_an_apple_on_a_gentle_slope() {
+    let th = 1.5f64.to_radians();
+    let (sc, _) = plane_scene(
+        Damp::Visco,
+        "constant-torque",
+        0.03,
+        0.3,
+        1.5,
+        0.0,
+        2.0,
+        1e-4,
+    );
+    let (_, s) = run(&sc);
+    let s = s.of(0);
+    let down = Vec3::new(th.cos(), 0.0, -th.sin());
+    let at = |t: f64| s.iter().find(|(x, _)| *x >= t - 1e-9).unwrap().1.position;
+    let (drift, late) = ((at(2.0) - at(0.0)).dot(down), (at(2.0) - at(0.5)).dot(down));
+    println!("cdt, 1.5 degrees: drift 0 .. 2 s {drift:.3e} m, 0.5 .. 2 s {late:.3e} m");
+    assert!(drift > 10e-6 && late > 10e-6, "creeps: {drift} m, {late} m");
+}
+
+/// An apple at rest at its sag on a steel belt running at `v_belt` along +x.
+fn belt_scene(
+    d: Damp,
+    rolling: &str,
+    mu_r: f64,
+    mu: f64,
+    v_belt: f64,
+    duration_s: f64,
+) -> (Scenario, f64) {
+    let rho = R - sag(d, M * G);
+    let v = json!({
+        "duration_s": duration_s, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+        "output": {"sample_interval_s": 1e-3, "force_history": false},
+        "materials": materials(),
+        "contact": contact(d, mu, rolling, mu_r),
+        "model": {"sleep": {"enabled": false}},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * R, "mass_kg": M,
+            "position_m": [-1.2, 0, rho]}],
+        "surfaces": [{"name": "belt", "type": "conveyor", "material": "steel",
+            "size_m": [4.0, 0.4, 0.02], "position_m": [0.5, 0, -0.01], "belt_velocity_m_s": v_belt}]
+    });
+    (scenario::from_json(&v.to_string(), "belt").unwrap(), rho)
+}
+
+/// Item 3: an apple set at rest on a belt reaches the belt speed V after T = (rho/R) V / (mu_r g)
+/// (docs/physics.md 11.3, the slip phase included) and rides with it. Within 1 % (the issue) and
+/// 0.03 % (stated; measured 0.027 % at most), checked at twice that. The issue's first-order form
+/// 2V/(7 mu g) + V/(mu_r g) is 2.0-3.3 % late (2 mu_r / (7 mu) = 1.7 and 2.9 % from neglecting the
+/// rolling resistance during the slip, the rest from the lever; checked to be more than 1 % off).
+/// After T the centre speed stays within 2 % of V (the issue) and 0.1 % (stated; measured 0.092 %,
+/// checked at twice that). Default model (eq. 12, `elastic-plastic`) and `constant-torque` with
+/// viscoelastic damping; belt 0.4 m/s with mu_r 0.03 and 0.8 m/s with 0.05, friction 0.5.
+#[test]
+fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
+    let mu = 0.5;
+    for (d, rolling) in [
+        (Damp::Eq12, "elastic-plastic"),
+        (Damp::Visco, "constant-torque"),
+    ] {
+        for (v_belt, mu_r) in [(0.4, 0.03), (0.8, 0.05)] {
+            let t_cf = v_belt / (mu_r * G);
+            let (sc, rho) = belt_scene(d, rolling, mu_r, mu, v_belt, t_cf + 1.0);
+            let (_, s) = run(&sc);
+            let s = s.of(0);
+            // The time the centre reaches V (its speed crosses V (1 - 1e-4), interpolated: the
+            // speed rises at 5/7 mu_r g, so the offset is 1e-4 V / (0.21 m/s^2) = 0.2 ms).
+            let target = v_belt * (1.0 - 1e-4);
+            let k = s
+                .iter()
+                .position(|(_, a)| a.velocity.x >= target)
+                .expect("reaches the belt speed");
+            let ((t1, v1), (t2, v2)) = (
+                (s[k - 1].0, s[k - 1].1.velocity.x),
+                (s[k].0, s[k].1.velocity.x),
+            );
+            let t_reach = t1 + (target - v1) * (t2 - t1) / (v2 - v1);
+            let what = format!("{d:?} {rolling} V {v_belt} mu_r {mu_r}");
+            let exact = rho / R * t_cf;
+            assert_ref(
+                &format!("{what}: time to V, (rho/R) V/(mu_r g)"),
+                t_reach,
+                exact,
+                2.0 * 0.03e-2,
+                "closed form",
+            );
+            let first_order = 2.0 * v_belt / (7.0 * mu * G) + t_cf;
+            let off = rel(t_reach, first_order);
+            println!(
+                "{what}: the first-order form {first_order:.5} s is {:.3} % off",
+                100.0 * off
+            );
+            assert!(off > 0.01);
+            let worst = s
+                .iter()
+                .filter(|(t, _)| *t >= exact)
+                .map(|(_, a)| (a.velocity.x - v_belt).abs())
+                .fold(0.0, f64::max);
+            println!(
+                "{what}: after T, |v - V| up to {worst:.3e} m/s ({:.3} % of V)",
+                100.0 * worst / v_belt
+            );
+            assert!(worst <= 0.02 * v_belt, "rides with the belt (the issue)");
+            assert!(worst <= 2.0 * 0.1e-2 * v_belt, "rides with the belt");
+        }
+    }
+}
+
+/// The 27-apple pile of tests/slope_rest.rs (sleeping off) with the given `rolling_damping`
+/// (None: the default) and otherwise default rolling resistance; the largest displacement of an
+/// apple from 2 to 4 s and from 4 to 6 s, and the apple-apple contacts open at the end.
+fn pile(eta_r: Option<f64>) -> (f64, f64, usize) {
+    let plane = |name: &str, p: [f64; 3], n: [f64; 3]| json!({"name": name, "type": "plane", "material": "steel", "point_m": p, "normal": n});
+    let mut contact = json!({"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000});
+    if let Some(e) = eta_r {
+        contact["rolling_damping"] = json!(e);
+    }
+    let v = json!({
+        "duration_s": 6.0, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+        "output": {"sample_interval_s": 0.5, "force_history": false, "transitions": {"enabled": false}},
+        "materials": {
+            "apple": {"youngs_modulus_pa": 2.6e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
+            "steel": {"youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.3}},
+        "contact": contact,
+        "model": {"sleep": {"enabled": false}},
+        "generators": [{"type": "grid", "name": "p", "material": "apple",
+            "diameter_m": {"mean_m": 0.08, "spread_m": 0.008}, "count": [3, 3, 3],
+            "spacing_m": [0.1, 0.1, 0.1], "origin_m": [-0.1, -0.1, 0.05], "jitter_m": 0.005, "seed": 1}],
+        "surfaces": [plane("floor", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+                     plane("x_min", [-0.15, 0.0, 0.0], [1.0, 0.0, 0.0]),
+                     plane("x_max", [0.15, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+                     plane("y_min", [0.0, -0.15, 0.0], [0.0, 1.0, 0.0]),
+                     plane("y_max", [0.0, 0.15, 0.0], [0.0, -1.0, 0.0])]
+    });
+    let sc = scenario::from_json(&v.to_string(), "pile").unwrap();
+    let (r, s) = run(&sc);
+    let at = |t: f64| {
+        &s.samples
+            .iter()
+            .find(|(x, _)| (*x - t).abs() < 1e-9)
+            .unwrap()
+            .1
+    };
+    let worst = |a: f64, b: f64| {
+        at(a)
+            .iter()
+            .zip(at(b))
+            .map(|(x, y)| (x.position - y.position).length())
+            .fold(0.0, f64::max)
+    };
+    let open = r
+        .events
+        .iter()
+        .filter(|e| e.t_end_s.is_none() && e.b.starts_with("p-"))
+        .count();
+    (worst(2.0, 4.0), worst(4.0, 6.0), open)
+}
+
+/// Item 5: a settled 27-apple pile with the default rolling model (elastic-plastic, mu_r 0.03,
+/// eta_r 1) does not creep: the largest displacement from 4 to 6 s under 1 nm (the issue's
+/// example; measured 0.036 nm; 23 nm from 2 to 4 s, under 50 nm). Without the rolling dashpot
+/// (eta_r = 0, LIGGGHTS's epsd2) the spring rocks the pile for ever: more than 1 um from 4 to 6 s
+/// (measured 2.8 um), which is why the default is eta_r = 1 (docs/physics.md 11.5).
+#[test]
+fn a_settled_pile_with_the_default_rolling_model_does_not_creep() {
+    let (early, late, open) = pile(None);
+    println!("default rolling model: largest displacement 2 .. 4 s {early:.3e} m, 4 .. 6 s {late:.3e} m; {open} apple-apple contacts");
+    assert!(open > 10, "the pile is packed");
+    assert!(late < 1e-9, "an apple moved {late} m from 4 to 6 s");
+    assert!(early < 50e-9, "an apple moved {early} m from 2 to 4 s");
+    let (_, late0, _) = pile(Some(0.0));
+    println!("eta_r = 0 (epsd2): largest displacement 4 .. 6 s {late0:.3e} m");
+    assert!(late0 > 1e-6, "epsd2 rocks the pile: {late0} m");
+}
+
+/// Item 5: a lone apple on a gentle slope (1.5 degrees, tan t = 0.87 mu_r) with the default
+/// model (no sub-model field in the scenario: eq. 12, Mindlin, elastic-plastic, mu_r 0.03, eta_r
+/// 1) stays: under 1 mm over 2 s (the issue), under 6 um (measured 4.3 um), at dt 1e-4 s.
+#[test]
+fn a_lone_apple_on_a_gentle_slope_stays_with_the_default_model() {
+    // The default mu_r 0.03 holds an apple on slopes up to atan(0.03) = 1.7 degrees.
+    assert!((0.03f64.atan().to_degrees() - 1.7).abs() <= 0.05);
+    let th = 1.5f64.to_radians();
+    let n = Vec3::new(th.sin(), 0.0, th.cos());
+    let c = n * (R - sag(Damp::Eq12, M * G * th.cos()));
+    let v = json!({
+        "duration_s": 2.0, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+        "output": {"sample_interval_s": 1e-2, "force_history": false},
+        "materials": materials(),
+        "contact": {"friction": 0.3, "ke": KE, "lambda_s_m": 1000},
+        "model": {"sleep": {"enabled": false}},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * R, "mass_kg": M,
+            "position_m": [c.x, c.y, c.z]}],
+        "surfaces": [{"name": "slope", "type": "plane", "material": "steel",
+            "point_m": [0, 0, 0], "normal": [n.x, n.y, n.z]}]
+    });
+    let sc = scenario::from_json(&v.to_string(), "gentle slope").unwrap();
+    assert_eq!(
+        sc.contact.rolling,
+        applesim::scenario::models::Rolling::ElasticPlastic
+    );
+    assert_eq!(
+        (sc.contact.rolling_friction, sc.contact.rolling_damping),
+        (0.03, 1.0)
+    );
+    assert_eq!(
+        (sc.contact.damping, sc.contact.tangential),
+        (
+            applesim::scenario::models::Damping::Eq12,
+            applesim::scenario::models::Tangential::Mindlin
+        )
+    );
+    let (_, s) = run(&sc);
+    let s = s.of(0);
+    let down = Vec3::new(th.cos(), 0.0, -th.sin());
+    let drift = (s.last().unwrap().1.position - s[0].1.position).dot(down);
+    println!("default model, 1.5 degrees: drift over 2 s {drift:.3e} m");
+    assert!(drift.abs() < 1e-3, "the issue's bound");
+    assert!(drift.abs() < 6e-6, "drift {drift} m");
+}
+
+/// docs/physics.md 11.4: the paper's scenarios keep the paper's model: `eq12`, `mindlin`, no
+/// rolling resistance, in `contact` and every `pairs[]` entry (the shipped single scenarios of
+/// scenarios/paper/ and the three top-level paper cases; the batch specs there build on them).
+#[test]
+fn the_papers_scenarios_keep_the_papers_model() {
+    use applesim::scenario::models::{Damping, Rolling, Tangential};
+    let mut files = vec![
+        "scenarios/drop_on_steel.json".to_string(),
+        "scenarios/slip_to_roll.json".to_string(),
+        "scenarios/two_apples_head_on.json".to_string(),
+    ];
+    for entry in std::fs::read_dir(repo("scenarios/paper")).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let v: Value = serde_json::from_str(&text).unwrap();
+        if v.get("base").is_none() {
+            files.push(format!(
+                "scenarios/paper/{}",
+                path.file_name().unwrap().to_string_lossy()
+            ));
+        }
+    }
+    assert!(files.len() >= 11, "{files:?}");
+    for f in files {
+        let sc = shipped(&f);
+        let c = &sc.contact;
+        assert_eq!(
+            (c.damping, c.tangential, c.rolling),
+            (Damping::Eq12, Tangential::Mindlin, Rolling::None),
+            "{f}"
+        );
+        for p in &sc.pairs {
+            let c = p.over(&sc.contact);
+            assert_eq!(
+                (c.damping, c.tangential, c.rolling),
+                (Damping::Eq12, Tangential::Mindlin, Rolling::None),
+                "{f}: pair {:?}",
+                p.materials
+            );
+        }
+    }
+}
