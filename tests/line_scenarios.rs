@@ -1,0 +1,380 @@
+//! The line scenarios of issue 19 (docs/lines.md): a belt carries apples at its speed, and
+//! apples poured into a bin build a heap, with the default rolling resistance (elastic-plastic,
+//! mu_r = 0.03); with `"rolling": "none"` (the paper's model) the belt carries them at 2V/7 for
+//! ever and the pour spreads into a single layer.
+//!
+//! The belt is checked against the closed form of docs/lines.md (derived there): a slip phase of
+//! t1 = 2V/(7 mu g) ending at 2V/7, then rolling backwards relative to the belt while rolling
+//! resistance accelerates the apple at 5/7 mu_r g, which brings it to V after V/(mu_r g). The
+//! heap has no closed form (a pile is chaotic): its figures are checked within stated ranges that
+//! hold over seeds (docs/lines.md gives five), not as golden values.
+
+mod common;
+use applesim::record::events::ContactEvent;
+use applesim::record::series::MemorySeries;
+use applesim::scenario::models::Rolling;
+use applesim::scenario::Scenario;
+use applesim::sim::RunResult;
+use common::*;
+
+const G: f64 = 9.81;
+
+/// belt_conveying.json: belt speed, apple-rubber friction, default rolling friction.
+const V: f64 = 0.4;
+const MU: f64 = 0.5;
+const MU_R: f64 = 0.03;
+
+fn speed(v: applesim::math::Vec3) -> f64 {
+    v.length()
+}
+
+/// Touch time of apple `i` on `surface` (its first contact there).
+fn touch(events: &[ContactEvent], i: u32, surface: &str) -> f64 {
+    events
+        .iter()
+        .filter(|e| e.a_index == i && &*e.b == surface)
+        .map(|e| e.t_start_s)
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn belt_run(rolling: Option<Rolling>) -> (RunResult, MemorySeries) {
+    let mut sc: Scenario = shipped("scenarios/lines/belt_conveying.json");
+    if let Some(r) = rolling {
+        sc.contact.rolling = r;
+    }
+    run(&sc)
+}
+
+/// Least-squares line through (t, v): (slope, value at t_at).
+fn fit(points: &[(f64, f64)], t_at: f64) -> (f64, f64) {
+    let n = points.len() as f64;
+    let mt = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let mv = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = points.iter().map(|p| (p.0 - mt) * (p.1 - mv)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mt) * (p.0 - mt)).sum();
+    let slope = sxy / sxx;
+    (slope, mv + slope * (t_at - mt))
+}
+
+/// Issue 19's acceptance: each apple fed onto the belt rides at the belt speed, within 2 %, from
+/// t0 + t1 + V/(mu_r g) on (t0 its touch), and is below that before (checked up to
+/// t0 + t1 + 0.9 V/(mu_r g)); the approach is the closed form's: rolling phase accelerating at
+/// 5/7 mu_r g (1 %), starting from 2V/7 raised by the landing's shorter lever arm and the rolling
+/// resistance during the slip (docs/lines.md: 0 to +12 %).
+#[test]
+fn belt_carries_apples_at_belt_speed() {
+    let (r, series) = belt_run(None);
+    let apples = r.roster.apples();
+    assert_eq!(apples.len(), 4, "four apples fed");
+    let t1 = 2.0 * V / (7.0 * MU * G);
+    let t_r = V / (MU_R * G);
+    let a_cf = 5.0 / 7.0 * MU_R * G;
+    println!(
+        "t1 = {:.4} s, V/(mu_r g) = {:.4} s, closed-form ride time {:.4} s after touch; wall {:.3} s, {} steps",
+        t1,
+        t_r,
+        t1 + t_r,
+        r.wall_time_s,
+        r.steps
+    );
+    let mut worst_after: f64 = 0.0;
+    for (i, a) in apples.iter().enumerate() {
+        let i = i as u32;
+        let t0 = touch(&r.events, i, "belt");
+        assert!(t0.is_finite(), "{} never touched the belt", a.name);
+        let ride = t0 + t1 + t_r;
+        assert!(ride < r.simulated_time_s - 0.5, "the run ends too early to see {} ride", a.name);
+        let s: Vec<(f64, f64)> = series
+            .of(i)
+            .into_iter()
+            .map(|(t, st)| (t, speed(st.velocity)))
+            .collect();
+        // Within 2 % of V after the closed-form time, every sample.
+        let after: Vec<_> = s.iter().filter(|p| p.0 >= ride).collect();
+        assert!(after.len() > 50, "{}: {} samples after the ride time", a.name, after.len());
+        for &&(t, v) in &after {
+            let e = (v - V).abs() / V;
+            worst_after = worst_after.max(e);
+            assert!(e <= 0.02, "{}: {v} m/s at t = {t} s, {:.3} % from V", a.name, 100.0 * e);
+        }
+        // Below the 2 % band before (up to 90 % of the rolling phase).
+        for &(t, v) in s.iter().filter(|p| p.0 > t0 && p.0 <= t0 + t1 + 0.9 * t_r) {
+            assert!(v < 0.98 * V, "{}: already {v} m/s at t = {t} s", a.name);
+        }
+        // The approach: the rolling phase against the closed form.
+        let roll: Vec<(f64, f64)> = s
+            .iter()
+            .copied()
+            .filter(|p| p.0 >= t0 + t1 + 0.1 * t_r && p.0 <= t0 + t1 + 0.8 * t_r)
+            .collect();
+        let (acc, v_start) = fit(&roll, t0 + t1);
+        println!(
+            "{}: touch {:.4} s; rolling phase {:.5} m/s^2 (5/7 mu_r g {:.5}, {:+.2} %), from {:.5} m/s at t0 + t1 (2V/7 {:.5}, {:+.2} %)",
+            a.name,
+            t0,
+            acc,
+            a_cf,
+            100.0 * (acc / a_cf - 1.0),
+            v_start,
+            2.0 * V / 7.0,
+            100.0 * (v_start / (2.0 * V / 7.0) - 1.0)
+        );
+        assert_ref("rolling-phase acceleration", acc, a_cf, 0.01, "closed form");
+        assert!(
+            v_start >= 2.0 * V / 7.0 && v_start <= 1.12 * 2.0 * V / 7.0,
+            "{}: rolling starts at {v_start} m/s",
+            a.name
+        );
+        for k in [0.0, 0.25, 0.5, 0.75, 1.0, 1.25] {
+            let t = t0 + t1 + k * t_r;
+            let (ts, v) = *s
+                .iter()
+                .min_by(|p, q| (p.0 - t).abs().total_cmp(&(q.0 - t).abs()))
+                .unwrap();
+            let cf = (2.0 * V / 7.0 + a_cf * (ts - t0 - t1)).min(V);
+            println!(
+                "  t - t0 = {:.3} s: {:.4} m/s, closed form {:.4} m/s ({:+.4} m/s)",
+                ts - t0,
+                v,
+                cf,
+                v - cf
+            );
+        }
+        // Every apple ends riding: its speed within 0.1 % of V (docs/lines.md: 0.02 %).
+        let (_, v_end) = *s.last().unwrap();
+        assert!((v_end - V).abs() <= 1e-3 * V, "{}: ends at {v_end} m/s", a.name);
+    }
+    println!("largest deviation from V after the ride time: {:.4} %", 100.0 * worst_after);
+}
+
+/// The contrast: with `"rolling": "none"` the same apples ride at 2V/7 for ever (within 3 %:
+/// docs/lines.md measures +1.5 to +1.7 %, the landing's shorter lever arm).
+#[test]
+fn without_rolling_resistance_apples_lag_at_two_sevenths() {
+    let (r, series) = belt_run(Some(Rolling::None));
+    let t1 = 2.0 * V / (7.0 * MU * G);
+    let t_r = V / (MU_R * G);
+    for (i, a) in r.roster.apples().iter().enumerate() {
+        let i = i as u32;
+        let t0 = touch(&r.events, i, "belt");
+        let mut n = 0;
+        for (t, st) in series.of(i) {
+            if t >= t0 + 0.2 {
+                let v = speed(st.velocity);
+                assert!(
+                    (v / (2.0 * V / 7.0) - 1.0).abs() <= 0.03,
+                    "{}: {v} m/s at t = {t} s, not 2V/7",
+                    a.name
+                );
+                n += 1;
+            }
+        }
+        assert!(n > 50);
+        let (t_end, st) = *series.of(i).last().unwrap();
+        println!(
+            "{}: {:.5} m/s at t - t0 = {:.2} s (2V/7 = {:.5}; with rolling resistance it would ride at V after {:.3} s)",
+            a.name,
+            speed(st.velocity),
+            t_end - t0,
+            2.0 * V / 7.0,
+            t1 + t_r
+        );
+    }
+}
+
+/// The heap left in the bin, measured from the final positions (docs/lines.md, "Measuring the
+/// heap").
+#[derive(Debug)]
+#[allow(dead_code)] // every field is printed (Debug); not every one is asserted
+struct Heap {
+    apples: usize,
+    /// Fraction of the apples touching the bin floor at the end (an open contact with it).
+    floor_fraction: f64,
+    /// Top of the highest apple above the floor (m).
+    height_m: f64,
+    /// height over the mean diameter.
+    layers: f64,
+    /// Radius around the pile's axis holding 95 % of the apples (m).
+    r95_m: f64,
+    /// Angle of a least-squares line through the surface profile (deg).
+    fit_angle_deg: f64,
+    /// Angle from the apex to the edge: atan((height - D) / r95) (deg).
+    apex_edge_angle_deg: f64,
+    /// Largest final speed (m/s).
+    max_speed_m_s: f64,
+    /// Apples touching a wall of the bin at the end.
+    at_walls: usize,
+}
+
+fn heap(r: &RunResult, floor: &str, wall_prefix: &str, mean_d: f64) -> Heap {
+    let roster = r.roster.apples();
+    let n = r.apples.len();
+    assert_eq!(roster.len(), n);
+    let on_floor = (0..n as u32)
+        .filter(|&i| {
+            r.events
+                .iter()
+                .any(|e| e.a_index == i && &*e.b == floor && e.t_end_s.is_none())
+        })
+        .count();
+    // The pile's axis: the mean of the apples' horizontal positions.
+    let cx = r.apples.iter().map(|a| a.final_position_m[0]).sum::<f64>() / n as f64;
+    let cy = r.apples.iter().map(|a| a.final_position_m[1]).sum::<f64>() / n as f64;
+    let at_walls = (0..n as u32)
+        .filter(|&i| {
+            r.events.iter().any(|e| {
+                e.a_index == i
+                    && e.t_end_s.is_none()
+                    && e.b.starts_with(wall_prefix)
+                    && &*e.b != floor
+            })
+        })
+        .count();
+    let mut pts: Vec<(f64, f64)> = r
+        .apples
+        .iter()
+        .zip(roster)
+        .map(|(a, ra)| {
+            assert_eq!(a.name, ra.name);
+            let p = a.final_position_m;
+            ((p[0] - cx).hypot(p[1] - cy), p[2] + ra.radius_m)
+        })
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let height = pts.iter().map(|p| p.1).fold(0.0, f64::max);
+    let r95 = pts[(0.95 * n as f64).ceil() as usize - 1].0;
+    // Surface profile: the highest apple top in each annulus D/2 wide, out to r95.
+    let w = mean_d / 2.0;
+    let mut top = std::collections::BTreeMap::<usize, f64>::new();
+    for &(rr, h) in pts.iter().filter(|p| p.0 <= r95) {
+        let e = top.entry((rr / w) as usize).or_insert(0.0);
+        *e = e.max(h);
+    }
+    let prof: Vec<(f64, f64)> = top.iter().map(|(&k, &h)| ((k as f64 + 0.5) * w, h)).collect();
+    let (slope, _) = fit(&prof, 0.0);
+    let max_speed = r
+        .apples
+        .iter()
+        .map(|a| {
+            let v = a.final_velocity_m_s;
+            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+        })
+        .fold(0.0, f64::max);
+    Heap {
+        apples: n,
+        floor_fraction: on_floor as f64 / n as f64,
+        height_m: height,
+        layers: height / mean_d,
+        r95_m: r95,
+        fit_angle_deg: (-slope).atan().to_degrees(),
+        apex_edge_angle_deg: ((height - mean_d) / r95).atan().to_degrees(),
+        max_speed_m_s: max_speed,
+        at_walls,
+    }
+}
+
+/// Largest peak force and contacts above 80 N on each surface (apple-apple as "apple").
+fn impacts(r: &RunResult) -> std::collections::BTreeMap<String, (usize, f64, usize)> {
+    let mut m = std::collections::BTreeMap::new();
+    for e in &r.events {
+        let key = match e.b_party {
+            applesim::record::events::Party::Apple(_) => "apple".to_string(),
+            applesim::record::events::Party::Surface(_) => e.b.to_string(),
+        };
+        let s = m.entry(key).or_insert((0, 0.0f64, 0));
+        s.0 += 1;
+        s.1 = s.1.max(e.peak_force_n);
+        s.2 += usize::from(e.peak_force_n > 80.0);
+    }
+    m
+}
+
+fn bin_run(edit: impl FnOnce(&mut Scenario)) -> (RunResult, Heap) {
+    let mut sc: Scenario = shipped("scenarios/lines/bin_filling.json");
+    edit(&mut sc);
+    let (r, _) = run(&sc);
+    let h = heap(&r, "bin/floor", "bin/", 0.075);
+    println!(
+        "{h:?}; wall {:.2} s, {} steps, {} contact events",
+        r.wall_time_s,
+        r.steps,
+        r.events.len()
+    );
+    (r, h)
+}
+
+/// Issue 19's acceptance: the 150 poured apples build a heap with rolling resistance (more than
+/// two diameters high, a slope of 5-15 degrees, not all of them on the floor) and spread into a
+/// single layer without it (every apple on the floor, one diameter high, no slope; some apples
+/// still rolling at the end, as nothing stops them). Fewer than
+/// half on the floor is out of reach for 150 apples at these angles (docs/lines.md: a cone of
+/// 150 apples has most of them in its bottom layer).
+#[test]
+fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
+    let (r, h) = bin_run(|_| {});
+    assert_eq!(h.apples, 150, "every apple poured");
+    assert!(h.max_speed_m_s < 1e-3, "settled: {h:?}");
+    assert!(h.layers > 2.0, "a heap: {h:?}");
+    assert!(h.floor_fraction < 0.9, "not a single layer: {h:?}");
+    assert!((5.0..=15.0).contains(&h.fit_angle_deg), "slope: {h:?}");
+    assert!((5.0..=15.0).contains(&h.apex_edge_angle_deg), "slope: {h:?}");
+    assert_eq!(h.at_walls, 0, "the heap stays clear of the walls: {h:?}");
+    let imp = impacts(&r);
+    println!("impacts per surface (contacts, largest peak N, above 80 N): {imp:?}");
+    // The hardest impacts are the first apples' landings on the bare floor.
+    let floor_peak = imp["bin/floor"].1;
+    assert!(imp.values().all(|s| s.1 <= floor_peak));
+
+    let (_, flat) = bin_run(|sc| sc.contact.rolling = Rolling::None);
+    assert_eq!(flat.apples, 150);
+    // Nothing stops an apple rolling on the floor in the paper's model: some still roll.
+    assert!(flat.floor_fraction >= 0.98, "a single layer: {flat:?}");
+    assert!(flat.layers < 1.1, "a single layer: {flat:?}");
+    assert!(flat.fit_angle_deg.abs() < 2.0, "flat: {flat:?}");
+    assert!(flat.r95_m > h.r95_m + 0.1, "spread wider: {flat:?} against {h:?}");
+}
+
+/// docs/lines.md: poured from 0.45 m at 1 m/s (landing at 3 m/s) instead of 0.3 m at 0.5 m/s,
+/// the same apples with the same rolling resistance spread into a single layer too: the
+/// apples thrown off the landing point roll to the walls.
+#[test]
+fn a_higher_pour_spreads_even_with_rolling_resistance() {
+    let (_, h) = bin_run(|sc| {
+        let s = &mut sc.sources[0];
+        s.position_m[2] = 0.45;
+        s.velocity_m_s[2] = -1.0;
+        s.rate_per_s = 12.0;
+        sc.duration_s = 15.0;
+    });
+    assert_eq!(h.apples, 150);
+    assert!(h.floor_fraction >= 0.98, "{h:?}");
+    assert!(h.layers < 1.1, "{h:?}");
+}
+
+/// The heap's figures over five pour seeds, with and without rolling resistance (docs/lines.md's
+/// table): `cargo test --release --test line_scenarios -- --ignored --nocapture`.
+#[test]
+#[ignore = "a measurement for docs/lines.md (10 runs, about 15 s)"]
+fn heap_over_seeds() {
+    println!("| seed | rolling | floor fraction | height / D | fit angle | apex-edge angle | r95 (m) | wall (s) |");
+    for seed in [19, 1, 2, 3, 4] {
+        for rolling in [Rolling::ElasticPlastic, Rolling::None] {
+            let (r, h) = bin_run(|sc| {
+                sc.sources[0].seed = seed;
+                sc.contact.rolling = rolling;
+            });
+            println!(
+                "| {seed} | {rolling:?} | {:.3} | {:.2} | {:.1} | {:.1} | {:.3} | {:.2} |",
+                h.floor_fraction, h.layers, h.fit_angle_deg, h.apex_edge_angle_deg, h.r95_m, r.wall_time_s
+            );
+        }
+    }
+    // Stronger rolling resistance (seed 19): what it takes to heap higher.
+    for mu_r in [0.06, 0.1] {
+        let (r, h) = bin_run(|sc| sc.contact.rolling_friction = mu_r);
+        println!(
+            "| 19 | mu_r {mu_r} ({} apples poured) | {:.3} | {:.2} | {:.1} | {:.1} | {:.3} | {:.2} |",
+            h.apples, h.floor_fraction, h.layers, h.fit_angle_deg, h.apex_edge_angle_deg, h.r95_m, r.wall_time_s
+        );
+    }
+}
