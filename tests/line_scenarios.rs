@@ -182,6 +182,125 @@ fn without_rolling_resistance_apples_lag_at_two_sevenths() {
     }
 }
 
+/// belt_transfer.json: the fast and the slow belt's speeds.
+const V_FAST: f64 = 0.6;
+const V_SLOW: f64 = 0.2;
+
+fn transfer_run() -> (RunResult, MemorySeries) {
+    run(&shipped("scenarios/lines/belt_transfer.json"))
+}
+
+/// Last moment apple `i` touches `surface`.
+fn leave(events: &[ContactEvent], i: u32, surface: &str) -> f64 {
+    events
+        .iter()
+        .filter(|e| e.a_index == i && &*e.b == surface)
+        .map(|e| e.t_end_s.unwrap_or(f64::INFINITY))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The fast-to-slow transfer (docs/lines.md): each apple rides the fast belt at V1 (2 %) from
+/// t0 + t1 + V1/(mu_r g) until it leaves it; it lands on the slow belt rolling forward relative
+/// to it (5/7 of the speed difference in the closed form), is slowed at 5/7 mu_r g (1 %) and
+/// rides at V2 (2 %) from t_land + (V1 - V2)/(mu_r g) on, faster than that before.
+#[test]
+fn transfer_slows_apples_to_the_slow_belt() {
+    let (r, series) = transfer_run();
+    let apples = r.roster.apples();
+    assert_eq!(apples.len(), 3);
+    let dv = V_FAST - V_SLOW;
+    let t1 = 2.0 * V_FAST / (7.0 * MU * G);
+    let a_cf = 5.0 / 7.0 * MU_R * G;
+    println!("wall {:.3} s, {} steps", r.wall_time_s, r.steps);
+    for (i, a) in apples.iter().enumerate() {
+        let i = i as u32;
+        let t0 = touch(&r.events, i, "fast");
+        let t_off = leave(&r.events, i, "fast");
+        let t_land = touch(&r.events, i, "slow");
+        assert!(t0 + t1 + V_FAST / (MU_R * G) < t_off - 0.2, "{}: leaves the fast belt before riding it", a.name);
+        assert!(t_land > t_off && t_land + dv / (MU_R * G) < r.simulated_time_s - 0.5, "{}", a.name);
+        let s: Vec<(f64, f64)> = series
+            .of(i)
+            .into_iter()
+            .map(|(t, st)| (t, speed(st.velocity)))
+            .collect();
+        let mut worst_fast: f64 = 0.0;
+        for &(t, v) in s.iter().filter(|p| p.0 >= t0 + t1 + V_FAST / (MU_R * G) && p.0 <= t_off - 0.05) {
+            let e = (v - V_FAST).abs() / V_FAST;
+            worst_fast = worst_fast.max(e);
+            assert!(e <= 0.02, "{}: {v} m/s at {t} s on the fast belt", a.name);
+        }
+        let ride = t_land + dv / (MU_R * G);
+        let mut worst_slow: f64 = 0.0;
+        for &(t, v) in s.iter().filter(|p| p.0 >= ride) {
+            let e = (v - V_SLOW).abs() / V_SLOW;
+            worst_slow = worst_slow.max(e);
+            assert!(e <= 0.02, "{}: {v} m/s at {t} s on the slow belt", a.name);
+        }
+        for &(t, v) in s.iter().filter(|p| p.0 >= t_land + 0.05 && p.0 <= t_land + 0.9 * dv / (MU_R * G)) {
+            assert!(v > 1.02 * V_SLOW, "{}: already {v} m/s at {t} s", a.name);
+        }
+        let roll: Vec<(f64, f64)> = s
+            .iter()
+            .copied()
+            .filter(|p| p.0 >= t_land + 0.1 && p.0 <= t_land + 0.8 * dv / (MU_R * G))
+            .collect();
+        let (dec, v_land) = fit(&roll, t_land);
+        println!(
+            "{}: touches the fast belt at {t0:.3} s, leaves it at {t_off:.3} s (within {:.3} % of V1 from {:.3} s), lands at {t_land:.3} s; \
+             rolls on at {:.4} m/s relative to the slow belt (closed form 5/7 (V1 - V2) = {:.4}, {:+.1} %), \
+             slowed at {:.5} m/s^2 ({:+.2} % from 5/7 mu_r g); within {:.3} % of V2 from {ride:.3} s",
+            a.name,
+            100.0 * worst_fast,
+            t0 + t1 + V_FAST / (MU_R * G),
+            v_land - V_SLOW,
+            5.0 / 7.0 * dv,
+            100.0 * ((v_land - V_SLOW) / (5.0 / 7.0 * dv) - 1.0),
+            -dec,
+            100.0 * (-dec / a_cf - 1.0),
+            100.0 * worst_slow
+        );
+        assert_ref("slowing on the slow belt", -dec, a_cf, 0.01, "closed form");
+    }
+}
+
+/// The contrast: with `"rolling": "none"` the apples cross the fast belt at 2V1/7 (3 %) and
+/// roll on over the slow belt faster than it (over 1.2 V2) for ever.
+#[test]
+fn without_rolling_resistance_the_transfer_does_not_slow_apples_to_the_belt() {
+    // At 2V1/7 the first apple reaches the slow belt only after 8.2 s: run 12 s.
+    let mut sc: Scenario = shipped("scenarios/lines/belt_transfer.json");
+    sc.contact.rolling = Rolling::None;
+    sc.duration_s = 12.0;
+    let (r, series) = run(&sc);
+    let t_end = r.simulated_time_s;
+    let mut fast = Vec::new();
+    let mut slow = Vec::new();
+    for i in 0..r.roster.len() as u32 {
+        let t0 = touch(&r.events, i, "fast");
+        let t_land = touch(&r.events, i, "slow");
+        for (t, st) in series.of(i) {
+            let v = speed(st.velocity);
+            if t >= t0 + 0.2 && t < t_land.min(t_end) - 0.2 {
+                assert!((v / (2.0 * V_FAST / 7.0) - 1.0).abs() <= 0.03, "{v} m/s at {t} s on the fast belt");
+                fast.push(v);
+            }
+            if t >= t_land + 0.2 {
+                assert!(v > 1.2 * V_SLOW, "{v} m/s at {t} s on the slow belt");
+                slow.push(v);
+            }
+        }
+    }
+    assert!(!fast.is_empty() && !slow.is_empty(), "an apple reaches the slow belt within the run");
+    let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
+    println!(
+        "without rolling resistance: {:.4} m/s on the fast belt (2V1/7 = {:.4}), {:.4} m/s on the slow belt (V2 = {V_SLOW})",
+        mean(&fast),
+        2.0 * V_FAST / 7.0,
+        mean(&slow)
+    );
+}
+
 /// The heap left in the bin, measured from the final positions (docs/lines.md, "Measuring the
 /// heap").
 #[derive(Debug)]
