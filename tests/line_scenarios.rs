@@ -92,7 +92,11 @@ fn belt_carries_apples_at_belt_speed() {
         let t0 = touch(&r.events, i, "belt");
         assert!(t0.is_finite(), "{} never touched the belt", a.name);
         let ride = t0 + t1 + t_r;
-        assert!(ride < r.simulated_time_s - 0.5, "the run ends too early to see {} ride", a.name);
+        assert!(
+            ride < r.simulated_time_s - 0.5,
+            "the run ends too early to see {} ride",
+            a.name
+        );
         let s: Vec<(f64, f64)> = series
             .of(i)
             .into_iter()
@@ -100,11 +104,21 @@ fn belt_carries_apples_at_belt_speed() {
             .collect();
         // Within 2 % of V after the closed-form time, every sample.
         let after: Vec<_> = s.iter().filter(|p| p.0 >= ride).collect();
-        assert!(after.len() > 50, "{}: {} samples after the ride time", a.name, after.len());
+        assert!(
+            after.len() > 50,
+            "{}: {} samples after the ride time",
+            a.name,
+            after.len()
+        );
         for &&(t, v) in &after {
             let e = (v - V).abs() / V;
             worst_after = worst_after.max(e);
-            assert!(e <= 0.02, "{}: {v} m/s at t = {t} s, {:.3} % from V", a.name, 100.0 * e);
+            assert!(
+                e <= 0.02,
+                "{}: {v} m/s at t = {t} s, {:.3} % from V",
+                a.name,
+                100.0 * e
+            );
         }
         // Below the 2 % band before (up to 90 % of the rolling phase).
         for &(t, v) in s.iter().filter(|p| p.0 > t0 && p.0 <= t0 + t1 + 0.9 * t_r) {
@@ -130,11 +144,14 @@ fn belt_carries_apples_at_belt_speed() {
         );
         assert_ref("rolling-phase acceleration", acc, a_cf, 0.01, "closed form");
         assert!(
-            v_start >= 2.0 * V / 7.0 && v_start <= 1.12 * 2.0 * V / 7.0,
+            (2.0 * V / 7.0..=1.12 * 2.0 * V / 7.0).contains(&v_start),
             "{}: rolling starts at {v_start} m/s",
             a.name
         );
-        for (k, stated) in [0.0, 0.25, 0.5, 0.75, 1.0, 1.25].into_iter().zip(TABLE[i as usize]) {
+        for (k, stated) in [0.0, 0.25, 0.5, 0.75, 1.0, 1.25]
+            .into_iter()
+            .zip(TABLE[i as usize])
+        {
             let t = t0 + t1 + k * t_r;
             let (ts, v) = *s
                 .iter()
@@ -149,11 +166,20 @@ fn belt_carries_apples_at_belt_speed() {
                 v - cf
             );
             // docs/lines.md's table (golden, printed digits).
-            assert!((v - stated).abs() <= 1e-4, "{}: {v} at {ts} s, docs/lines.md {stated}", a.name);
+            assert!(
+                (v - stated).abs() <= 1e-4,
+                "{}: {v} at {ts} s, docs/lines.md {stated}",
+                a.name
+            );
         }
         // The closed-form time is an upper bound: V is reached (0.1 %) within 0.1 s before it,
         // and the 2 % band entered before it too (docs/lines.md: about 1.28 s after touch).
-        let first = |tol: f64| s.iter().find(|p| p.0 > t0 && (p.1 - V).abs() <= tol * V).unwrap().0;
+        let first = |tol: f64| {
+            s.iter()
+                .find(|p| p.0 > t0 && (p.1 - V).abs() <= tol * V)
+                .unwrap()
+                .0
+        };
         let (t_v, t_band) = (first(1e-3), first(0.02));
         println!(
             "  V (0.1 %) reached {:.3} s after touch, the 2 % band entered {:.3} s after touch (closed form {:.3} s)",
@@ -162,7 +188,11 @@ fn belt_carries_apples_at_belt_speed() {
             t1 + t_r
         );
         assert!(t_v <= ride && t_v >= ride - 0.1, "{}: V at {t_v} s", a.name);
-        assert!(t_band < t_v && (t_band - t0 - 1.28).abs() <= 0.015, "{}: band at {t_band} s", a.name);
+        assert!(
+            t_band < t_v && (t_band - t0 - 1.28).abs() <= 0.015,
+            "{}: band at {t_band} s",
+            a.name
+        );
         // Distance travelled from the feed point by the ride time: V T - lag, the lag
         // 8 mm + 5 V^2 / (14 mu_r g) (docs/lines.md: 0.35 m), within 10 % (the early start).
         let x = |t: f64| {
@@ -178,13 +208,34 @@ fn belt_carries_apples_at_belt_speed() {
         let lag = V * t1 - MU * G * t1 * t1 / 2.0 + 5.0 * V * V / (14.0 * MU_R * G);
         let cf_dist = V * (t1 + t_r) - lag;
         let d = x(ride) - x(t0);
-        println!("  travelled {d:.3} m by the ride time (closed form {cf_dist:.3} m, lag {lag:.3} m)");
+        println!(
+            "  travelled {d:.3} m by the ride time (closed form {cf_dist:.3} m, lag {lag:.3} m)"
+        );
         assert!((d / cf_dist - 1.0).abs() <= 0.1, "{}: {d} m", a.name);
+        // docs/lines.md: the feed impacts on the belt peak at 15.2-19.0 N.
+        let peaks: Vec<f64> = r
+            .events
+            .iter()
+            .filter(|e| e.a_index == i)
+            .map(|e| e.peak_force_n)
+            .collect();
+        assert!(
+            peaks.len() == 1 && (15.15..=19.05).contains(&peaks[0]),
+            "{}: {peaks:?}",
+            a.name
+        );
         // Every apple ends riding: its speed within 0.1 % of V (docs/lines.md: 0.02 %).
         let (_, v_end) = *s.last().unwrap();
-        assert!((v_end - V).abs() <= 1e-3 * V, "{}: ends at {v_end} m/s", a.name);
+        assert!(
+            (v_end - V).abs() <= 1e-3 * V,
+            "{}: ends at {v_end} m/s",
+            a.name
+        );
     }
-    println!("largest deviation from V after the ride time: {:.4} %", 100.0 * worst_after);
+    println!(
+        "largest deviation from V after the ride time: {:.4} %",
+        100.0 * worst_after
+    );
 }
 
 /// The contrast: with `"rolling": "none"` the same apples ride at 2V/7 for ever (within 3 %:
@@ -257,15 +308,26 @@ fn transfer_slows_apples_to_the_slow_belt() {
         let t0 = touch(&r.events, i, "fast");
         let t_off = leave(&r.events, i, "fast");
         let t_land = touch(&r.events, i, "slow");
-        assert!(t0 + t1 + V_FAST / (MU_R * G) < t_off - 0.2, "{}: leaves the fast belt before riding it", a.name);
-        assert!(t_land > t_off && t_land + dv / (MU_R * G) < r.simulated_time_s - 0.5, "{}", a.name);
+        assert!(
+            t0 + t1 + V_FAST / (MU_R * G) < t_off - 0.2,
+            "{}: leaves the fast belt before riding it",
+            a.name
+        );
+        assert!(
+            t_land > t_off && t_land + dv / (MU_R * G) < r.simulated_time_s - 0.5,
+            "{}",
+            a.name
+        );
         let s: Vec<(f64, f64)> = series
             .of(i)
             .into_iter()
             .map(|(t, st)| (t, speed(st.velocity)))
             .collect();
         let mut worst_fast: f64 = 0.0;
-        for &(t, v) in s.iter().filter(|p| p.0 >= t0 + t1 + V_FAST / (MU_R * G) && p.0 <= t_off - 0.05) {
+        for &(t, v) in s
+            .iter()
+            .filter(|p| p.0 >= t0 + t1 + V_FAST / (MU_R * G) && p.0 <= t_off - 0.05)
+        {
             let e = (v - V_FAST).abs() / V_FAST;
             worst_fast = worst_fast.max(e);
             assert!(e <= 0.02, "{}: {v} m/s at {t} s on the fast belt", a.name);
@@ -277,7 +339,10 @@ fn transfer_slows_apples_to_the_slow_belt() {
             worst_slow = worst_slow.max(e);
             assert!(e <= 0.02, "{}: {v} m/s at {t} s on the slow belt", a.name);
         }
-        for &(t, v) in s.iter().filter(|p| p.0 >= t_land + 0.05 && p.0 <= t_land + 0.9 * dv / (MU_R * G)) {
+        for &(t, v) in s
+            .iter()
+            .filter(|p| p.0 >= t_land + 0.05 && p.0 <= t_land + 0.9 * dv / (MU_R * G))
+        {
             assert!(v > 1.02 * V_SLOW, "{}: already {v} m/s at {t} s", a.name);
         }
         let roll: Vec<(f64, f64)> = s
@@ -301,6 +366,20 @@ fn transfer_slows_apples_to_the_slow_belt() {
             100.0 * worst_slow
         );
         assert_ref("slowing on the slow belt", -dec, a_cf, 0.01, "closed form");
+        // docs/lines.md: feed impacts 12.8-18.6 N on the fast belt, landings 52-62 N on the slow.
+        let peak = |surface: &str| {
+            r.events
+                .iter()
+                .filter(|e| e.a_index == i && &*e.b == surface)
+                .map(|e| e.peak_force_n)
+                .fold(0.0, f64::max)
+        };
+        println!(
+            "  peaks: fast belt {:.1} N, slow belt {:.1} N",
+            peak("fast"),
+            peak("slow")
+        );
+        assert!((12.75..=18.65).contains(&peak("fast")) && (52.0..=62.0).contains(&peak("slow")));
         // Slow belt used before the apple rides it: V2 dV/(mu_r g) + 5 dV^2/(14 mu_r g)
         // (docs/lines.md: 0.47 m), within 10 % (the slower start of the relative rolling).
         let x = |t: f64| {
@@ -338,16 +417,27 @@ fn without_rolling_resistance_the_transfer_does_not_slow_apples_to_the_belt() {
         for (t, st) in series.of(i) {
             let v = speed(st.velocity);
             if t >= t0 + 0.2 && t < t_land.min(t_end) - 0.2 {
-                assert!((v / (2.0 * V_FAST / 7.0) - 1.0).abs() <= 0.03, "{v} m/s at {t} s on the fast belt");
+                assert!(
+                    (v / (2.0 * V_FAST / 7.0) - 1.0).abs() <= 0.03,
+                    "{v} m/s at {t} s on the fast belt"
+                );
                 fast.push(v);
             }
             if t >= t_land + 0.2 {
                 assert!(v > 1.2 * V_SLOW, "{v} m/s at {t} s on the slow belt");
+                // docs/lines.md: 0.250-0.264 m/s.
+                assert!(
+                    (0.2495..=0.2645).contains(&v),
+                    "{v} m/s at {t} s on the slow belt"
+                );
                 slow.push(v);
             }
         }
     }
-    assert!(!fast.is_empty() && !slow.is_empty(), "an apple reaches the slow belt within the run");
+    assert!(
+        !fast.is_empty() && !slow.is_empty(),
+        "an apple reaches the slow belt within the run"
+    );
     let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
     println!(
         "without rolling resistance: {:.4} m/s on the fast belt (2V1/7 = {:.4}), {:.4} m/s on the slow belt (V2 = {V_SLOW})",
@@ -425,7 +515,10 @@ fn heap(r: &RunResult, floor: &str, wall_prefix: &str, mean_d: f64) -> Heap {
         let e = top.entry((rr / w) as usize).or_insert(0.0);
         *e = e.max(h);
     }
-    let prof: Vec<(f64, f64)> = top.iter().map(|(&k, &h)| ((k as f64 + 0.5) * w, h)).collect();
+    let prof: Vec<(f64, f64)> = top
+        .iter()
+        .map(|(&k, &h)| ((k as f64 + 0.5) * w, h))
+        .collect();
     let (slope, _) = fit(&prof, 0.0);
     let max_speed = r
         .apples
@@ -492,12 +585,21 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
     assert!(h.layers > 2.0, "a heap: {h:?}");
     assert!(h.floor_fraction < 0.9, "not a single layer: {h:?}");
     assert!((5.0..=15.0).contains(&h.fit_angle_deg), "slope: {h:?}");
-    assert!((5.0..=15.0).contains(&h.apex_edge_angle_deg), "slope: {h:?}");
+    assert!(
+        (5.0..=15.0).contains(&h.apex_edge_angle_deg),
+        "slope: {h:?}"
+    );
     assert_eq!(h.at_walls, 0, "the heap stays clear of the walls: {h:?}");
     // docs/lines.md's seed-19 row (golden values at their printed digits: the pile is chaotic).
     assert_eq!((h.floor_fraction * 150.0).round() as usize, 128, "{h:?}");
-    assert!((h.layers - 2.30).abs() <= 0.01 && (h.fit_angle_deg - 7.0).abs() <= 0.1, "{h:?}");
-    assert!((h.apex_edge_angle_deg - 9.7).abs() <= 0.1 && (h.r95_m - 0.569).abs() <= 0.001, "{h:?}");
+    assert!(
+        (h.layers - 2.30).abs() <= 0.01 && (h.fit_angle_deg - 7.0).abs() <= 0.1,
+        "{h:?}"
+    );
+    assert!(
+        (h.apex_edge_angle_deg - 9.7).abs() <= 0.1 && (h.r95_m - 0.569).abs() <= 0.001,
+        "{h:?}"
+    );
     let imp = impacts(&r);
     println!("impacts per surface (contacts, largest peak N, above 80 N): {imp:?}");
     // docs/lines.md's impact table and bruised apples (golden).
@@ -535,10 +637,19 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
     assert!(flat.floor_fraction >= 0.98, "a single layer: {flat:?}");
     assert!(flat.layers < 1.1, "a single layer: {flat:?}");
     assert!(flat.fit_angle_deg.abs() < 2.0, "flat: {flat:?}");
-    assert!(flat.r95_m > h.r95_m + 0.1, "spread wider: {flat:?} against {h:?}");
+    assert!(
+        flat.r95_m > h.r95_m + 0.1,
+        "spread wider: {flat:?} against {h:?}"
+    );
     // docs/lines.md's seed-19 row without rolling resistance (golden).
-    assert!((flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.6).abs() <= 0.1, "{flat:?}");
-    assert!((flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.738).abs() <= 0.001, "{flat:?}");
+    assert!(
+        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.6).abs() <= 0.1,
+        "{flat:?}"
+    );
+    assert!(
+        (flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.738).abs() <= 0.001,
+        "{flat:?}"
+    );
     assert!(flat.max_speed_m_s > 0.01, "some still roll: {flat:?}");
 }
 
@@ -557,6 +668,7 @@ fn a_higher_pour_spreads_even_with_rolling_resistance() {
     assert_eq!(h.apples, 150);
     assert!(h.floor_fraction >= 0.98, "{h:?}");
     assert!(h.layers < 1.1, "{h:?}");
+    assert!(h.at_walls > 0, "rolled to the walls: {h:?}");
 }
 
 /// The heap's figures over five pour seeds, with and without rolling resistance (docs/lines.md's
@@ -573,7 +685,12 @@ fn heap_over_seeds() {
             });
             println!(
                 "| {seed} | {rolling:?} | {:.3} | {:.2} | {:.1} | {:.1} | {:.3} | {:.2} |",
-                h.floor_fraction, h.layers, h.fit_angle_deg, h.apex_edge_angle_deg, h.r95_m, r.wall_time_s
+                h.floor_fraction,
+                h.layers,
+                h.fit_angle_deg,
+                h.apex_edge_angle_deg,
+                h.r95_m,
+                r.wall_time_s
             );
         }
     }
