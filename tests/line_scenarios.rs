@@ -1,0 +1,842 @@
+//! The line scenarios of issue 19 (docs/lines.md): a belt carries apples at its speed, and
+//! apples poured into a bin build a heap, with the default rolling resistance (elastic-plastic,
+//! mu_r = 0.03); with `"rolling": "none"` (the paper's model) the belt carries them at 2V/7 for
+//! ever and the pour spreads into a single layer.
+//!
+//! The belt is checked against the closed form of docs/lines.md (derived there): a slip phase of
+//! t1 = 2V/(7 mu g) ending at 2V/7, then rolling backwards relative to the belt while rolling
+//! resistance accelerates the apple at 5/7 mu_r g, which brings it to V after V/(mu_r g). The
+//! heap has no closed form (a pile is chaotic): its figures are checked within stated ranges that
+//! hold over seeds (docs/lines.md gives five), not as golden values.
+
+mod common;
+use applesim::record::events::ContactEvent;
+use applesim::record::series::MemorySeries;
+use applesim::scenario::models::Rolling;
+use applesim::scenario::Scenario;
+use applesim::sim::RunResult;
+use common::*;
+
+const G: f64 = 9.81;
+
+/// belt_conveying.json: belt speed, apple-rubber friction, default rolling friction.
+const V: f64 = 0.4;
+const MU: f64 = 0.5;
+const MU_R: f64 = 0.03;
+
+fn speed(v: applesim::math::Vec3) -> f64 {
+    v.length()
+}
+
+/// Touch time of apple `i` on `surface` (its first contact there).
+fn touch(events: &[ContactEvent], i: u32, surface: &str) -> f64 {
+    events
+        .iter()
+        .filter(|e| e.a_index == i && &*e.b == surface)
+        .map(|e| e.t_start_s)
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn belt_run(rolling: Option<Rolling>) -> (RunResult, MemorySeries) {
+    let mut sc: Scenario = shipped("scenarios/lines/belt_conveying.json");
+    if let Some(r) = rolling {
+        sc.contact.rolling = r;
+    }
+    run(&sc)
+}
+
+/// Least-squares line through (t, v): (slope, value at t_at).
+fn fit(points: &[(f64, f64)], t_at: f64) -> (f64, f64) {
+    let n = points.len() as f64;
+    let mt = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let mv = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = points.iter().map(|p| (p.0 - mt) * (p.1 - mv)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mt) * (p.0 - mt)).sum();
+    let slope = sxy / sxx;
+    (slope, mv + slope * (t_at - mt))
+}
+
+/// docs/lines.md's approach table: each apple's speed at t0 + t1 + k V/(mu_r g), k = 0, 0.25,
+/// 0.5, 0.75, 1, 1.25 (the sample nearest each time; golden values at their printed digits).
+const TABLE: [[f64; 6]; 4] = [
+    [0.1274, 0.1982, 0.2677, 0.3395, 0.4001, 0.4001],
+    [0.1338, 0.2006, 0.2722, 0.3418, 0.3999, 0.3999],
+    [0.1281, 0.1984, 0.2701, 0.3418, 0.3999, 0.3999],
+    [0.1309, 0.2006, 0.2722, 0.3418, 0.3999, 0.3999],
+];
+
+/// Issue 19's acceptance: each apple fed onto the belt rides at the belt speed, within 2 %, from
+/// t0 + t1 + V/(mu_r g) on (t0 its touch), and is below that before (checked up to
+/// t0 + t1 + 0.9 V/(mu_r g)); the approach is the closed form's: rolling phase accelerating at
+/// 5/7 mu_r g (1 %), starting from 2V/7 raised by the landing's shorter lever arm and the rolling
+/// resistance during the slip (docs/lines.md: 0 to +12 %).
+#[test]
+fn belt_carries_apples_at_belt_speed() {
+    let (r, series) = belt_run(None);
+    let apples = r.roster.apples();
+    assert_eq!(apples.len(), 4, "four apples fed");
+    let t1 = 2.0 * V / (7.0 * MU * G);
+    let t_r = V / (MU_R * G);
+    let a_cf = 5.0 / 7.0 * MU_R * G;
+    println!(
+        "t1 = {:.4} s, V/(mu_r g) = {:.4} s, closed-form ride time {:.4} s after touch; wall {:.3} s, {} steps",
+        t1,
+        t_r,
+        t1 + t_r,
+        r.wall_time_s,
+        r.steps
+    );
+    let mut worst_after: f64 = 0.0;
+    for (i, a) in apples.iter().enumerate() {
+        let i = i as u32;
+        let t0 = touch(&r.events, i, "belt");
+        assert!(t0.is_finite(), "{} never touched the belt", a.name);
+        let ride = t0 + t1 + t_r;
+        assert!(
+            ride < r.simulated_time_s - 0.5,
+            "the run ends too early to see {} ride",
+            a.name
+        );
+        let s: Vec<(f64, f64)> = series
+            .of(i)
+            .into_iter()
+            .map(|(t, st)| (t, speed(st.velocity)))
+            .collect();
+        // Within 2 % of V after the closed-form time, every sample.
+        let after: Vec<_> = s.iter().filter(|p| p.0 >= ride).collect();
+        assert!(
+            after.len() > 50,
+            "{}: {} samples after the ride time",
+            a.name,
+            after.len()
+        );
+        for &&(t, v) in &after {
+            let e = (v - V).abs() / V;
+            worst_after = worst_after.max(e);
+            assert!(
+                e <= 0.02,
+                "{}: {v} m/s at t = {t} s, {:.3} % from V",
+                a.name,
+                100.0 * e
+            );
+        }
+        // Below the 2 % band before (up to 90 % of the rolling phase).
+        for &(t, v) in s.iter().filter(|p| p.0 > t0 && p.0 <= t0 + t1 + 0.9 * t_r) {
+            assert!(v < 0.98 * V, "{}: already {v} m/s at t = {t} s", a.name);
+        }
+        // The approach: the rolling phase against the closed form.
+        let roll: Vec<(f64, f64)> = s
+            .iter()
+            .copied()
+            .filter(|p| p.0 >= t0 + t1 + 0.1 * t_r && p.0 <= t0 + t1 + 0.8 * t_r)
+            .collect();
+        let (acc, v_start) = fit(&roll, t0 + t1);
+        println!(
+            "{}: touch {:.4} s; rolling phase {:.5} m/s^2 (5/7 mu_r g {:.5}, {:+.2} %), from {:.5} m/s at t0 + t1 (2V/7 {:.5}, {:+.2} %)",
+            a.name,
+            t0,
+            acc,
+            a_cf,
+            100.0 * (acc / a_cf - 1.0),
+            v_start,
+            2.0 * V / 7.0,
+            100.0 * (v_start / (2.0 * V / 7.0) - 1.0)
+        );
+        // docs/lines.md: +0.27 to +0.29 % (checked at twice, inside the issue's 1 %).
+        assert_ref(
+            "rolling-phase acceleration",
+            acc,
+            a_cf,
+            0.006,
+            "closed form",
+        );
+        assert!(
+            (2.0 * V / 7.0..=1.12 * 2.0 * V / 7.0).contains(&v_start),
+            "{}: rolling starts at {v_start} m/s",
+            a.name
+        );
+        for (k, stated) in [0.0, 0.25, 0.5, 0.75, 1.0, 1.25]
+            .into_iter()
+            .zip(TABLE[i as usize])
+        {
+            let t = t0 + t1 + k * t_r;
+            let (ts, v) = *s
+                .iter()
+                .min_by(|p, q| (p.0 - t).abs().total_cmp(&(q.0 - t).abs()))
+                .unwrap();
+            let cf = (2.0 * V / 7.0 + a_cf * (ts - t0 - t1)).min(V);
+            println!(
+                "  t - t0 = {:.3} s: {:.4} m/s, closed form {:.4} m/s ({:+.4} m/s)",
+                ts - t0,
+                v,
+                cf,
+                v - cf
+            );
+            // docs/lines.md's table (golden, printed digits).
+            assert!(
+                (v - stated).abs() <= 1e-4,
+                "{}: {v} at {ts} s, docs/lines.md {stated}",
+                a.name
+            );
+        }
+        // The closed-form time is an upper bound: V is reached (0.1 %) within 0.1 s before it,
+        // and the 2 % band entered before it too (docs/lines.md: about 1.28 s after touch).
+        let first = |tol: f64| {
+            s.iter()
+                .find(|p| p.0 > t0 && (p.1 - V).abs() <= tol * V)
+                .unwrap()
+                .0
+        };
+        let (t_v, t_band) = (first(1e-3), first(0.02));
+        println!(
+            "  V (0.1 %) reached {:.3} s after touch, the 2 % band entered {:.3} s after touch (closed form {:.3} s)",
+            t_v - t0,
+            t_band - t0,
+            t1 + t_r
+        );
+        assert!(t_v <= ride && t_v >= ride - 0.1, "{}: V at {t_v} s", a.name);
+        assert!(
+            t_band < t_v && (t_band - t0 - 1.28).abs() <= 0.015,
+            "{}: band at {t_band} s",
+            a.name
+        );
+        // Distance travelled from the feed point by the ride time: V T - lag, the lag
+        // 8 mm + 5 V^2 / (14 mu_r g) (docs/lines.md: 0.35 m), within 10 % (the early start).
+        let x = |t: f64| {
+            series
+                .of(i)
+                .into_iter()
+                .min_by(|p, q| (p.0 - t).abs().total_cmp(&(q.0 - t).abs()))
+                .unwrap()
+                .1
+                .position
+                .x
+        };
+        let lag = V * t1 - MU * G * t1 * t1 / 2.0 + 5.0 * V * V / (14.0 * MU_R * G);
+        let cf_dist = V * (t1 + t_r) - lag;
+        let d = x(ride) - x(t0);
+        println!(
+            "  travelled {d:.3} m by the ride time (closed form {cf_dist:.3} m, lag {lag:.3} m)"
+        );
+        assert!((d / cf_dist - 1.0).abs() <= 0.1, "{}: {d} m", a.name);
+        assert!(
+            (0.3655..=0.3705).contains(&d),
+            "{}: {d} m, docs/lines.md 0.366-0.370",
+            a.name
+        );
+        // docs/lines.md: the feed impacts on the belt peak at 15.2-19.0 N.
+        let peaks: Vec<f64> = r
+            .events
+            .iter()
+            .filter(|e| e.a_index == i)
+            .map(|e| e.peak_force_n)
+            .collect();
+        assert!(
+            peaks.len() == 1 && (15.15..=19.05).contains(&peaks[0]),
+            "{}: {peaks:?}",
+            a.name
+        );
+        // Every apple ends riding: its speed within 0.1 % of V (docs/lines.md: 0.02 %).
+        let (_, v_end) = *s.last().unwrap();
+        assert!(
+            (v_end - V).abs() <= 1e-3 * V,
+            "{}: ends at {v_end} m/s",
+            a.name
+        );
+    }
+    println!(
+        "largest deviation from V after the ride time: {:.4} %",
+        100.0 * worst_after
+    );
+    // docs/lines.md: 0.020 % (checked at twice).
+    assert!(worst_after <= 4e-4, "{worst_after}");
+}
+
+/// The contrast: with `"rolling": "none"` the same apples ride at 2V/7 for ever (within 3 %:
+/// docs/lines.md measures +1.5 to +1.7 %, the landing's shorter lever arm).
+#[test]
+fn without_rolling_resistance_apples_lag_at_two_sevenths() {
+    let (r, series) = belt_run(Some(Rolling::None));
+    let t1 = 2.0 * V / (7.0 * MU * G);
+    let t_r = V / (MU_R * G);
+    for (i, a) in r.roster.apples().iter().enumerate() {
+        let i = i as u32;
+        let t0 = touch(&r.events, i, "belt");
+        let mut n = 0;
+        for (t, st) in series.of(i) {
+            if t >= t0 + 0.2 {
+                let v = speed(st.velocity);
+                assert!(
+                    (v / (2.0 * V / 7.0) - 1.0).abs() <= 0.03,
+                    "{}: {v} m/s at t = {t} s, not 2V/7",
+                    a.name
+                );
+                n += 1;
+            }
+        }
+        assert!(n > 50);
+        let (t_end, st) = *series.of(i).last().unwrap();
+        println!(
+            "{}: {:.5} m/s at t - t0 = {:.2} s (2V/7 = {:.5}; with rolling resistance it would ride at V after {:.3} s)",
+            a.name,
+            speed(st.velocity),
+            t_end - t0,
+            2.0 * V / 7.0,
+            t1 + t_r
+        );
+    }
+}
+
+/// belt_transfer.json: the fast and the slow belt's speeds.
+const V_FAST: f64 = 0.6;
+const V_SLOW: f64 = 0.2;
+
+fn transfer_run() -> (RunResult, MemorySeries) {
+    run(&shipped("scenarios/lines/belt_transfer.json"))
+}
+
+/// Last moment apple `i` touches `surface`.
+fn leave(events: &[ContactEvent], i: u32, surface: &str) -> f64 {
+    events
+        .iter()
+        .filter(|e| e.a_index == i && &*e.b == surface)
+        .map(|e| e.t_end_s.unwrap_or(f64::INFINITY))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The fast-to-slow transfer (docs/lines.md): each apple rides the fast belt at V1 (2 %) from
+/// t0 + t1 + V1/(mu_r g) until it leaves it; it lands on the slow belt rolling forward relative
+/// to it (5/7 of the speed difference in the closed form), is slowed at 5/7 mu_r g (1 %) and
+/// rides at V2 (2 %) from t_land + (V1 - V2)/(mu_r g) on, faster than that before.
+#[test]
+fn transfer_slows_apples_to_the_slow_belt() {
+    let (r, series) = transfer_run();
+    let apples = r.roster.apples();
+    assert_eq!(apples.len(), 3);
+    let dv = V_FAST - V_SLOW;
+    let t1 = 2.0 * V_FAST / (7.0 * MU * G);
+    let a_cf = 5.0 / 7.0 * MU_R * G;
+    println!("wall {:.3} s, {} steps", r.wall_time_s, r.steps);
+    for (i, a) in apples.iter().enumerate() {
+        let i = i as u32;
+        let t0 = touch(&r.events, i, "fast");
+        let t_off = leave(&r.events, i, "fast");
+        let t_land = touch(&r.events, i, "slow");
+        assert!(
+            t0 + t1 + V_FAST / (MU_R * G) < t_off - 0.2,
+            "{}: leaves the fast belt before riding it",
+            a.name
+        );
+        assert!(
+            t_land > t_off && t_land + dv / (MU_R * G) < r.simulated_time_s - 0.5,
+            "{}",
+            a.name
+        );
+        let s: Vec<(f64, f64)> = series
+            .of(i)
+            .into_iter()
+            .map(|(t, st)| (t, speed(st.velocity)))
+            .collect();
+        let mut worst_fast: f64 = 0.0;
+        for &(t, v) in s
+            .iter()
+            .filter(|p| p.0 >= t0 + t1 + V_FAST / (MU_R * G) && p.0 <= t_off - 0.05)
+        {
+            let e = (v - V_FAST).abs() / V_FAST;
+            worst_fast = worst_fast.max(e);
+            assert!(e <= 0.02, "{}: {v} m/s at {t} s on the fast belt", a.name);
+        }
+        let ride = t_land + dv / (MU_R * G);
+        let mut worst_slow: f64 = 0.0;
+        for &(t, v) in s.iter().filter(|p| p.0 >= ride) {
+            let e = (v - V_SLOW).abs() / V_SLOW;
+            worst_slow = worst_slow.max(e);
+            assert!(e <= 0.02, "{}: {v} m/s at {t} s on the slow belt", a.name);
+        }
+        for &(t, v) in s
+            .iter()
+            .filter(|p| p.0 >= t_land + 0.05 && p.0 <= t_land + 0.9 * dv / (MU_R * G))
+        {
+            assert!(v > 1.02 * V_SLOW, "{}: already {v} m/s at {t} s", a.name);
+        }
+        let roll: Vec<(f64, f64)> = s
+            .iter()
+            .copied()
+            .filter(|p| p.0 >= t_land + 0.1 && p.0 <= t_land + 0.8 * dv / (MU_R * G))
+            .collect();
+        let (dec, v_land) = fit(&roll, t_land);
+        println!(
+            "{}: touches the fast belt at {t0:.3} s, leaves it at {t_off:.3} s (within {:.3} % of V1 from {:.3} s), lands at {t_land:.3} s; \
+             rolls on at {:.4} m/s relative to the slow belt (closed form 5/7 (V1 - V2) = {:.4}, {:+.1} %), \
+             slowed at {:.5} m/s^2 ({:+.2} % from 5/7 mu_r g); within {:.3} % of V2 from {ride:.3} s",
+            a.name,
+            100.0 * worst_fast,
+            t0 + t1 + V_FAST / (MU_R * G),
+            v_land - V_SLOW,
+            5.0 / 7.0 * dv,
+            100.0 * ((v_land - V_SLOW) / (5.0 / 7.0 * dv) - 1.0),
+            -dec,
+            100.0 * (-dec / a_cf - 1.0),
+            100.0 * worst_slow
+        );
+        // docs/lines.md: +0.27 to +0.28 % (checked at twice, inside the issue's 1 %).
+        assert_ref("slowing on the slow belt", -dec, a_cf, 0.006, "closed form");
+        // docs/lines.md: rolls on at 0.267-0.268 m/s relative to the slow belt; within
+        // 0.011-0.014 % of V1 on the fast belt, 0.045 % of V2 on the slow one (checked at twice).
+        assert!(
+            (0.2665..=0.2685).contains(&(v_land - V_SLOW)),
+            "{}: {v_land}",
+            a.name
+        );
+        assert!(
+            worst_fast <= 2.8e-4 && worst_slow <= 9e-4,
+            "{worst_fast} {worst_slow}"
+        );
+        // docs/lines.md: feed impacts 12.8-18.6 N on the fast belt, landings 52-62 N on the slow.
+        let peak = |surface: &str| {
+            r.events
+                .iter()
+                .filter(|e| e.a_index == i && &*e.b == surface)
+                .map(|e| e.peak_force_n)
+                .fold(0.0, f64::max)
+        };
+        println!(
+            "  peaks: fast belt {:.1} N, slow belt {:.1} N",
+            peak("fast"),
+            peak("slow")
+        );
+        assert!((12.75..=18.65).contains(&peak("fast")) && (52.0..=62.0).contains(&peak("slow")));
+        // Slow belt used before the apple rides it: V2 dV/(mu_r g) + 5 dV^2/(14 mu_r g)
+        // (docs/lines.md: 0.47 m), within 10 % (the slower start of the relative rolling).
+        let x = |t: f64| {
+            series
+                .of(i)
+                .into_iter()
+                .min_by(|p, q| (p.0 - t).abs().total_cmp(&(q.0 - t).abs()))
+                .unwrap()
+                .1
+                .position
+                .x
+        };
+        let cf_dist = V_SLOW * dv / (MU_R * G) + 5.0 * dv * dv / (14.0 * MU_R * G);
+        let d = x(ride) - x(t_land);
+        println!("  {d:.3} m of slow belt from the landing to the ride time (closed form {cf_dist:.3} m)");
+        assert!((d / cf_dist - 1.0).abs() <= 0.1, "{}: {d} m", a.name);
+        assert!(
+            (0.4405..=0.4425).contains(&d),
+            "{}: {d} m, docs/lines.md 0.441-0.442",
+            a.name
+        );
+    }
+}
+
+/// The contrast: with `"rolling": "none"` the apples cross the fast belt at 2V1/7 (3 %) and
+/// roll on over the slow belt faster than it (over 1.2 V2) for ever.
+#[test]
+fn without_rolling_resistance_the_transfer_does_not_slow_apples_to_the_belt() {
+    // At 2V1/7 the first apple reaches the slow belt only after 8.2 s: run 12 s.
+    let mut sc: Scenario = shipped("scenarios/lines/belt_transfer.json");
+    sc.contact.rolling = Rolling::None;
+    sc.duration_s = 12.0;
+    let (r, series) = run(&sc);
+    let t_end = r.simulated_time_s;
+    let mut fast = Vec::new();
+    let mut slow = Vec::new();
+    for i in 0..r.roster.len() as u32 {
+        let t0 = touch(&r.events, i, "fast");
+        let t_land = touch(&r.events, i, "slow");
+        for (t, st) in series.of(i) {
+            let v = speed(st.velocity);
+            if t >= t0 + 0.2 && t < t_land.min(t_end) - 0.2 {
+                assert!(
+                    (v / (2.0 * V_FAST / 7.0) - 1.0).abs() <= 0.03,
+                    "{v} m/s at {t} s on the fast belt"
+                );
+                fast.push(v);
+            }
+            if t >= t_land + 0.2 {
+                assert!(v > 1.2 * V_SLOW, "{v} m/s at {t} s on the slow belt");
+                // docs/lines.md: 0.250-0.264 m/s.
+                assert!(
+                    (0.2495..=0.2645).contains(&v),
+                    "{v} m/s at {t} s on the slow belt"
+                );
+                slow.push(v);
+            }
+        }
+    }
+    // docs/lines.md: the first apple reaches the slow belt at 8.2 s (3.1 s with rolling
+    // resistance).
+    let first_landing = touch(&r.events, 0, "slow");
+    assert!((first_landing - 8.2).abs() <= 0.05, "{first_landing}");
+    assert!(
+        !fast.is_empty() && !slow.is_empty(),
+        "an apple reaches the slow belt within the run"
+    );
+    let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
+    println!(
+        "without rolling resistance: {:.4} m/s on the fast belt (2V1/7 = {:.4}), {:.4} m/s on the slow belt (V2 = {V_SLOW})",
+        mean(&fast),
+        2.0 * V_FAST / 7.0,
+        mean(&slow)
+    );
+}
+
+/// The heap left in the bin, measured from the final positions (docs/lines.md, "Measuring the
+/// heap").
+#[derive(Debug)]
+#[allow(dead_code)] // every field is printed (Debug); not every one is asserted
+struct Heap {
+    apples: usize,
+    /// Fraction of the apples touching the bin floor at the end (an open contact with it).
+    floor_fraction: f64,
+    /// Top of the highest apple above the floor (m).
+    height_m: f64,
+    /// height over the mean diameter.
+    layers: f64,
+    /// Radius around the pile's axis holding 95 % of the apples (m).
+    r95_m: f64,
+    /// Angle of a least-squares line through the surface profile (deg).
+    fit_angle_deg: f64,
+    /// Angle from the apex to the edge: atan((height - D) / r95) (deg).
+    apex_edge_angle_deg: f64,
+    /// Largest final speed (m/s).
+    max_speed_m_s: f64,
+    /// Apples touching a wall of the bin at the end.
+    at_walls: usize,
+}
+
+fn heap(r: &RunResult, floor: &str, wall_prefix: &str, mean_d: f64) -> Heap {
+    let roster = r.roster.apples();
+    let n = r.apples.len();
+    assert_eq!(roster.len(), n);
+    let on_floor = (0..n as u32)
+        .filter(|&i| {
+            r.events
+                .iter()
+                .any(|e| e.a_index == i && &*e.b == floor && e.t_end_s.is_none())
+        })
+        .count();
+    // The pile's axis: the mean of the apples' horizontal positions.
+    let cx = r.apples.iter().map(|a| a.final_position_m[0]).sum::<f64>() / n as f64;
+    let cy = r.apples.iter().map(|a| a.final_position_m[1]).sum::<f64>() / n as f64;
+    let at_walls = (0..n as u32)
+        .filter(|&i| {
+            r.events.iter().any(|e| {
+                e.a_index == i
+                    && e.t_end_s.is_none()
+                    && e.b.starts_with(wall_prefix)
+                    && &*e.b != floor
+            })
+        })
+        .count();
+    let mut pts: Vec<(f64, f64)> = r
+        .apples
+        .iter()
+        .zip(roster)
+        .map(|(a, ra)| {
+            assert_eq!(a.name, ra.name);
+            let p = a.final_position_m;
+            ((p[0] - cx).hypot(p[1] - cy), p[2] + ra.radius_m)
+        })
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let height = pts.iter().map(|p| p.1).fold(0.0, f64::max);
+    let r95 = pts[(0.95 * n as f64).ceil() as usize - 1].0;
+    // Surface profile: the highest apple top in each annulus D/2 wide, out to r95.
+    let w = mean_d / 2.0;
+    let mut top = std::collections::BTreeMap::<usize, f64>::new();
+    for &(rr, h) in pts.iter().filter(|p| p.0 <= r95) {
+        let e = top.entry((rr / w) as usize).or_insert(0.0);
+        *e = e.max(h);
+    }
+    let prof: Vec<(f64, f64)> = top
+        .iter()
+        .map(|(&k, &h)| ((k as f64 + 0.5) * w, h))
+        .collect();
+    let (slope, _) = fit(&prof, 0.0);
+    let max_speed = r
+        .apples
+        .iter()
+        .map(|a| {
+            let v = a.final_velocity_m_s;
+            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+        })
+        .fold(0.0, f64::max);
+    Heap {
+        apples: n,
+        floor_fraction: on_floor as f64 / n as f64,
+        height_m: height,
+        layers: height / mean_d,
+        r95_m: r95,
+        fit_angle_deg: (-slope).atan().to_degrees(),
+        apex_edge_angle_deg: ((height - mean_d) / r95).atan().to_degrees(),
+        max_speed_m_s: max_speed,
+        at_walls,
+    }
+}
+
+/// Largest peak force and contacts above 80 N on each surface (apple-apple as "apple").
+fn impacts(r: &RunResult) -> std::collections::BTreeMap<String, (usize, f64, usize)> {
+    let mut m = std::collections::BTreeMap::new();
+    for e in &r.events {
+        let key = match e.b_party {
+            applesim::record::events::Party::Apple(_) => "apple".to_string(),
+            applesim::record::events::Party::Surface(_) => e.b.to_string(),
+        };
+        let s = m.entry(key).or_insert((0, 0.0f64, 0));
+        s.0 += 1;
+        s.1 = s.1.max(e.peak_force_n);
+        s.2 += usize::from(e.peak_force_n > 80.0);
+    }
+    m
+}
+
+fn bin_run(edit: impl FnOnce(&mut Scenario)) -> (RunResult, Heap) {
+    let mut sc: Scenario = shipped("scenarios/lines/bin_filling.json");
+    edit(&mut sc);
+    let (r, _) = run(&sc);
+    let h = heap(&r, "bin/floor", "bin/", 0.075);
+    println!(
+        "{h:?}; wall {:.2} s, {} steps, {} contact events",
+        r.wall_time_s,
+        r.steps,
+        r.events.len()
+    );
+    (r, h)
+}
+
+/// Issue 19's acceptance: the 150 poured apples build a heap with rolling resistance (more than
+/// two diameters high, a slope of 5-15 degrees, not all of them on the floor) and spread into a
+/// single layer without it (every apple on the floor, one diameter high, no slope; some apples
+/// still rolling at the end, as nothing stops them). Fewer than
+/// half on the floor is out of reach for 150 apples at these angles (docs/lines.md: a cone of
+/// 150 apples has most of them in its bottom layer).
+#[test]
+fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
+    let (r, h) = bin_run(|_| {});
+    assert_eq!(h.apples, 150, "every apple poured");
+    assert!(h.max_speed_m_s < 1e-3, "settled: {h:?}");
+    assert!(h.layers > 2.0, "a heap: {h:?}");
+    assert!(h.floor_fraction < 0.9, "not a single layer: {h:?}");
+    assert!((5.0..=15.0).contains(&h.fit_angle_deg), "slope: {h:?}");
+    assert!(
+        (5.0..=15.0).contains(&h.apex_edge_angle_deg),
+        "slope: {h:?}"
+    );
+    assert_eq!(h.at_walls, 0, "the heap stays clear of the walls: {h:?}");
+    // docs/lines.md's seed-19 row (golden values at their printed digits: the pile is chaotic).
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 128, "{h:?}");
+    assert!(
+        (h.layers - 2.30).abs() <= 0.01 && (h.fit_angle_deg - 7.0).abs() <= 0.1,
+        "{h:?}"
+    );
+    assert!(
+        (h.apex_edge_angle_deg - 9.7).abs() <= 0.1 && (h.r95_m - 0.569).abs() <= 0.001,
+        "{h:?}"
+    );
+    let imp = impacts(&r);
+    println!("impacts per surface (contacts, largest peak N, above 80 N): {imp:?}");
+    // docs/lines.md's impact table and bruised apples (golden).
+    for (surface, n, peak, over) in [
+        ("bin/floor", 259, 255.0, 95),
+        ("apple", 3037, 98.4, 21),
+        ("bin/x_max", 7, 75.7, 0),
+        ("bin/y_min", 3, 61.4, 0),
+        ("bin/y_max", 2, 21.0, 0),
+        ("bin/x_min", 1, 12.9, 0),
+    ] {
+        let got = imp[surface];
+        assert!(
+            got.0 == n && (got.1 - peak).abs() <= 0.1 && got.2 == over,
+            "{surface}: {got:?}, docs/lines.md ({n}, {peak}, {over})"
+        );
+    }
+    assert_eq!(imp.len(), 6);
+    let mut over_80 = std::collections::BTreeSet::new();
+    for e in r.events.iter().filter(|e| e.peak_force_n > 80.0) {
+        over_80.insert(e.a_index);
+        if let applesim::record::events::Party::Apple(j) = e.b_party {
+            over_80.insert(j);
+        }
+    }
+    println!("{} apples with a contact above 80 N", over_80.len());
+    assert_eq!(over_80.len(), 81);
+    // The hardest impacts are the first apples' landings on the bare floor.
+    let floor_peak = imp["bin/floor"].1;
+    assert!(imp.values().all(|s| s.1 <= floor_peak));
+
+    let (_, flat) = bin_run(|sc| sc.contact.rolling = Rolling::None);
+    assert_eq!(flat.apples, 150);
+    // Nothing stops an apple rolling on the floor in the paper's model: some still roll.
+    assert!(flat.floor_fraction >= 0.98, "a single layer: {flat:?}");
+    assert!(flat.layers < 1.1, "a single layer: {flat:?}");
+    assert!(flat.fit_angle_deg.abs() < 2.0, "flat: {flat:?}");
+    assert!(
+        flat.r95_m > h.r95_m + 0.1,
+        "spread wider: {flat:?} against {h:?}"
+    );
+    // docs/lines.md's seed-19 row without rolling resistance (golden).
+    assert!(
+        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.6).abs() <= 0.1,
+        "{flat:?}"
+    );
+    assert!(
+        (flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.738).abs() <= 0.001,
+        "{flat:?}"
+    );
+    assert!(flat.max_speed_m_s > 0.01, "some still roll: {flat:?}");
+}
+
+/// docs/lines.md: poured from 0.45 m at 1 m/s (landing at 3 m/s) instead of 0.3 m at 0.5 m/s,
+/// the same apples with the same rolling resistance spread into a single layer too: the
+/// apples thrown off the landing point roll to the walls.
+#[test]
+fn a_higher_pour_spreads_even_with_rolling_resistance() {
+    let (_, h) = bin_run(|sc| {
+        let s = &mut sc.sources[0];
+        s.position_m[2] = 0.45;
+        s.velocity_m_s[2] = -1.0;
+        s.rate_per_s = 12.0;
+        sc.duration_s = 15.0;
+    });
+    assert_eq!(h.apples, 150);
+    assert!(h.floor_fraction >= 0.98, "{h:?}");
+    assert!(h.layers < 1.1, "{h:?}");
+    assert!(h.at_walls > 0, "rolled to the walls: {h:?}");
+}
+
+/// The heap's figures over five pour seeds, with and without rolling resistance (docs/lines.md's
+/// table): `cargo test --release --test line_scenarios -- --ignored --nocapture`.
+#[test]
+#[ignore = "docs/lines.md's seed table: 12 runs, about 15 s"]
+fn heap_over_seeds() {
+    // The table's rows (golden, printed digits): floor fraction, height / D, fit angle,
+    // apex-edge angle, r95.
+    let table: [(u64, bool, [f64; 5]); 10] = [
+        (19, true, [0.853, 2.30, 7.0, 9.7, 0.569]),
+        (19, false, [1.000, 1.06, -0.6, 0.4, 0.738]),
+        (1, true, [0.787, 2.42, 8.3, 10.2, 0.594]),
+        (1, false, [1.000, 1.06, -0.2, 0.4, 0.751]),
+        (2, true, [0.793, 2.35, 7.0, 9.6, 0.598]),
+        (2, false, [1.000, 1.06, -0.3, 0.4, 0.734]),
+        (3, true, [0.813, 2.34, 10.3, 10.3, 0.553]),
+        (3, false, [1.000, 1.06, -0.1, 0.4, 0.733]),
+        (4, true, [0.840, 2.26, 7.4, 9.0, 0.598]),
+        (4, false, [1.000, 1.06, -0.0, 0.4, 0.744]),
+    ];
+    let check = |h: &Heap, want: [f64; 5]| {
+        let got = [
+            h.floor_fraction,
+            h.layers,
+            h.fit_angle_deg,
+            h.apex_edge_angle_deg,
+            h.r95_m,
+        ];
+        for ((g, w), unit) in got.iter().zip(want).zip([1e-3, 1e-2, 0.1, 0.1, 1e-3]) {
+            assert!((g - w).abs() <= unit, "{got:?}, docs/lines.md {want:?}");
+        }
+    };
+    let mut rows = table.iter();
+    println!("| seed | rolling | floor fraction | height / D | fit angle | apex-edge angle | r95 (m) | wall (s) |");
+    for seed in [19, 1, 2, 3, 4] {
+        for rolling in [Rolling::ElasticPlastic, Rolling::None] {
+            let (r, h) = bin_run(|sc| {
+                sc.sources[0].seed = seed;
+                sc.contact.rolling = rolling;
+            });
+            let &(s, rr, want) = rows.next().unwrap();
+            assert_eq!((s, rr), (seed, rolling == Rolling::ElasticPlastic));
+            check(&h, want);
+            println!(
+                "| {seed} | {rolling:?} | {:.3} | {:.2} | {:.1} | {:.1} | {:.3} | {:.2} |",
+                h.floor_fraction,
+                h.layers,
+                h.fit_angle_deg,
+                h.apex_edge_angle_deg,
+                h.r95_m,
+                r.wall_time_s
+            );
+        }
+    }
+    // Stronger rolling resistance (seed 19): what it takes to heap higher.
+    for (mu_r, n, want) in [
+        (0.06, 150, [0.673, 2.73, 12.6, 16.1, 0.450]),
+        (0.1, 141, [0.610, 3.30, 20.0, 20.8, 0.454]),
+    ] {
+        let (r, h) = bin_run(|sc| sc.contact.rolling_friction = mu_r);
+        assert_eq!(h.apples, n);
+        check(&h, want);
+        println!(
+            "| 19 | mu_r {mu_r} ({} apples poured) | {:.3} | {:.2} | {:.1} | {:.1} | {:.3} | {:.2} |",
+            h.apples, h.floor_fraction, h.layers, h.fit_angle_deg, h.apex_edge_angle_deg, h.r95_m, r.wall_time_s
+        );
+    }
+}
+
+/// The arithmetic of docs/lines.md (its closed forms and estimates at their printed digits).
+#[test]
+fn closed_form_figures_of_the_doc() {
+    let digit = |got: f64, stated: f64, unit: f64| {
+        println!("{got} (stated {stated})");
+        assert!(
+            (got - stated).abs() <= unit,
+            "{got}, docs/lines.md {stated}"
+        );
+    };
+    // Section 1: the belt.
+    let t1 = 2.0 * V / (7.0 * MU * G);
+    let t_r = V / (MU_R * G);
+    digit(1e3 * t1, 23.3, 0.1);
+    digit(5.0 / 7.0 * MU_R * G, 0.2102, 1e-4);
+    digit(t_r, 1.359, 1e-3);
+    digit(t1 + t_r, 1.382, 1e-3);
+    digit(1e3 * (V * t1 - MU * G * t1 * t1 / 2.0), 8.0, 1.0);
+    let roll_lag = 5.0 * V * V / (14.0 * MU_R * G);
+    digit(roll_lag, 0.194, 1e-3);
+    digit(
+        V * (t1 + t_r) - (V * t1 - MU * G * t1 * t1 / 2.0) - roll_lag,
+        0.351,
+        1e-3,
+    );
+    digit(2.0 * V / 7.0, 0.1143, 1e-4);
+    digit(V / (1.0 + 2.5 * (1.0 - MU_R / MU)), 0.1194, 1e-4);
+    let h = 1.0 - 0.026;
+    digit(V / (1.0 + 2.5 * h * (h - MU_R / MU)), 0.1240, 1e-4);
+    // Section 2: the transfer.
+    let dv = V_FAST - V_SLOW;
+    digit(
+        2.0 * V_FAST / (7.0 * MU * G) + V_FAST / (MU_R * G),
+        2.07,
+        0.01,
+    );
+    digit(5.0 / 7.0 * dv, 0.286, 1e-3);
+    digit(dv / (MU_R * G), 1.359, 1e-3);
+    digit(5.0 * dv * dv / (14.0 * MU_R * G), 0.194, 1e-3);
+    digit(
+        V_SLOW * dv / (MU_R * G) + 5.0 * dv * dv / (14.0 * MU_R * G),
+        0.466,
+        1e-3,
+    );
+    digit(2.0 * V_FAST / 7.0, 0.1714, 1e-4);
+    // Section 3: the bin. Landing speeds (source centre 0.3 m, 0.5 m/s; 0.45 m, 1 m/s; a 75 mm
+    // apple touches when its centre is R above the floor).
+    digit((0.5f64.powi(2) + 2.0 * G * (0.3 - 0.0375)).sqrt(), 2.3, 0.1);
+    digit((1.0f64 + 2.0 * G * (0.45 - 0.0375)).sqrt(), 3.0, 0.1);
+    // A cone of 150 apples (75 mm, packing 0.6): base radius and close-packed floor apples.
+    let d = 0.075f64;
+    let bulk = 150.0 * std::f64::consts::PI * d.powi(3) / 6.0 / 0.6;
+    for (deg, r_stated, n_stated) in [(30.0f64, 0.45, 131.0), (45.0, 0.375, 91.0)] {
+        let r = (3.0 * bulk / (std::f64::consts::PI * deg.to_radians().tan())).cbrt();
+        digit(r, r_stated, if deg == 30.0 { 0.01 } else { 1e-3 });
+        digit(
+            std::f64::consts::PI * r * r / (3f64.sqrt() / 2.0 * d * d),
+            n_stated,
+            1.0,
+        );
+    }
+    // The groove's thrust on a floor apple over its load (m g / 2 tan 30 over 1.5 m g).
+    digit(100.0 * 0.5 * 30f64.to_radians().tan() / 1.5, 19.0, 1.0);
+    // An apple rolling at 0.8 m/s, slowed at 5/7 mu_r g, needs 1.5 m.
+    digit(0.8 * 0.8 / (2.0 * 5.0 / 7.0 * MU_R * G), 1.5, 0.1);
+}
