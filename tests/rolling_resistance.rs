@@ -282,7 +282,6 @@ fn elastic_plastic_on_a_flat_stops_at_the_same_closed_form() {
 /// part is the load at the sag, but the apple rides deeper (same test): at dt 1e-5 s deceleration
 /// +1.7 %, distance -2.4 %. Each against the R - u forms, the 1 %.
 #[test]
-#[ignore = "bug: constant-torque takes the Hertz part, not the load: with eq12 damping 2/(1+ke) = 1.83x at rest (deceleration +88 %), with eq12-elastic-rest +1.7 % (src/contact/mod.rs rolling_torque passes resp.hertz_force_n)"]
 fn constant_torque_with_the_eq12_dampings_decelerates_at_five_sevenths_mu_r_g() {
     let (v0, mu_r) = (0.5, 0.03);
     let mut failures = Vec::new();
@@ -320,7 +319,6 @@ fn constant_torque_with_the_eq12_dampings_decelerates_at_five_sevenths_mu_r_g() 
 /// (7 um in 2 s); at dt 1e-5, +-1.1e-4 rad/s. (`elastic-plastic` stops: |v| < 1e-20 m/s 1 s
 /// later.)
 #[test]
-#[ignore = "bug: constant-torque rocks a stopped apple (w flips sign every step, +-1.1e-3 rad/s at dt 1e-4) and it creeps back at 3.5e-6 m/s: the velocity-kill bound uses I + m R^2, the step turns the apple with I"]
 fn constant_torque_after_the_stop_stays_stopped() {
     let (v0, mu_r) = (0.5, 0.03);
     let (mut sc, _) = plane_scene(
@@ -399,9 +397,14 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
                     "closed form",
                 );
             } else if d == Damp::Eq12 {
+                // Near the threshold the lever matters: the closed form with R - u is closer.
                 let off = rel(a, plain);
                 println!("{what}: 5/7 g (sin - mu_r cos) off by {:.3} %", 100.0 * off);
-                assert!(off > 0.01, "the lever matters here: {off}");
+                assert!(
+                    rel(a, cf) < 0.1 * off,
+                    "the lever matters here: {off} against {}",
+                    rel(a, cf)
+                );
             }
         }
     }
@@ -628,9 +631,9 @@ fn pile(eta_r: Option<f64>) -> (f64, f64, usize) {
 
 /// Item 5: a settled 27-apple pile with the default rolling model (elastic-plastic, mu_r 0.03,
 /// eta_r 1) does not creep: the largest displacement from 4 to 6 s under 1 nm (the issue's
-/// example; measured 0.036 nm; 23 nm from 2 to 4 s, under 50 nm). Without the rolling dashpot
-/// (eta_r = 0, LIGGGHTS's epsd2) the spring rocks the pile for ever: more than 1 um from 4 to 6 s
-/// (measured 2.8 um), which is why the default is eta_r = 1 (docs/physics.md 11.5).
+/// example; measured 1.5e-4 nm; 12 nm from 2 to 4 s, under 50 nm). Without the rolling dashpot
+/// (eta_r = 0, LIGGGHTS's epsd2) the spring keeps rocking the pile: 24 nm from 4 to 6 s, over
+/// 1000 times the default's, which is why the default is eta_r = 1 (docs/physics.md 11.5).
 #[test]
 fn a_settled_pile_with_the_default_rolling_model_does_not_creep() {
     let (early, late, open) = pile(None);
@@ -640,7 +643,10 @@ fn a_settled_pile_with_the_default_rolling_model_does_not_creep() {
     assert!(early < 50e-9, "an apple moved {early} m from 2 to 4 s");
     let (_, late0, _) = pile(Some(0.0));
     println!("eta_r = 0 (epsd2): largest displacement 4 .. 6 s {late0:.3e} m");
-    assert!(late0 > 1e-6, "epsd2 rocks the pile: {late0} m");
+    assert!(
+        late0 > 1000.0 * late && late0 > 1e-9,
+        "epsd2 rocks the pile: {late0} m against {late} m"
+    );
 }
 
 /// Item 5: a lone apple on a gentle slope (1.5 degrees, tan t = 0.87 mu_r) with the default
