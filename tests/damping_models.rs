@@ -482,7 +482,10 @@ fn static_overlap_of_each_model() {
                 5e-3,
                 "closed form",
             );
-            println!("{m} kg, {model:?}: {:.2e} off the closed form", rel(u, u_cf));
+            println!(
+                "{m} kg, {model:?}: {:.2e} off the closed form",
+                rel(u, u_cf)
+            );
             assert!(rel(u, u_cf) <= 2.0 * 3.7e-8);
         }
     }

@@ -274,7 +274,14 @@ fn elastic_plastic_on_a_flat_stops_at_the_same_closed_form() {
         let (sc, rho) = plane_scene(d, "elastic-plastic", mu_r, 0.3, 0.0, v0, 2.6, 1e-4);
         let (_, s) = run(&sc);
         let stop = stop_of(&s.of(0));
-        check_stop(&format!("epsd {d:?}"), &stop, v0, mu_r, rho, 2.0 * 0.0043e-2);
+        check_stop(
+            &format!("epsd {d:?}"),
+            &stop,
+            v0,
+            mu_r,
+            rho,
+            2.0 * 0.0043e-2,
+        );
     }
 }
 
@@ -651,7 +658,10 @@ fn a_settled_pile_with_the_default_rolling_model_does_not_creep() {
     println!("default rolling model: largest displacement 2 .. 4 s {early:.3e} m, 4 .. 6 s {late:.3e} m; {open} apple-apple contacts");
     assert!(open > 10, "the pile is packed");
     assert!(late < 1e-9, "an apple moved {late} m from 4 to 6 s");
-    assert!(early < 2.0 * 84e-9, "an apple moved {early} m from 2 to 4 s");
+    assert!(
+        early < 2.0 * 84e-9,
+        "an apple moved {early} m from 2 to 4 s"
+    );
     let (_, late0, _) = pile(Some(0.0));
     println!("eta_r = 0 (epsd2): largest displacement 4 .. 6 s {late0:.3e} m");
     assert!(

@@ -85,8 +85,14 @@ fn an_apple_held_on_a_slope_does_not_creep() {
             along(1.0, 2.0),
             along(2.0, 3.0),
         );
-        assert!(settling < 2.0 * 28e-9, "moved {settling} m down the slope while settling");
-        assert!(after < 2.0 * 1e-12, "crept {after} m down the slope after settling");
+        assert!(
+            settling < 2.0 * 28e-9,
+            "moved {settling} m down the slope while settling"
+        );
+        assert!(
+            after < 2.0 * 1e-12,
+            "crept {after} m down the slope after settling"
+        );
         assert!(at(6.0).velocity.length() < 1e-9);
     }
 }
@@ -262,7 +268,10 @@ fn resting_sag_against_the_closed_form() {
             "dt {dt}: relaxes monotonically"
         );
         assert!(v.iter().all(|p| p.1 > 0.0), "dt {dt}: never past the sag");
-        assert!((tau / tau_doc - 1.0).abs() <= 0.1, "dt {dt}: time constant {tau} s");
+        assert!(
+            (tau / tau_doc - 1.0).abs() <= 0.1,
+            "dt {dt}: time constant {tau} s"
+        );
         assert!(at(1.0) <= 2.0 * at_1s, "dt {dt}: at 1 s {}", at(1.0));
         assert!(at(2.0) <= 2.0 * at_2s, "dt {dt}: at 2 s {}", at(2.0));
         if dt == 1e-4 {

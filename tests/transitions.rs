@@ -122,7 +122,10 @@ fn check_plate(row: &PlateRow) {
     let u_cf = ode::resting_sag(ode::hertz_k(1.0e6, 0.18, 8.1e10, 0.28, R), 0.09, 0.107 * G);
     let depth = (R - u_cf) - e.position_m[2];
     println!("centre {:.3} um below R - u", 1e6 * depth);
-    assert!(depth > 0.0 && depth <= 2.0 * 0.15e-6, "{depth} m below R - u");
+    assert!(
+        depth > 0.0 && depth <= 2.0 * 0.15e-6,
+        "{depth} m below R - u"
+    );
     // With the true lever arm R - u from the closed form (the resting sag under eq. 12,
     // tests/common/ode.rs): within twice the table's figure, and within twice README's.
     let tight = theory::slip_to_roll_with_lever(v0, w0, R, ode::fig6_lever(), mu, G);
