@@ -5,7 +5,7 @@
 //!   a = mu_r g R rho / (rho^2 + 2/5 R^2) = 5/7 mu_r g (1 + 3/7 u/R + ...), rho = R - u the
 //!   contact-point lever on a rigid flat, and stops after v0^2 / (2 a) in v0 / a
 //!   (with rho = R: 7 v0^2 / (10 mu_r g), 7 v0 / (5 mu_r g)). The issue's 1 % against the R forms
-//!   (stated 0.25 %, the lever); the rho forms to 0.025 % (11.3).
+//!   (stated 0.25 %, the lever); the rho forms to 0.036 % (0.0043 % with `elastic-plastic`) (11.3).
 //! - flat, `elastic-plastic`: while rolling the spring sits at its cap, the same closed forms.
 //! - slope: rolls down at a = g (sin t - mu_r cos t R / rho) / (1 + 2/5 R^2 / rho^2)
 //!   (= 5/7 g (sin t - mu_r cos t) with rho = R) when tan t > mu_r; with `elastic-plastic` it stays
@@ -21,7 +21,8 @@
 //! The apple is the paper's Figs. 6-7 apple (D 80 mm, G 1 MPa, nu 0.18, 0.107 kg) on steel,
 //! friction 0.3 (0.5 on the belt), mu_r 0.03 (the default) and 0.05. `constant-torque` runs with
 //! the viscoelastic damping (its LIGGGHTS pairing: at rest the Hertz part that LIGGGHTS's torque
-//! uses is the load); with the eq. 12 dampings it does not give 5/7 mu_r g (bug test below).
+//! uses is the load); applesim's torque acts on the load, so it gives the same closed forms with
+//! the eq. 12 dampings (tested below).
 //! Every reference is written here (no crate helper); the lever uses the closed-form static sag.
 
 mod common;
@@ -213,7 +214,10 @@ fn check_stop(what: &str, got: &Stop, v0: f64, mu_r: f64, rho: f64, tight: f64) 
 /// Item 1: `constant-torque` on a flat (viscoelastic damping, its LIGGGHTS pairing), two speeds,
 /// two coefficients, dt 1e-4 s and 1e-5 s. docs/physics.md 11.3: within 1 % of the R forms (the
 /// issue; u/R = 0.34 % moves them by 3/7 of that: measured 0.16 % at most, stated 0.25 %), within
-/// 0.025 % of the R - u forms (measured 0.016 % at most), each checked at twice the stated figure.
+/// 0.036 % of the R - u forms (the stopping time at v0 0.25 m/s, mu_r 0.05, dt 1e-4 s: the
+/// stopping bound, the torque that stops the spin about the centre within a step, spreads the
+/// last of the stop over a few steps; 0.016 % before it used the moment about the contact point,
+/// which rocked the stopped apple), each checked at twice the stated figure.
 #[test]
 fn constant_torque_on_a_flat_stops_at_the_closed_form() {
     // docs/physics.md 11.3: the example (v0 0.5 m/s, mu_r 0.03; +-1 digit) and the first-order
@@ -252,7 +256,7 @@ fn constant_torque_on_a_flat_stops_at_the_closed_form() {
             v0,
             mu_r,
             rho,
-            5e-4,
+            2.0 * 0.036e-2,
         );
     }
 }
@@ -260,8 +264,9 @@ fn constant_torque_on_a_flat_stops_at_the_closed_form() {
 /// Item 1 with the default rolling model: `elastic-plastic` on a flat stops at the same closed
 /// forms (its spring sits at the cap mu_r R |F_n| while rolling, F_n the whole normal force, which
 /// averages m g whatever the damping). docs/physics.md 11.3: within 0.25 % of the R forms
-/// (measured 0.24 %, eq. 12's deeper sag) and 0.025 % of the R - u forms (measured 0.020 %, the
-/// distance of the eq. 12 run), each checked at twice that.
+/// (measured 0.22 %, eq. 12's deeper sag) and 0.0043 % of the R - u forms (the distance of the
+/// eq12-elastic-rest run; 0.020 % before resting contacts' eq. 12 step mean took the support into
+/// account), each checked at twice that.
 #[test]
 fn elastic_plastic_on_a_flat_stops_at_the_same_closed_form() {
     let (v0, mu_r) = (0.5, 0.03);
@@ -269,20 +274,24 @@ fn elastic_plastic_on_a_flat_stops_at_the_same_closed_form() {
         let (sc, rho) = plane_scene(d, "elastic-plastic", mu_r, 0.3, 0.0, v0, 2.6, 1e-4);
         let (_, s) = run(&sc);
         let stop = stop_of(&s.of(0));
-        check_stop(&format!("epsd {d:?}"), &stop, v0, mu_r, rho, 5e-4);
+        check_stop(
+            &format!("epsd {d:?}"),
+            &stop,
+            v0,
+            mu_r,
+            rho,
+            2.0 * 0.0043e-2,
+        );
     }
 }
 
-/// A bug, shown: `constant-torque` takes the Hertz part k u^(3/2) of the normal force (as
-/// LIGGGHTS's cdt takes k_n delta), which is the load only when the damping carries the whole
-/// Hertz force at rest. With eq. 12 (the default damping) the resting contact carries (1 + ke)/2
-/// of it: the torque is 2 / (1 + ke) = 1.83 times mu_r R m g and the apple stops 1.9 times too
-/// soon (measured at dt 1e-4 s: deceleration +88 %, distance -50 %; the rest of the excess is the
-/// apple riding deeper than its sag, tests/damping_models.rs). With eq12-elastic-rest the Hertz
-/// part is the load at the sag, but the apple rides deeper (same test): at dt 1e-5 s deceleration
-/// +1.7 %, distance -2.4 %. Each against the R - u forms, the issue's 1 %.
+/// `constant-torque` acts on the load (the whole normal force), so with the eq. 12 dampings too it
+/// decelerates at the R - u form (docs/physics.md 11.3): eq12 at dt 1e-4 s and eq12-elastic-rest
+/// at 1e-5 s within 0.0041 % on the deceleration and the distance (measured: -0.0000 % and
+/// -0.0041 %; +0.0001 % and -0.0003 %), checked at twice that and at the issue's 1 %. (When it
+/// took the Hertz part, as LIGGGHTS's cdt takes k_n delta, eq. 12's resting contact, which
+/// carries (1 + ke)/2 of Hertz, got 2 / (1 + ke) = 1.83 times the torque: +88 % and -50 %.)
 #[test]
-#[ignore = "bug: constant-torque takes the Hertz part, not the load: with eq12 damping 2/(1+ke) = 1.83x at rest (deceleration +88 %), with eq12-elastic-rest +1.7 % (src/contact/mod.rs rolling_torque passes resp.hertz_force_n)"]
 fn constant_torque_with_the_eq12_dampings_decelerates_at_five_sevenths_mu_r_g() {
     let (v0, mu_r) = (0.5, 0.03);
     let mut failures = Vec::new();
@@ -296,11 +305,14 @@ fn constant_torque_with_the_eq12_dampings_decelerates_at_five_sevenths_mu_r_g() 
             stop.distance_m / (v0 * v0 / (2.0 * a)) - 1.0,
         );
         println!(
-            "cdt with {d:?} at dt {dt}: deceleration {:+.2} %, distance {:+.2} %",
+            "cdt with {d:?} at dt {dt}: deceleration {:+.4} %, distance {:+.4} %",
             100.0 * e_a,
             100.0 * e_d
         );
         if e_a.abs() > 0.01 || e_d.abs() > 0.01 {
+            failures.push(format!("the issue's 1 %: {d:?}"));
+        }
+        if e_a.abs() > 2.0 * 0.0041e-2 || e_d.abs() > 2.0 * 0.0041e-2 {
             failures.push(format!(
                 "{d:?}: {:+.2} %, {:+.2} %",
                 100.0 * e_a,
@@ -311,16 +323,13 @@ fn constant_torque_with_the_eq12_dampings_decelerates_at_five_sevenths_mu_r_g() 
     assert!(failures.is_empty(), "{failures:?}");
 }
 
-/// A bug, shown: the module documentation of `constant_torque` says a stopped apple does not
-/// rock (the torque is bounded by the one that stops the relative rolling within one step). It
-/// rocks: the bound is kill_rate I_r |w| with I_r = I + m R^2 the moment about the contact point,
-/// but within one step the torque turns the apple about its centre (I): it reverses w by
-/// 0.5 (I + m R^2) / I = 1.75 times w every step. Measured at dt 1e-4 after the stop: w
-/// alternates -1.22e-3 / +1.05e-3 rad/s every step, and the centre creeps back at 3.5e-6 m/s
-/// (7 um in 2 s); at dt 1e-5, +-1.1e-4 rad/s. (`elastic-plastic` stops: |v| < 1e-20 m/s 1 s
-/// later.)
+/// A stopped `constant-torque` apple stays stopped (docs/physics.md 11.3): its torque is bounded
+/// by the one that stops the relative spin about the centre within one step (kill_rate I |w|).
+/// Measured at dt 1e-4 s after the stop (v0 0.5 m/s, mu_r 0.03): 0.34 nm from 2.5 to 4.5 s,
+/// checked at twice that, and |w| under 1e-6 rad/s from 4 s (measured 1.5e-54). (With the moment
+/// about the contact point, I + m R^2, in the bound it reversed w by 1.75 times w every step:
+/// +-1.2e-3 rad/s, creeping back at 3.5e-6 m/s.)
 #[test]
-#[ignore = "bug: constant-torque rocks a stopped apple (w flips sign every step, +-1.1e-3 rad/s at dt 1e-4) and it creeps back at 3.5e-6 m/s: the velocity-kill bound uses I + m R^2, the step turns the apple with I"]
 fn constant_torque_after_the_stop_stays_stopped() {
     let (v0, mu_r) = (0.5, 0.03);
     let (mut sc, _) = plane_scene(
@@ -344,7 +353,7 @@ fn constant_torque_after_the_stop_stays_stopped() {
         .map(|(_, a)| a.angular_velocity.y.abs())
         .fold(0.0, f64::max);
     println!("after the stop (2.5 .. 4.5 s): moved {creep:.3e} m; |w| up to {rock:.3e} rad/s");
-    assert!(creep < 10e-9, "crept {creep} m");
+    assert!(creep < 2.0 * 0.34e-9, "crept {creep} m");
     assert!(rock < 1e-6, "rocks at {rock} rad/s");
 }
 
@@ -365,10 +374,11 @@ fn slope_acceleration(d: Damp, rolling: &str, mu_r: f64, theta_deg: f64, dt: f64
 
 /// Item 2: on a slope with tan t > mu_r (3 and 5 degrees, mu_r 0.03: tan t = 1.7 and 2.9 mu_r)
 /// both models roll down at a = g (sin t - mu_r cos t R/rho) / (1 + 2/5 R^2/rho^2) (docs/physics.md
-/// 11.3): within 1 % (the issue) and 0.07 % (stated; measured 0.062 %, eq. 12 at 3 degrees),
-/// checked at twice that. The plain 5/7 g (sin t -
-/// mu_r cos t) within 1 % at 5 degrees (measured -0.59 %); near the threshold the lever matters:
-/// at 3 degrees with eq. 12's sag it is -1.05 % off (checked to be more than 1 % off).
+/// 11.3): within 1 % (the issue) and 0.0007 % (stated; measured 0.00066 %, `constant-torque` at 3
+/// degrees; 0.062 % before resting contacts' eq. 12 step mean took the support into account),
+/// checked at twice that. The plain 5/7 g (sin t - mu_r cos t) within 1 % at 5 degrees (measured
+/// -0.56 %); near the threshold the lever matters: at 3 degrees with eq. 12's sag it is -0.99 %
+/// off, the R - u form over ten times closer (checked).
 #[test]
 fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
     let mu_r = 0.03;
@@ -386,7 +396,7 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
                 &format!("{what}: acceleration, lever R - u"),
                 a,
                 cf,
-                2.0 * 0.07e-2,
+                2.0 * 0.0007e-2,
                 "closed form",
             );
             let plain = 5.0 / 7.0 * G * (th.sin() - mu_r * th.cos());
@@ -399,9 +409,14 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
                     "closed form",
                 );
             } else if d == Damp::Eq12 {
+                // Near the threshold the lever matters: the closed form with R - u is closer.
                 let off = rel(a, plain);
                 println!("{what}: 5/7 g (sin - mu_r cos) off by {:.3} %", 100.0 * off);
-                assert!(off > 0.01, "the lever matters here: {off}");
+                assert!(
+                    rel(a, cf) < 0.1 * off,
+                    "the lever matters here: {off} against {}",
+                    rel(a, cf)
+                );
             }
         }
     }
@@ -410,8 +425,8 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
 /// docs/physics.md 11.3: with rolling resistance an apple rolls down without slip while
 /// tan t <= (7 mu - 5 mu_r)/2 (44.3 degrees at mu 0.3, mu_r 0.03) and slides beyond, at
 /// g (sin t - mu cos t) whatever resists its rolling. `constant-torque` (viscoelastic): at 40
-/// degrees it rolls at the R - u form (stated 0.07 %, as above), at 50 degrees it slides
-/// (within 1 %, physics.md section 6's rule; measured to 1e-8).
+/// degrees it rolls at the R - u form (stated 0.0007 %, as above; measured 0.00019 %), at 50
+/// degrees it slides (within 1 %, physics.md section 6's rule; measured to 1e-8).
 #[test]
 fn slides_beyond_the_rolling_limit_of_the_slope() {
     let (mu, mu_r) = (0.3, 0.03);
@@ -420,7 +435,7 @@ fn slides_beyond_the_rolling_limit_of_the_slope() {
     let th = 40f64.to_radians();
     let (a, rho) = slope_acceleration(Damp::Visco, "constant-torque", mu_r, 40.0, 1e-4);
     let cf = G * (th.sin() - mu_r * th.cos() * R / rho) / (1.0 + 0.4 * R * R / (rho * rho));
-    assert_ref("40 degrees: rolls", a, cf, 2.0 * 0.07e-2, "closed form");
+    assert_ref("40 degrees: rolls", a, cf, 2.0 * 0.0007e-2, "closed form");
     let th = 50f64.to_radians();
     let (a, _) = slope_acceleration(Damp::Visco, "constant-torque", mu_r, 50.0, 1e-4);
     assert_ref(
@@ -435,7 +450,8 @@ fn slides_beyond_the_rolling_limit_of_the_slope() {
 /// Item 2: with `elastic-plastic` and tan t < mu_r (1 and 1.5 degrees: 0.58 and 0.87 mu_r) a
 /// lone apple released at rest stays: the issue's bound, under 1 mm over 2 s. docs/physics.md
 /// 11.3: it settles within 6 um (the rolling spring and the stick spring taking the load:
-/// measured 2.9-5.3 um) and moves less than 0.1 um from 0.5 to 2 s, at dt 1e-4 s.
+/// measured 2.9-5.3 um) and moves less than 0.1 um from 0.5 to 2 s (measured 0.07 nm; 14 nm
+/// before resting contacts' eq. 12 step mean took the support into account), at dt 1e-4 s.
 #[test]
 fn elastic_plastic_holds_an_apple_on_a_slope_below_mu_r() {
     let mu_r = 0.03;
@@ -465,8 +481,9 @@ fn elastic_plastic_holds_an_apple_on_a_slope_below_mu_r() {
 /// docs/physics.md 11.3: `constant-torque` cannot hold an apple on a slope, however gentle: its
 /// torque points against the rolling and vanishes with it (bounded by the velocity-kill rate
 /// times |w|), so the apple creeps down at the speed where that bound carries the load. Measured
-/// at 1.5 degrees (tan t = 0.87 mu_r), viscoelastic damping, dt 1e-4 s: 76 um over 2 s, still
-/// moving (55 um from 0.5 to 2 s); checked to be more than 10 um. Use `elastic-plastic`.
+/// at 1.5 degrees (tan t = 0.87 mu_r), viscoelastic damping, dt 1e-4 s: 258 um over 2 s, still
+/// moving (191 um from 0.5 to 2 s; 76 and 55 um when the bound used the moment about the contact
+/// point); checked to be more than 10 um. Use `elastic-plastic`.
 #[test]
 fn constant_torque_cannot_hold_an_apple_on_a_gentle_slope() {
     let th = 1.5f64.to_radians();
@@ -515,10 +532,11 @@ fn belt_scene(
 
 /// Item 3: an apple set at rest on a belt reaches the belt speed V after T = (rho/R) V / (mu_r g)
 /// (docs/physics.md 11.3, the slip phase included) and rides with it. Within 1 % (the issue) and
-/// 0.03 % (stated; measured 0.027 % at most), checked at twice that. The issue's first-order form
+/// 0.01 % (stated; measured 0.0099 % at most; 0.027 % before resting contacts' eq. 12 step mean
+/// took the support into account), checked at twice that. The issue's first-order form
 /// 2V/(7 mu g) + V/(mu_r g) is 2.0-3.3 % late (2 mu_r / (7 mu) = 1.7 and 2.9 % from neglecting the
 /// rolling resistance during the slip, the rest from the lever; checked to be more than 1 % off).
-/// After T the centre speed stays within 2 % of V (the issue) and 0.1 % (stated; measured 0.092 %,
+/// After T the centre speed stays within 2 % of V (the issue) and 0.1 % (stated; measured 0.091 %,
 /// checked at twice that). Default model (eq. 12, `elastic-plastic`) and `constant-torque` with
 /// viscoelastic damping; belt 0.4 m/s with mu_r 0.03 and 0.8 m/s with 0.05, friction 0.5.
 #[test]
@@ -551,7 +569,7 @@ fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
                 &format!("{what}: time to V, (rho/R) V/(mu_r g)"),
                 t_reach,
                 exact,
-                2.0 * 0.03e-2,
+                2.0 * 0.01e-2,
                 "closed form",
             );
             let first_order = 2.0 * v_belt / (7.0 * mu * G) + t_cf;
@@ -628,19 +646,28 @@ fn pile(eta_r: Option<f64>) -> (f64, f64, usize) {
 
 /// Item 5: a settled 27-apple pile with the default rolling model (elastic-plastic, mu_r 0.03,
 /// eta_r 1) does not creep: the largest displacement from 4 to 6 s under 1 nm (the issue's
-/// example; measured 0.036 nm; 23 nm from 2 to 4 s, under 50 nm). Without the rolling dashpot
-/// (eta_r = 0, LIGGGHTS's epsd2) the spring rocks the pile for ever: more than 1 um from 4 to 6 s
-/// (measured 2.8 um), which is why the default is eta_r = 1 (docs/physics.md 11.5).
+/// example; measured 0.046 nm), and 84 nm from 2 to 4 s (stated, checked at twice that), which is
+/// the pile still settling, not creep: the largest displacement per half second falls from
+/// 0.10 um (2-2.5 s) to 0.08 nm (3.5-4 s), and after 7.5 s it is zero. Without the rolling
+/// dashpot (eta_r = 0, LIGGGHTS's epsd2) the spring keeps rocking the pile: 3.0 um from 4 to 6 s
+/// (checked over 1 um and over 1000 times the default's), which is why the default is eta_r = 1
+/// (docs/physics.md 11.5).
 #[test]
 fn a_settled_pile_with_the_default_rolling_model_does_not_creep() {
     let (early, late, open) = pile(None);
     println!("default rolling model: largest displacement 2 .. 4 s {early:.3e} m, 4 .. 6 s {late:.3e} m; {open} apple-apple contacts");
     assert!(open > 10, "the pile is packed");
     assert!(late < 1e-9, "an apple moved {late} m from 4 to 6 s");
-    assert!(early < 50e-9, "an apple moved {early} m from 2 to 4 s");
+    assert!(
+        early < 2.0 * 84e-9,
+        "an apple moved {early} m from 2 to 4 s"
+    );
     let (_, late0, _) = pile(Some(0.0));
     println!("eta_r = 0 (epsd2): largest displacement 4 .. 6 s {late0:.3e} m");
-    assert!(late0 > 1e-6, "epsd2 rocks the pile: {late0} m");
+    assert!(
+        late0 > 1000.0 * late && late0 > 1e-6,
+        "epsd2 rocks the pile: {late0} m against {late} m"
+    );
 }
 
 /// Item 5: a lone apple on a gentle slope (1.5 degrees, tan t = 0.87 mu_r) with the default

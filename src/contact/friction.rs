@@ -137,6 +137,7 @@ pub enum TangentialModel {
 /// less its normal part; F = -k_t xi; if |F| > mu |P| the force (and the history) is rescaled to
 /// mu |P| (sliding), else the damping -gamma_t s_t is added. `normal_force_n` is the whole normal
 /// force (damping included), as in LIGGGHTS.
+#[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn history_force(
     mu: f64,

@@ -48,6 +48,9 @@ pub struct Contact {
     pub consts_curvature: f64,
     /// When the contact's impact is over and it counts as resting (s; NaN: not known yet).
     pub resting_from_s: f64,
+    /// Overlap rate du/dt at the last evaluation (m/s; NaN before the first): with the force of
+    /// that step it gives the free relative acceleration the eq. 12 step mean needs.
+    pub prev_rate: f64,
     /// Index of the pair's law in the layer's table (set with `consts`).
     pub law: u32,
     /// 1 / the smaller radius (set with `consts`), for the overlap guard.
@@ -77,9 +80,11 @@ impl Contact {
                 inv_normal_mass: 0.0,
                 tangential_mass_kg: 0.0,
                 rolling_inertia_kg_m2: 0.0,
+                spin_inertia_kg_m2: 0.0,
             },
             consts_curvature: f64::NAN,
             resting_from_s: f64::NAN,
+            prev_rate: f64::NAN,
             law: 0,
             inv_r_min: 0.0,
         }

@@ -119,11 +119,32 @@ impl Ctx<'_> {
             }
             None => false,
         };
+        let rel_velocity = v1 - v2;
+        let rate = -rel_velocity.dot(n);
+        // The free relative acceleration of the overlap (everything but this contact's force:
+        // gravity, the other contacts' loads), from the last step: its change of rate plus what
+        // this contact's own force took off it. Before a step is known: gravity onto a surface,
+        // nothing between two apples (they fall alike).
+        // Impacts keep the paper's law as validated (their step mean counts the contact's own
+        // force alone: the free acceleration is negligible beside it); resting contacts, which
+        // carry the load, take it into account.
+        let free_accel = match c.record.as_ref() {
+            _ if !resting => 0.0,
+            Some(o) if c.prev_rate.is_finite() && self.dt_back > 0.0 => {
+                (rate - c.prev_rate) / self.dt_back + o.last_force_n() * k.inv_normal_mass
+            }
+            _ => match c.other {
+                Party::Apple(_) => 0.0,
+                Party::Surface(_) => -self.config.gravity.dot(n),
+            },
+        };
+        c.prev_rate = rate;
         let kin = ContactKinematics {
             normal: n,
             overlap_m: u,
-            rel_velocity: v1 - v2,
+            rel_velocity,
             resting,
+            free_accel,
         };
         let kill_rate = match self.kill_rate_by_count.get(usize::from(shared)) {
             Some(&r) => r,
@@ -215,7 +236,7 @@ impl Ctx<'_> {
         let i = c.i as usize;
         let ai = &self.registry.apples[i];
         let ri = self.frame.radius[i];
-        let (m2, inv_t2, inv_n2, r_min, inv_i2) = match c.other {
+        let (m2, inv_t2, inv_n2, r_min, inv_i2, inv_spin2) = match c.other {
             Party::Apple(j) => {
                 let aj = &self.registry.apples[j as usize];
                 (
@@ -224,11 +245,12 @@ impl Ctx<'_> {
                     1.0 / aj.mass,
                     ri.min(self.frame.radius[j as usize]),
                     1.0 / (aj.inertia + aj.mass * aj.radius * aj.radius),
+                    1.0 / aj.inertia,
                 )
             }
             Party::Surface(s) => {
                 let inv = self.surf_now[s as usize].inv_mass;
-                (self.registry.surfaces[s as usize].material, inv, inv, ri, 0.0)
+                (self.registry.surfaces[s as usize].material, inv, inv, ri, 0.0, 0.0)
             }
         };
         let Some(r_star) = contact::normal::effective_radius(1.0 / ri, c.curvature2) else {
@@ -252,6 +274,7 @@ impl Ctx<'_> {
         );
         // Moments about the contact point, I + m R^2 (LIGGGHTS epsd).
         c.consts.rolling_inertia_kg_m2 = 1.0 / (1.0 / (ai.inertia + ai.mass * ri * ri) + inv_i2);
+        c.consts.spin_inertia_kg_m2 = 1.0 / (1.0 / ai.inertia + inv_spin2);
         c.consts_curvature = c.curvature2;
         c.inv_r_min = 1.0 / r_min;
         Ok(())

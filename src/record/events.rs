@@ -426,6 +426,11 @@ impl OpenContact {
         self.approach
     }
 
+    /// Normal force at the last observed pose (N; 0 before the first).
+    pub fn last_force_n(&self) -> f64 {
+        self.last_p
+    }
+
     /// Closes the contact seen apart at `time_s` with overlap `u` <= 0 and separation rate
     /// `sep` = -du/dt > 0; the parting instant is interpolated within the last step.
     pub fn finish(

@@ -418,7 +418,7 @@ pub struct ContactSpec {
     /// [`models::DEFAULT_ROLLING_FRICTION`]).
     #[serde(default = "default_rolling_friction")]
     pub rolling_friction: f64,
-    /// Damping ratio of the `elastic-plastic` rolling spring (default 0.3, see
+    /// Damping ratio of the `elastic-plastic` rolling spring (default 1: critical, see
     /// [`models::DEFAULT_ROLLING_DAMPING`]; 0 is LIGGGHTS `epsd2`).
     #[serde(default = "default_rolling_damping")]
     pub rolling_damping: f64,
