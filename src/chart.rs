@@ -56,6 +56,19 @@ pub struct LineChart {
     pub series: Vec<Series>,
     /// Marked points (drawn as circles, one legend entry per group), e.g. transitions.
     pub markers: Vec<Series>,
+    /// How the marker groups are coloured.
+    pub marker_colours: MarkerColours,
+}
+
+/// Colours of a chart's marker groups.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MarkerColours {
+    /// Three dark colours, distinct from the curves' (marks on curves, e.g. transitions).
+    #[default]
+    Dark,
+    /// The curves' palette, continued after the curves (a scatter chart of many groups, e.g.
+    /// one per transfer point of the line audit).
+    Palette,
 }
 
 /// Ten well-separated colours (the "tab10" palette), cycled.
@@ -95,6 +108,7 @@ impl LineChart {
             y_label: y_label.into(),
             series,
             markers: Vec::new(),
+            marker_colours: MarkerColours::Dark,
         }
     }
 
@@ -155,8 +169,10 @@ impl LineChart {
                     });
             }
             for (i, m) in self.markers.iter().enumerate() {
-                // Dark, distinct from the curves' colours.
-                let colour = [BLACK, RGBColor(200, 0, 0), RGBColor(0, 120, 0)][i % 3];
+                let colour = match self.marker_colours {
+                    MarkerColours::Dark => [BLACK, RGBColor(200, 0, 0), RGBColor(0, 120, 0)][i % 3],
+                    MarkerColours::Palette => COLOURS[(self.series.len() + i) % COLOURS.len()],
+                };
                 chart
                     .draw_series(
                         m.points
@@ -168,7 +184,7 @@ impl LineChart {
                     .label(m.label.as_str())
                     .legend(move |(x, y)| Circle::new((x + 11, y), 5, colour.stroke_width(2)));
             }
-            if !self.series.is_empty() {
+            if !self.series.is_empty() || self.marker_colours == MarkerColours::Palette {
                 chart
                     .configure_series_labels()
                     .position(SeriesLabelPosition::UpperRight)

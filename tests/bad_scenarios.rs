@@ -1022,7 +1022,11 @@ fn endless_runs_are_refused_up_front_with_the_step_estimate() {
     mutated(
         "duration_1e9",
         |v| v["duration_s"] = json!(1e9),
-        &["duration_s:", "about 1.000e14 steps", "model.max_steps = 200000000"],
+        &[
+            "duration_s:",
+            "about 1.000e14 steps",
+            "model.max_steps = 200000000",
+        ],
     );
     mutated(
         "step_1e-300",
@@ -1043,7 +1047,11 @@ fn endless_runs_are_refused_up_front_with_the_step_estimate() {
             v["duration_s"] = json!(1e4);
             v["output"]["sample_interval_s"] = json!(1.0);
         },
-        &["duration_s:", "about 1.000e9 steps", "refused before it starts"],
+        &[
+            "duration_s:",
+            "about 1.000e9 steps",
+            "refused before it starts",
+        ],
     );
     mutated(
         "auto_1e4_per_contact",
@@ -1053,7 +1061,11 @@ fn endless_runs_are_refused_up_front_with_the_step_estimate() {
             v["time_step_s"] = json!("auto");
             v["accuracy"] = json!(1e4);
         },
-        &["accuracy:", "steps per contact make the `auto` step", "refused before it starts"],
+        &[
+            "accuracy:",
+            "steps per contact make the `auto` step",
+            "refused before it starts",
+        ],
     );
     mutated(
         "source_2e5_with_histories",
@@ -1067,6 +1079,10 @@ fn endless_runs_are_refused_up_front_with_the_step_estimate() {
     mutated(
         "sample_interval_1e-9",
         |v| v["output"]["sample_interval_s"] = json!(1e-9),
-        &["output.sample_interval_s:", "GiB of bodies.csv", "model.max_output_mb"],
+        &[
+            "output.sample_interval_s:",
+            "GiB of bodies.csv",
+            "model.max_output_mb",
+        ],
     );
 }

@@ -103,7 +103,35 @@ fn csv_columns_are_as_documented() {
             "resting_mean_force_n",
             "resting_max_force_n",
             "resting_mean_pressure_pa",
-            "resting_max_pressure_pa"
+            "resting_max_pressure_pa",
+            "transfer_point",
+        ]
+    );
+    // README, Line audit.
+    assert_eq!(
+        header(&drop.join("audit.csv")),
+        [
+            "transfer_point",
+            "contacts",
+            "impacts",
+            "apples_hit_share",
+            "peak_force_n_p50",
+            "peak_force_n_p95",
+            "peak_force_n_max",
+            "peak_g_p50",
+            "peak_g_p95",
+            "peak_g_max",
+            "velocity_change_m_s_p50",
+            "velocity_change_m_s_p95",
+            "velocity_change_m_s_max",
+            "absorbed_energy_j_total",
+            "absorbed_energy_j_max",
+            "apples_over_any",
+            "apples_over_force",
+            "apples_over_pressure",
+            "apples_over_energy",
+            "apples_over_static_force",
+            "apples_over_static_pressure",
         ]
     );
     assert_eq!(
@@ -302,14 +330,16 @@ fn summary_keys_are_as_documented() {
     );
     // summary.json's contacts carry contacts.csv's columns, the impact and the resting load as
     // objects (the CSV flattens them, and adds each apple's size, mass, velocity change and
-    // peak g, which need the roster).
+    // peak g, which need the roster, and the transfer point, which the summary's audit section
+    // sums up).
     let mut h: Vec<String> = header(&slip.join("contacts.csv"))
         .into_iter()
         .filter(|c| {
             !(c.starts_with("impact_")
                 || c.starts_with("resting_")
                 || c.starts_with("a_")
-                || c.starts_with("b_"))
+                || c.starts_with("b_")
+                || c == "transfer_point")
         })
         .chain(["impact".to_string(), "resting".to_string()])
         .collect();

@@ -624,27 +624,30 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
         (5.0..=15.0).contains(&h.apex_edge_angle_deg),
         "slope: {h:?}"
     );
-    assert_eq!(h.at_walls, 0, "the heap stays clear of the walls: {h:?}");
-    // docs/lines.md's seed-19 row (golden values at their printed digits: the pile is chaotic).
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 128, "{h:?}");
-    assert!(
-        (h.layers - 2.30).abs() <= 0.01 && (h.fit_angle_deg - 7.0).abs() <= 0.1,
-        "{h:?}"
-    );
-    assert!(
-        (h.apex_edge_angle_deg - 9.7).abs() <= 0.1 && (h.r95_m - 0.569).abs() <= 0.001,
-        "{h:?}"
-    );
     let imp = impacts(&r);
     println!("impacts per surface (contacts, largest peak N, above 80 N): {imp:?}");
+    // docs/lines.md's seed-19 row (golden values at their printed digits: the pile is chaotic).
+    assert_eq!(
+        h.at_walls, 1,
+        "one apple of the heap's edge against a wall: {h:?}"
+    );
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 120, "{h:?}");
+    assert!(
+        (h.layers - 2.29).abs() <= 0.01 && (h.fit_angle_deg - 9.2).abs() <= 0.1,
+        "{h:?}"
+    );
+    assert!(
+        (h.apex_edge_angle_deg - 9.7).abs() <= 0.1 && (h.r95_m - 0.564).abs() <= 0.001,
+        "{h:?}"
+    );
     // docs/lines.md's impact table and bruised apples (golden).
     for (surface, n, peak, over) in [
-        ("bin/floor", 259, 255.0, 95),
-        ("apple", 3037, 98.4, 21),
-        ("bin/x_max", 7, 75.7, 0),
-        ("bin/y_min", 3, 61.4, 0),
-        ("bin/y_max", 2, 21.0, 0),
-        ("bin/x_min", 1, 12.9, 0),
+        ("bin/floor", 273, 255.2, 106),
+        ("apple", 2748, 96.7, 20),
+        ("bin/x_max", 7, 74.7, 0),
+        ("bin/y_min", 1, 33.9, 0),
+        ("bin/y_max", 4, 32.6, 0),
+        ("bin/x_min", 1, 15.3, 0),
     ] {
         let got = imp[surface];
         assert!(
@@ -661,7 +664,7 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
         }
     }
     println!("{} apples with a contact above 80 N", over_80.len());
-    assert_eq!(over_80.len(), 81);
+    assert_eq!(over_80.len(), 90);
     // The hardest impacts are the first apples' landings on the bare floor.
     let floor_peak = imp["bin/floor"].1;
     assert!(imp.values().all(|s| s.1 <= floor_peak));
@@ -678,19 +681,20 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
     );
     // docs/lines.md's seed-19 row without rolling resistance (golden).
     assert!(
-        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.6).abs() <= 0.1,
+        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.3).abs() <= 0.1,
         "{flat:?}"
     );
     assert!(
-        (flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.738).abs() <= 0.001,
+        (flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.739).abs() <= 0.001,
         "{flat:?}"
     );
     assert!(flat.max_speed_m_s > 0.01, "some still roll: {flat:?}");
 }
 
 /// docs/lines.md: poured from 0.45 m at 1 m/s (landing at 3 m/s) instead of 0.3 m at 0.5 m/s,
-/// the same apples with the same rolling resistance spread into a single layer too: the
-/// apples thrown off the landing point roll to the walls.
+/// the same apples with the same rolling resistance spread into a single layer too (but for
+/// the odd apple caught on top of two others): the apples thrown off the landing point roll to
+/// the walls.
 #[test]
 fn a_higher_pour_spreads_even_with_rolling_resistance() {
     let (_, h) = bin_run(|sc| {
@@ -702,8 +706,11 @@ fn a_higher_pour_spreads_even_with_rolling_resistance() {
     });
     assert_eq!(h.apples, 150);
     assert!(h.floor_fraction >= 0.98, "{h:?}");
-    assert!(h.layers < 1.1, "{h:?}");
+    assert!(h.fit_angle_deg.abs() < 2.0, "no slope: {h:?}");
     assert!(h.at_walls > 0, "rolled to the walls: {h:?}");
+    // docs/lines.md (golden, seed 19): 149 on the floor, one on top of them (1.55 diameters).
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 149, "{h:?}");
+    assert!((h.layers - 1.55).abs() <= 0.01, "{h:?}");
 }
 
 /// The heap's figures over five pour seeds, with and without rolling resistance (docs/lines.md's
@@ -711,32 +718,38 @@ fn a_higher_pour_spreads_even_with_rolling_resistance() {
 #[test]
 #[ignore = "docs/lines.md's seed table: 12 runs, about 15 s"]
 fn heap_over_seeds() {
+    // mu_r, apples poured, the figures.
+    #[allow(clippy::type_complexity)]
+    const STRONGER: [(f64, usize, [f64; 5]); 2] = [
+        (0.06, 150, [0.720, 2.32, 12.1, 11.8, 0.474]),
+        (0.1, 149, [0.557, 4.59, 27.8, 32.6, 0.421]),
+    ];
     // The table's rows (golden, printed digits): floor fraction, height / D, fit angle,
     // apex-edge angle, r95.
     let table: [(u64, bool, [f64; 5]); 10] = [
-        (19, true, [0.853, 2.30, 7.0, 9.7, 0.569]),
-        (19, false, [1.000, 1.06, -0.6, 0.4, 0.738]),
-        (1, true, [0.787, 2.42, 8.3, 10.2, 0.594]),
-        (1, false, [1.000, 1.06, -0.2, 0.4, 0.751]),
-        (2, true, [0.793, 2.35, 7.0, 9.6, 0.598]),
-        (2, false, [1.000, 1.06, -0.3, 0.4, 0.734]),
-        (3, true, [0.813, 2.34, 10.3, 10.3, 0.553]),
-        (3, false, [1.000, 1.06, -0.1, 0.4, 0.733]),
-        (4, true, [0.840, 2.26, 7.4, 9.0, 0.598]),
-        (4, false, [1.000, 1.06, -0.0, 0.4, 0.744]),
+        (19, true, [0.800, 2.29, 9.2, 9.7, 0.564]),
+        (19, false, [1.000, 1.06, -0.3, 0.4, 0.739]),
+        (1, true, [0.820, 2.35, 7.6, 9.8, 0.584]),
+        (1, false, [1.000, 1.06, -0.5, 0.4, 0.744]),
+        (2, true, [0.807, 1.94, 7.6, 6.9, 0.579]),
+        (2, false, [1.000, 1.06, -0.2, 0.4, 0.747]),
+        (3, true, [0.860, 1.94, 7.7, 6.8, 0.595]),
+        (3, false, [1.000, 1.06, -0.3, 0.4, 0.741]),
+        (4, true, [0.833, 2.00, 7.1, 7.7, 0.558]),
+        (4, false, [1.000, 1.06, -0.1, 0.4, 0.741]),
     ];
-    let check = |h: &Heap, want: [f64; 5]| {
-        let got = [
+    let figures = |h: &Heap| {
+        [
             h.floor_fraction,
             h.layers,
             h.fit_angle_deg,
             h.apex_edge_angle_deg,
             h.r95_m,
-        ];
-        for ((g, w), unit) in got.iter().zip(want).zip([1e-3, 1e-2, 0.1, 0.1, 1e-3]) {
-            assert!((g - w).abs() <= unit, "{got:?}, docs/lines.md {want:?}");
-        }
+        ]
     };
+    // Every row is measured and printed before any is checked, so a change of the contact code
+    // shows the whole new table at once.
+    let mut measured: Vec<([f64; 5], [f64; 5])> = Vec::new();
     let mut rows = table.iter();
     println!("| seed | rolling | floor fraction | height / D | fit angle | apex-edge angle | r95 (m) | wall (s) |");
     for seed in [19, 1, 2, 3, 4] {
@@ -747,7 +760,7 @@ fn heap_over_seeds() {
             });
             let &(s, rr, want) = rows.next().unwrap();
             assert_eq!((s, rr), (seed, rolling == Rolling::ElasticPlastic));
-            check(&h, want);
+            measured.push((figures(&h), want));
             println!(
                 "| {seed} | {rolling:?} | {:.3} | {:.2} | {:.1} | {:.1} | {:.3} | {:.2} |",
                 h.floor_fraction,
@@ -760,17 +773,19 @@ fn heap_over_seeds() {
         }
     }
     // Stronger rolling resistance (seed 19): what it takes to heap higher.
-    for (mu_r, n, want) in [
-        (0.06, 150, [0.673, 2.73, 12.6, 16.1, 0.450]),
-        (0.1, 141, [0.610, 3.30, 20.0, 20.8, 0.454]),
-    ] {
+    for (mu_r, n, want) in STRONGER {
         let (r, h) = bin_run(|sc| sc.contact.rolling_friction = mu_r);
-        assert_eq!(h.apples, n);
-        check(&h, want);
+        measured.push((figures(&h), want));
         println!(
             "| 19 | mu_r {mu_r} ({} apples poured) | {:.3} | {:.2} | {:.1} | {:.1} | {:.3} | {:.2} |",
             h.apples, h.floor_fraction, h.layers, h.fit_angle_deg, h.apex_edge_angle_deg, h.r95_m, r.wall_time_s
         );
+        assert_eq!(h.apples, n);
+    }
+    for (got, want) in measured {
+        for ((g, w), unit) in got.iter().zip(want).zip([1e-3, 1e-2, 0.1, 0.1, 1e-3]) {
+            assert!((g - w).abs() <= unit, "{got:?}, docs/lines.md {want:?}");
+        }
     }
 }
 

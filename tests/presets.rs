@@ -25,16 +25,26 @@ fn a_preset_fills_the_material_and_runs_as_the_explicit_values() {
         (a.shear_modulus_pa, a.poisson_ratio, a.density_kg_m3),
         (Some(1.1e6), Some(0.18), Some(800.0))
     );
-    assert_eq!((s.shear_modulus_pa, s.poisson_ratio), (Some(8.1e10), Some(0.28)));
+    assert_eq!(
+        (s.shear_modulus_pa, s.poisson_ratio),
+        (Some(8.1e10), Some(0.28))
+    );
     // The drop on steel, by presets or by the numbers the paper gives: the same impact, bit for bit.
     let run = |sc: &scenario::Scenario| {
         scenario::validate(sc).unwrap();
-        applesim::sim::run(sc, &repo("scenarios"), &mut applesim::record::series::NoSamples)
-            .unwrap()
+        applesim::sim::run(
+            sc,
+            &repo("scenarios"),
+            &mut applesim::record::series::NoSamples,
+        )
+        .unwrap()
     };
     let (x, y) = (run(&explicit), run(&named));
     assert_eq!(x.events.len(), 1);
-    assert_eq!(x.events[0].peak_force_n.to_bits(), y.events[0].peak_force_n.to_bits());
+    assert_eq!(
+        x.events[0].peak_force_n.to_bits(),
+        y.events[0].peak_force_n.to_bits()
+    );
     assert_eq!(x.events[0].duration_s, y.events[0].duration_s);
 }
 
@@ -47,7 +57,12 @@ fn the_scenarios_own_numbers_override_a_preset() {
     let s = &sc.materials["steel"];
     // Eurocode 3's nu = 0.3 kept; the modulus and density given win.
     assert_eq!(
-        (s.youngs_modulus_pa, s.shear_modulus_pa, s.poisson_ratio, s.density_kg_m3),
+        (
+            s.youngs_modulus_pa,
+            s.shear_modulus_pa,
+            s.poisson_ratio,
+            s.density_kg_m3
+        ),
         (Some(1.9e11), None, Some(0.3), Some(7800.0))
     );
     // A shear modulus given replaces the preset's Young's modulus (one modulus per material).
@@ -83,7 +98,10 @@ fn pair_coefficients_of_two_presets_fill_their_pair() {
     let sc = scenario::from_json(&v.to_string(), "drop").unwrap();
     let p = sc.pair_law("apple", "pad");
     assert_eq!(p.damping, Damping::Viscoelastic);
-    assert_eq!((p.friction, p.restitution, p.rolling_friction), (0.5, Some(0.47), 0.0288));
+    assert_eq!(
+        (p.friction, p.restitution, p.rolling_friction),
+        (0.5, Some(0.47), 0.0288)
+    );
 }
 
 #[test]
@@ -98,7 +116,9 @@ fn what_no_source_gives_is_asked_for_by_name() {
         "{e}"
     );
     v["materials"]["steel"] = serde_json::json!({"preset": "stainless"});
-    let e = scenario::from_json(&v.to_string(), "drop").unwrap_err().to_string();
+    let e = scenario::from_json(&v.to_string(), "drop")
+        .unwrap_err()
+        .to_string();
     assert!(
         e.starts_with("materials.steel.preset: unknown preset 'stainless' (known: apple-paper,"),
         "{e}"

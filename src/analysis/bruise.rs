@@ -12,9 +12,9 @@
 //! also reported as an instrumented sphere reports it: peak acceleration in g and velocity change
 //! over the pulse (`analysis::impacts`); a contact that starts at rest has no impact.
 
-use crate::world::RosterApple;
 use crate::record::events::{ContactEvent, Party};
 use crate::scenario::{BruiseSpec, Scenario};
+use crate::world::RosterApple;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -74,7 +74,10 @@ impl Thresholds {
             if self.static_force_n.is_some_and(|f| r.max_force_n > f) {
                 why.push("static-force");
             }
-            if self.static_pressure_pa.is_some_and(|p| r.max_pressure_pa > p) {
+            if self
+                .static_pressure_pa
+                .is_some_and(|p| r.max_pressure_pa > p)
+            {
                 why.push("static-pressure");
             }
         }

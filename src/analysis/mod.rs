@@ -1,10 +1,11 @@
 //! What a run means for the fruit: the paper's force-pulse fit (eqs. 13-15, [`pulse`]), the bruise
-//! assessment ([`bruise`]), and the calibration of the eq. 12 coefficient ke against a measured
+//! assessment ([`bruise`]), the line audit per transfer point ([`audit`]), and the calibration of the eq. 12 coefficient ke against a measured
 //! restitution ([`calibrate`]). User guide: docs/analysis.md.
 //!
-//! [`analyse`] runs the first two on a finished run; `output::run_to_dir` writes their files
-//! (`pulse_fits.csv`, `bruise.csv`) and adds their headline figures to `RunResult::metrics`.
+//! [`analyse`] runs the first three on a finished run; `output::run_to_dir` writes their files
+//! (`pulse_fits.csv`, `bruise.csv`, `audit.csv`, `audit.md`, `ird.svg`) and adds their headline figures to `RunResult::metrics`.
 
+pub mod audit;
 pub mod bruise;
 pub mod calibrate;
 pub mod impacts;
@@ -23,6 +24,8 @@ pub struct Analysis {
     pub pulse_fits: Vec<pulse::PulseFit>,
     /// Bruise assessment.
     pub bruise: bruise::BruiseReport,
+    /// The line audit: impacts per transfer point.
+    pub audit: audit::Audit,
 }
 
 /// Fits the pulses and assesses bruising of a finished run of `sc` (its thresholds); each
@@ -31,9 +34,17 @@ pub fn analyse(sc: &Scenario, r: &RunResult) -> Analysis {
     let roster = r.roster.by_name();
     let mass = |name: &str| roster.get(name).map_or(f64::NAN, |a| a.mass_kg);
     let order: Vec<&str> = r.apples.iter().map(|a| a.name.as_str()).collect();
+    let bruise = bruise::assess(sc, &r.events, &roster, &order);
+    let audit = audit::audit(
+        &r.events,
+        &r.roster,
+        crate::math::vec3(sc.gravity_m_s2),
+        &bruise,
+    );
     Analysis {
         pulse_fits: pulse::fit_events(&r.events, &mass),
-        bruise: bruise::assess(sc, &r.events, &roster, &order),
+        bruise,
+        audit,
     }
 }
 
@@ -41,7 +52,9 @@ impl Analysis {
     /// Headline figures for `RunResult::metrics`: `bruised_apples` (apples with a contact over a
     /// threshold), `bruising_contacts`, `max_absorbed_energy_j` (one contact),
     /// `total_absorbed_energy_j`, `max_velocity_change_m_s`, and the median fitted `pulse_eps`,
-    /// `pulse_tau`, `pulse_k_p` when impacts were fitted. Only finite values.
+    /// `pulse_tau`, `pulse_k_p` when impacts were fitted, and the audit's figures per transfer
+    /// point ([`audit::Audit::metrics`]: a batch's `merged.csv` gets a column each). Only finite
+    /// values.
     pub fn add_metrics(&self, m: &mut BTreeMap<String, f64>) {
         let b = &self.bruise;
         m.insert("bruised_apples".into(), b.apples_at_risk() as f64);
@@ -82,6 +95,7 @@ impl Analysis {
         m.insert("pulse_eps".into(), median(|p| p.fit_eps));
         m.insert("pulse_tau".into(), median(|p| p.fit_tau));
         m.insert("pulse_k_p".into(), median(|p| p.k_p));
+        m.extend(self.audit.metrics());
         m.retain(|_, v| v.is_finite());
     }
 }

@@ -502,6 +502,7 @@ impl TradeoffTable {
             y_label: "log10 of error".into(),
             series,
             markers: Vec::new(),
+            marker_colours: crate::chart::MarkerColours::Dark,
         }
     }
 }

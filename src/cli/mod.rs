@@ -1,5 +1,6 @@
 //! Argument parsing and plain error reporting; every subcommand lives in its own file.
 
+mod audit;
 mod batch;
 mod bench;
 mod calibrate;
@@ -29,6 +30,8 @@ enum Command {
     Calibrate(calibrate::Args),
     /// Draw force-time and velocity-time charts (SVG) of one or several run folders.
     Plot(plot::Args),
+    /// Compare the line audits of run folders per transfer point (better/worse, by how much).
+    Audit(audit::Args),
     /// Run a scenario across fidelity levels and step sizes and tabulate error against cost.
     Tradeoff(tradeoff::Args),
     /// Run a batch of scenarios (a sweep spec or a folder) in parallel, resumable, by shards.
@@ -51,6 +54,7 @@ pub fn main() -> i32 {
         Command::Run(a) => run::main(a),
         Command::Calibrate(a) => calibrate::main(a),
         Command::Plot(a) => plot::main(a),
+        Command::Audit(a) => audit::main(a),
         Command::Tradeoff(a) => tradeoff::main(a),
         Command::Batch(a) => batch::main(a),
         Command::Merge(a) => merge::main(a),

@@ -264,12 +264,30 @@ mod tests {
         let n = Vec3::Z;
         let mut xi = Vec3::ZERO;
         // Sticking: spring plus damping.
-        let f = history_force(0.5, 1e4, 20.0, 10.0, Vec3::new(0.1, 0.0, 0.0), n, &mut xi, 1e-4);
+        let f = history_force(
+            0.5,
+            1e4,
+            20.0,
+            10.0,
+            Vec3::new(0.1, 0.0, 0.0),
+            n,
+            &mut xi,
+            1e-4,
+        );
         assert!(!f.sliding);
         assert!((f.force.x - (-1e4 * 1e-5 - 20.0 * 0.1)).abs() < 1e-12);
         // Sliding: the spring alone rescaled to mu |P|, the history with it.
         let mut xi = Vec3::new(1.0, 0.0, 0.0);
-        let f = history_force(0.5, 1e4, 20.0, -10.0, Vec3::new(0.1, 0.0, 0.0), n, &mut xi, 1e-4);
+        let f = history_force(
+            0.5,
+            1e4,
+            20.0,
+            -10.0,
+            Vec3::new(0.1, 0.0, 0.0),
+            n,
+            &mut xi,
+            1e-4,
+        );
         assert!(f.sliding);
         assert!((f.force.x + 5.0).abs() < 1e-12);
         assert!((xi.x - 5e-4).abs() < 1e-15);

@@ -55,7 +55,10 @@ mod tests {
     fn plane_and_lever_arm() {
         let u = sphere_plane(Vec3::new(1.0, 2.0, 0.039), 0.04, Vec3::Z, 0.0);
         let raised = sphere_plane(Vec3::new(1.0, 2.0, 0.539), 0.04, Vec3::Z, 0.5);
-        assert!((raised - 0.001).abs() < 1e-15, "offset n . p of a raised plane");
+        assert!(
+            (raised - 0.001).abs() < 1e-15,
+            "offset n . p of a raised plane"
+        );
         assert!((u - 0.001).abs() < 1e-15);
         let c = contact_point(Vec3::new(0.0, 0.0, 0.039), 0.04, Vec3::Z, u, 1.0);
         assert!(c.z.abs() < 1e-15, "rigid flat: contact on the plane");

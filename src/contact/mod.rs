@@ -303,7 +303,16 @@ pub fn evaluate(
                     * damping::SQRT_FIVE_SIXTHS
                     * law.beta
                     * (stiffness_n_m * k.normal_mass_kg).sqrt();
-                friction::history_force(law.friction, stiffness_n_m, gamma_t, p, slip_t, n, xi, dt_s)
+                friction::history_force(
+                    law.friction,
+                    stiffness_n_m,
+                    gamma_t,
+                    p,
+                    slip_t,
+                    n,
+                    xi,
+                    dt_s,
+                )
             }
         };
         friction_force = t.force;

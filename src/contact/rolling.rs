@@ -127,7 +127,10 @@ mod tests {
         // Nearly stopped: no more than what stops it within the step.
         let t = constant_torque(0.03, 0.04, 2.0, Vec3::new(0.0, 1e-4, 0.0), 1.0);
         assert!((t.y + 1e-4).abs() < 1e-18);
-        assert_eq!(constant_torque(0.03, 0.04, 2.0, Vec3::ZERO, 1.0), Vec3::ZERO);
+        assert_eq!(
+            constant_torque(0.03, 0.04, 2.0, Vec3::ZERO, 1.0),
+            Vec3::ZERO
+        );
     }
 
     #[test]

@@ -139,11 +139,13 @@ impl Detection {
         self.epoch += 1;
         cx.frame.count.iter_mut().for_each(|c| *c = 0);
         let mut dropped: Vec<Pair> = Vec::new();
-        let rebuilt =
-            self.grid
-                .update(&cx.frame.pos, &cx.frame.radius, cx.sleep.awake(), false, |p| {
-                    dropped.push(p)
-                });
+        let rebuilt = self.grid.update(
+            &cx.frame.pos,
+            &cx.frame.radius,
+            cx.sleep.awake(),
+            false,
+            |p| dropped.push(p),
+        );
         if rebuilt {
             self.pair_scan = None;
         }
@@ -227,7 +229,8 @@ impl Detection {
                 cx.contacts.get_mut(p.contact).ref_u = f64::NAN;
             }
             if let Some(c) = control {
-                let law = registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
+                let law =
+                    registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
                 let (ri, rj) = (frame.radius[i], frame.radius[j]);
                 let r_star = ri * rj / (ri + rj);
                 let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
@@ -253,8 +256,8 @@ impl Detection {
                     };
                     let ke = if energy_loss { law.ke } else { 1.0 };
                     let (t_stick, h_damping) = if friction && law.friction > 0.0 {
-                        let m_t = 1.0
-                            / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
+                        let m_t =
+                            1.0 / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
                         (
                             stick_half_period(law.g_star_pa, r_star, u, m_t),
                             history_damping_step(&law, r_star, u, m_n, m_t),
@@ -649,7 +652,6 @@ fn history_damping_step(
         return f64::INFINITY;
     }
     let k_t = contact::friction::mindlin_stiffness(law.g_star_pa, (r_star * u).sqrt());
-    let gamma_t =
-        -2.0 * contact::damping::SQRT_FIVE_SIXTHS * law.beta * (k_t * m_n).sqrt();
+    let gamma_t = -2.0 * contact::damping::SQRT_FIVE_SIXTHS * law.beta * (k_t * m_n).sqrt();
     damping_step(gamma_t, m_t)
 }

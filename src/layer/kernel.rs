@@ -103,7 +103,11 @@ impl Ctx<'_> {
                 (now.velocity_at(point) + belt, self.frame.count[i])
             }
         };
-        let ke = if self.config.parts.energy_loss { law.ke } else { 1.0 };
+        let ke = if self.config.parts.energy_loss {
+            law.ke
+        } else {
+            1.0
+        };
         let time_s = self.time_s;
         // Resting once its impact is over: older than 1.2 times eq. 12's contact time at its
         // approach speed, (1 + 1/sqrt(ke)) / 2 elastic contact times (physics.md section 3).
@@ -114,6 +118,7 @@ impl Ctx<'_> {
                     let (t_h, _) = o.impact_scale(|v| super::adaptive::impact_scale(m_n, k_n, v));
                     c.resting_from_s =
                         o.start_time_s() + 1.2 * t_h * 0.5 * (1.0 + 1.0 / ke.max(1e-4).sqrt());
+                    o.set_impact_deadline(c.resting_from_s);
                 }
                 time_s > c.resting_from_s
             }
@@ -150,7 +155,15 @@ impl Ctx<'_> {
             Some(&r) => r,
             None => self.config.tangential_relaxation / (f64::from(shared) * self.dt_s),
         };
-        let resp = contact::evaluate(law, self.config.parts, &k, &kin, &mut c.xi, kill_rate, self.dt_s);
+        let resp = contact::evaluate(
+            law,
+            self.config.parts,
+            &k,
+            &kin,
+            &mut c.xi,
+            kill_rate,
+            self.dt_s,
+        );
         // Rolling resistance (a pure couple), only for the pairs that have it.
         let torque = if law.models.rolling == contact::RollingModel::None {
             Vec3::ZERO
@@ -160,7 +173,16 @@ impl Ctx<'_> {
                 Party::Surface(s) => self.surf_now[s as usize].ang,
             };
             let w_rel = self.frame.angvel[i] - w2;
-            contact::rolling_torque(law, &k, n, w_rel, &resp, &mut c.rolling, kill_rate, self.dt_s)
+            contact::rolling_torque(
+                law,
+                &k,
+                n,
+                w_rel,
+                &resp,
+                &mut c.rolling,
+                kill_rate,
+                self.dt_s,
+            )
         };
         if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
             return Err(Box::new(LayerError::NonFinite {
@@ -250,7 +272,14 @@ impl Ctx<'_> {
             }
             Party::Surface(s) => {
                 let inv = self.surf_now[s as usize].inv_mass;
-                (self.registry.surfaces[s as usize].material, inv, inv, ri, 0.0, 0.0)
+                (
+                    self.registry.surfaces[s as usize].material,
+                    inv,
+                    inv,
+                    ri,
+                    0.0,
+                    0.0,
+                )
             }
         };
         let Some(r_star) = contact::normal::effective_radius(1.0 / ri, c.curvature2) else {

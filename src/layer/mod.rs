@@ -74,7 +74,6 @@
 //! | `kernel` | the force pass: the law per contact, loads summed in slot order |
 //! | `outputs` | finished contacts, slips, the step's figures |
 
-
 mod adaptive;
 mod clock;
 mod config;
@@ -269,7 +268,12 @@ impl ContactLayer {
         time_s: f64,
         dt_s: f64,
     ) -> Result<f64, LayerError> {
-        self.step(bodies, colliders, islands, &StepRequest::fixed(time_s, dt_s))
+        self.step(
+            bodies,
+            colliders,
+            islands,
+            &StepRequest::fixed(time_s, dt_s),
+        )
     }
 
     /// Computes every modelled contact at the current poses, chooses the coming step under the
@@ -414,5 +418,4 @@ impl ContactLayer {
             }
         }
     }
-
 }

@@ -397,11 +397,14 @@ fn remove_any(p: &Path) -> std::io::Result<()> {
 }
 
 /// Whether `name`, an entry of a result folder, is something an applesim run writes: its
-/// JSON, CSV, SVG and ParaView files, the `vtk/` folder, and the hidden temporaries of
-/// earlier versions' killed writers.
+/// JSON, CSV, SVG and ParaView files, `audit.md`, the `vtk/` folder, and the hidden temporaries
+/// of earlier versions' killed writers (a user's own notes, say `notes.md`, are not).
 fn written_by_a_run(name: &str, is_dir: bool) -> bool {
     if is_dir {
         return name == super::vtk::VTK_DIR;
+    }
+    if name == super::audit::AUDIT_MD {
+        return true;
     }
     if name.starts_with('.') && name.contains(".tmp-") {
         return true;

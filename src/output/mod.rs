@@ -9,6 +9,7 @@
 //! `wall_time_s` in `summary.json`, a measurement of the machine.
 
 pub mod atomic;
+pub mod audit;
 pub mod plot;
 pub mod vtk;
 
@@ -68,6 +69,9 @@ pub struct Summary<'a> {
     /// `transitions.csv`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub transitions: Option<&'a TransitionSummary>,
+    /// The line audit: impacts per transfer point, hardest first (also `audit.csv`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub audit: Option<&'a [crate::analysis::audit::TransferPoint]>,
 }
 
 /// The bruise section of `summary.json`.
@@ -82,7 +86,7 @@ pub struct BruiseSummary<'a> {
 }
 
 /// Header of `contacts.csv`.
-pub const CONTACT_HEADER: [&str; 36] = [
+pub const CONTACT_HEADER: [&str; 37] = [
     "a",
     "b",
     "t_start_s",
@@ -119,6 +123,7 @@ pub const CONTACT_HEADER: [&str; 36] = [
     "resting_max_force_n",
     "resting_mean_pressure_pa",
     "resting_max_pressure_pa",
+    "transfer_point",
 ];
 
 fn opt(v: Option<f64>) -> String {
@@ -137,20 +142,19 @@ pub fn write_contacts(
     w.write_record(CONTACT_HEADER)?;
     let by_name = roster.by_name();
     let size = |name: &str| by_name.get(name).map(|a| (2.0 * a.radius_m, a.mass_kg));
-    for e in events {
+    let points = crate::analysis::audit::points_of(events);
+    for (e, point) in events.iter().zip(points) {
         let a = size(&e.a);
         let b = match e.b_party {
             crate::record::events::Party::Apple(_) => size(&e.b),
             crate::record::events::Party::Surface(_) => None,
         };
-        let side = |s: Option<(f64, f64)>, towards: bool| {
-            match (e.impact.as_ref(), s) {
-                (Some(p), Some((_, m))) => {
-                    let x = crate::analysis::impacts::for_apple(p, m, gravity, towards);
-                    (x.velocity_change_m_s.to_string(), x.peak_g.to_string())
-                }
-                _ => (String::new(), String::new()),
+        let side = |s: Option<(f64, f64)>, towards: bool| match (e.impact.as_ref(), s) {
+            (Some(p), Some((_, m))) => {
+                let x = crate::analysis::impacts::for_apple(p, m, gravity, towards);
+                (x.velocity_change_m_s.to_string(), x.peak_g.to_string())
             }
+            _ => (String::new(), String::new()),
         };
         let (a_dv, a_g) = side(a, true);
         let (b_dv, b_g) = side(b, false);
@@ -197,6 +201,7 @@ pub fn write_contacts(
             num(r.map(|x| x.max_force_n)),
             num(r.map(|x| x.mean_pressure_pa)),
             num(r.map(|x| x.max_pressure_pa)),
+            point,
         ])?;
     }
     let f = w.into_inner().map_err(|e| e.into_error())?;
@@ -293,6 +298,7 @@ pub fn write_summary_with(
         }),
         pulse_fits: analysis.map(|a| a.pulse_fits.as_slice()),
         transitions: r.transition_summary.as_ref(),
+        audit: analysis.map(|a| a.audit.points.as_slice()),
     };
     let mut bytes = serde_json::to_vec_pretty(&s).map_err(std::io::Error::other)?;
     bytes.push(b'\n');
@@ -640,6 +646,19 @@ pub fn run_into(
     }
     let p = out_dir.join("bruise.csv");
     write_bruise(&p, &analysis).map_err(io_at(&p))?;
+    let p = out_dir.join("audit.csv");
+    audit::write_audit(&p, &analysis.audit).map_err(io_at(&p))?;
+    let p = out_dir.join(audit::AUDIT_MD);
+    let title = sc.description.as_deref().unwrap_or("run");
+    atomic::write_file(&p, analysis.audit.markdown(title).as_bytes()).map_err(io_at(&p))?;
+    let points = crate::analysis::audit::points_of(&result.events);
+    if let Some(chart) =
+        crate::analysis::audit::ird_chart(&points, &analysis.bruise, &result.roster, title)
+    {
+        chart
+            .write_svg(&out_dir.join("ird.svg"))
+            .map_err(plot::PlotError::from)?;
+    }
     let p = out_dir.join("contacts.csv");
     write_contacts(
         &p,

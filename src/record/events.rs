@@ -198,6 +198,9 @@ pub struct OpenContact {
     last_t: f64,
     /// Contact normal at the peak of the pulse.
     normal_at_peak: Vec3,
+    /// The time by which the impact is over whatever the overlap does (s; see
+    /// [`Self::set_impact_deadline`]).
+    impact_deadline: f64,
 }
 
 /// The sums of an impact in progress.
@@ -210,7 +213,15 @@ struct Pulse {
     max_p: f64,
     /// The overlap has started to fall after the peak.
     unloading: bool,
+    /// The fastest the overlap has fallen so far (m/s).
+    fastest_unloading: f64,
 }
+
+/// The impact pulse of a contact that neither parts nor reloads is over once its overlap falls
+/// at less than this share of the fastest it fell: the apple has come to rest on its support
+/// (an overdamped landing, e.g. on a belt, approaches its resting overlap without overshoot).
+/// The velocity change left uncounted is at most this share of the apple's fastest rebound.
+pub const PULSE_SETTLED_SHARE: f64 = 0.01;
 
 /// One step's observation of an overlapping contact.
 #[derive(Debug, Clone, Copy)]
@@ -272,6 +283,7 @@ impl OpenContact {
             last_in_pulse: false,
             last_t: time_s,
             normal_at_peak: Vec3::Z,
+            impact_deadline: f64::INFINITY,
         }
     }
 
@@ -326,13 +338,25 @@ impl OpenContact {
             self.absorb(s.overlap_m);
             self.prev_u = self.last_u;
         }
-        // The pulse is over when the overlap, falling after the peak, turns back to growing: the
-        // body no longer rebounds, its force is back to the quasi-static support.
+        // The pulse is over when the overlap, falling after the peak, turns back to growing (the
+        // body no longer rebounds, its force is back to the quasi-static support) or all but
+        // stops falling (an overdamped landing settling onto its support), and at the latest
+        // when the layer counts the contact as resting (an apple hit and then held, its overlap
+        // still growing under the apples that land on it).
+        if self.pulse.is_some() && self.steps > 0 && s.time_s > self.impact_deadline {
+            let t = self.last_t;
+            self.end_pulse(t);
+        }
         if let Some(p) = &mut self.pulse {
             if self.steps > 0 {
-                if s.overlap_m < self.last_u {
+                let falling = (self.last_u - s.overlap_m) / s.dt_back_s;
+                if falling > 0.0 {
                     p.unloading = true;
-                } else if p.unloading {
+                    p.fastest_unloading = p.fastest_unloading.max(falling);
+                }
+                if p.unloading
+                    && (falling <= 0.0 || falling < PULSE_SETTLED_SHARE * p.fastest_unloading)
+                {
                     let t = self.last_t;
                     self.end_pulse(t);
                 }
@@ -408,6 +432,14 @@ impl OpenContact {
     pub fn impact_scale(&mut self, f: impl FnOnce(f64) -> (f64, f64)) -> (f64, f64) {
         let v = self.approach;
         *self.impact_scale.get_or_insert_with(|| f(v))
+    }
+
+    /// The time from which the layer counts the contact as resting (1.2 times eq. 12's contact
+    /// time at the approach speed after the touch, `layer::kernel`): its impact pulse, if still
+    /// open then, ends there, so that the impact's impulse and velocity change cover the impact
+    /// and not the loads the contact carries later.
+    pub fn set_impact_deadline(&mut self, time_s: f64) {
+        self.impact_deadline = time_s;
     }
 
     /// Time of first touch (s).

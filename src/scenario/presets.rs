@@ -171,7 +171,11 @@ pub fn resolve(sc: &mut Scenario) -> Result<(), ScenarioError> {
                 format!("materials.{name}.preset"),
                 format!(
                     "unknown preset '{p}' (known: {})",
-                    MATERIALS.iter().map(|m| m.name).collect::<Vec<_>>().join(", ")
+                    MATERIALS
+                        .iter()
+                        .map(|m| m.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             )
         })?;

@@ -446,19 +446,43 @@ pub const ENERGY_TOLERANCE: Range = positive(
     "`model.energy_tolerance`",
 );
 /// Memory budget of a run (MiB).
-pub const MEMORY_BUDGET: Range =
-    closed("memory budget", "M", 1.0, 1e8, "MiB", "`model.max_memory_mb`");
+pub const MEMORY_BUDGET: Range = closed(
+    "memory budget",
+    "M",
+    1.0,
+    1e8,
+    "MiB",
+    "`model.max_memory_mb`",
+);
 /// Output budget of a run (MiB).
-pub const OUTPUT_BUDGET: Range =
-    closed("output budget", "S", 1.0, 1e9, "MiB", "`model.max_output_mb`");
+pub const OUTPUT_BUDGET: Range = closed(
+    "output budget",
+    "S",
+    1.0,
+    1e9,
+    "MiB",
+    "`model.max_output_mb`",
+);
 /// Coefficient of restitution.
 pub const RESTITUTION: Range = positive("restitution", "e", 1.0, "", "`restitution`");
 /// Coefficient of rolling friction (the rolling torque's lever over R*).
-pub const ROLLING_FRICTION: Range =
-    closed("rolling friction", "mu_r", 0.0, 1.0, "", "`rolling_friction`");
+pub const ROLLING_FRICTION: Range = closed(
+    "rolling friction",
+    "mu_r",
+    0.0,
+    1.0,
+    "",
+    "`rolling_friction`",
+);
 /// Damping ratio of the rolling spring.
-pub const ROLLING_DAMPING: Range =
-    closed("rolling damping", "eta_r", 0.0, 10.0, "", "`rolling_damping`");
+pub const ROLLING_DAMPING: Range = closed(
+    "rolling damping",
+    "eta_r",
+    0.0,
+    10.0,
+    "",
+    "`rolling_damping`",
+);
 /// Step budget of a run.
 pub const MAX_STEPS: Range = closed("step budget", "steps", 1.0, 1e12, "", "`model.max_steps`");
 /// The slip detector's relative tolerance.

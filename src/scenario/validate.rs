@@ -65,7 +65,10 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
     let Some(nu) = m.poisson_ratio else {
         return Err(ScenarioError::invalid(
             format!("{base}.poisson_ratio"),
-            format!("missing: a material needs its Poisson's ratio{}", preset_note()),
+            format!(
+                "missing: a material needs its Poisson's ratio{}",
+                preset_note()
+            ),
         ));
     };
     ranges::POISSON.check(&format!("{base}.poisson_ratio"), nu)?;
@@ -89,7 +92,10 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
             (None, None) => {
                 return Err(ScenarioError::invalid(
                     base,
-                    format!("needs shear_modulus_pa or youngs_modulus_pa{}", preset_note()),
+                    format!(
+                        "needs shear_modulus_pa or youngs_modulus_pa{}",
+                        preset_note()
+                    ),
                 ))
             }
         };
@@ -158,12 +164,10 @@ fn law(field: &str, c: &ContactSpec) -> R {
     }
     match c.restitution {
         Some(e) => ranges::RESTITUTION.check(&format!("{field}.restitution"), e)?,
-        None if c.damping == models::Damping::Viscoelastic => {
-            return Err(ScenarioError::invalid(
-                format!("{field}.restitution"),
-                "missing: the viscoelastic damping needs the coefficient of restitution (0 < e <= 1)",
-            ))
-        }
+        None if c.damping == models::Damping::Viscoelastic => return Err(ScenarioError::invalid(
+            format!("{field}.restitution"),
+            "missing: the viscoelastic damping needs the coefficient of restitution (0 < e <= 1)",
+        )),
         None => {}
     }
     ranges::ROLLING_FRICTION.check(&format!("{field}.rolling_friction"), c.rolling_friction)?;

@@ -7,18 +7,18 @@
 //! a total energy that rises in a scene with no energy input (`model.energy_tolerance`), and runs
 //! that would take more than `model.max_steps` steps.
 
-pub mod timestep;
 pub mod slip_roll;
+pub mod timestep;
 
 use crate::layer::{AppleId, LayerError, StepRequest};
 use crate::math::arr3;
 use crate::record::events::{ContactEvent, FinishedContact, Party};
 use crate::record::series::{AppleState, SampleSink};
 use crate::record::transitions::{self, Transition, TransitionSummary};
-use slip_roll::Detector;
 use crate::scenario::Scenario;
 use crate::world::{self, BuildError, World};
 use serde::Serialize;
+use slip_roll::Detector;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;

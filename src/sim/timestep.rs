@@ -122,14 +122,12 @@ pub fn stiffest_contact(sc: &Scenario, world: &World) -> Option<StiffestContact>
     let mat = |name: &str| mats.iter().find(|(n, _)| n == name).map(|(_, m)| *m);
     // The smallest apple of each material (the stiffest: m / k grows with R^2.5).
     let mut kinds: Vec<(String, f64, f64)> = Vec::new(); // material, radius, mass
-    let mut consider = |material: &str, r: f64, m: f64| match kinds
-        .iter_mut()
-        .find(|k| k.0 == material)
-    {
-        Some(k) if r < k.1 => *k = (material.to_string(), r, m),
-        Some(_) => {}
-        None => kinds.push((material.to_string(), r, m)),
-    };
+    let mut consider =
+        |material: &str, r: f64, m: f64| match kinds.iter_mut().find(|k| k.0 == material) {
+            Some(k) if r < k.1 => *k = (material.to_string(), r, m),
+            Some(_) => {}
+            None => kinds.push((material.to_string(), r, m)),
+        };
     let apple_count =
         world.roster.len() + sc.sources.iter().map(|s| s.count as usize).sum::<usize>();
     for a in world.roster.apples() {
@@ -260,7 +258,8 @@ pub fn estimated_steps(sc: &Scenario, world: &World, plan: &StepPlan) -> f64 {
             steps_per_contact,
             max_s,
         } => {
-            let apples = world.roster.len() + sc.sources.iter().map(|s| s.count as usize).sum::<usize>();
+            let apples =
+                world.roster.len() + sc.sources.iter().map(|s| s.count as usize).sum::<usize>();
             let can_touch = apples >= 2 || (apples >= 1 && !sc.surfaces.is_empty());
             (sc.duration_s / max_s).max(if can_touch { steps_per_contact } else { 0.0 })
         }
@@ -292,11 +291,17 @@ pub fn check_steps(sc: &Scenario, world: &World, plan: &StepPlan) -> Result<(), 
             ),
             (_, Policy::Fixed(dt)) => (
                 "duration_s",
-                format!("{} s of simulated time in `auto` steps of {dt:e} s", sc.duration_s),
+                format!(
+                    "{} s of simulated time in `auto` steps of {dt:e} s",
+                    sc.duration_s
+                ),
             ),
             (_, Policy::Adaptive { .. }) if sc.steps_per_contact() > 1000.0 => (
                 "accuracy",
-                format!("{} steps per contact for every impact", sc.steps_per_contact()),
+                format!(
+                    "{} steps per contact for every impact",
+                    sc.steps_per_contact()
+                ),
             ),
             (_, Policy::Adaptive { max_s, .. }) => (
                 "duration_s",

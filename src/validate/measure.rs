@@ -9,8 +9,8 @@
 use super::reference::{self, Elastic, Eq12Sign, ImpactOutcome, SlipToRoll};
 use super::runs::{param, Executed, Run};
 use super::ValidateError;
-use crate::world;
 use crate::scenario::{AppleSpec, Scenario, SurfaceSpec};
+use crate::world;
 
 /// One impact of one apple on a flat platform, measured and referenced.
 #[derive(Debug, Clone, PartialEq)]
@@ -119,11 +119,7 @@ fn material(ex: &Executed, sc: &Scenario, name: &str) -> Result<Elastic, Validat
 /// scenarios give ke and lambda: the validation runs eq. 12).
 fn coefficients(sc: &Scenario, m1: &str, m2: &str) -> (f64, f64, f64) {
     let c = sc.pair_law(m1, m2);
-    (
-        c.friction,
-        c.ke.unwrap_or(1.0),
-        c.lambda_s_m.unwrap_or(0.0),
-    )
+    (c.friction, c.ke.unwrap_or(1.0), c.lambda_s_m.unwrap_or(0.0))
 }
 
 /// The platform an apple meets in the validation's scenes: a plane with normal +z, or a bin's
@@ -172,7 +168,10 @@ pub(super) fn impact(
         .map(|(a, _)| a)
         .find(|a| a.name == apple)
         .ok_or_else(|| shape(ex, format!("run {}: no apple '{apple}'", run.index)))?;
-    let density = sc.materials.get(&spec.material).and_then(|m| m.density_kg_m3);
+    let density = sc
+        .materials
+        .get(&spec.material)
+        .and_then(|m| m.density_kg_m3);
     let mass_kg = Some(world::apple_mass(spec, density))
         .filter(|m| m.is_finite() && *m > 0.0)
         .ok_or_else(|| shape(ex, format!("apple '{apple}' has no mass")))?;
@@ -279,7 +278,9 @@ pub(super) fn roll(ex: &Executed, run: &Run, label: String) -> Result<RollRun, V
     // sections 3 and 6), from the materials and the mass alone, not from the run.
     let mass_kg = world::apple_mass(
         spec,
-        sc.materials.get(&spec.material).and_then(|m| m.density_kg_m3),
+        sc.materials
+            .get(&spec.material)
+            .and_then(|m| m.density_kg_m3),
     );
     let k = reference::flat_stiffness(
         material(ex, sc, &spec.material)?,

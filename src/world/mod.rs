@@ -17,16 +17,16 @@ pub mod mesh;
 pub mod roster;
 pub mod surfaces;
 
-use crate::contact::{LawParts, SubModels};
 use crate::contact::Material;
+use crate::contact::{LawParts, SubModels};
 use crate::layer::{
     AppleId, Coefficients, ContactLayer, Guard, LayerConfig, LayerError, MaterialId, SleepConfig,
     StepControl, SurfaceId, SurfaceOptions,
 };
 use crate::math::vec3;
 use crate::scenario::{self, AppleSpec, ContactModel, Fidelity, Scenario, ScenarioError, TimeStep};
-pub use roster::{apple_mass, sphere_mass, Origin, Roster, RosterApple};
 use rapier3d_f64::prelude::*;
+pub use roster::{apple_mass, sphere_mass, Origin, Roster, RosterApple};
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 use surfaces::SurfacePart;
@@ -335,7 +335,13 @@ impl World {
                 kept.push_back((when, src, a));
                 continue;
             }
-            self.add_apple(&a, Origin::Fed { source: src, time_s: when })?;
+            self.add_apple(
+                &a,
+                Origin::Fed {
+                    source: src,
+                    time_s: when,
+                },
+            )?;
             emitted += 1;
         }
         while let Some(x) = kept.pop_back() {

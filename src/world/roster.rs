@@ -146,10 +146,15 @@ pub struct Plan {
 pub fn plan(sc: &Scenario) -> Result<Plan, ScenarioError> {
     // The listed apples, then each generator's (a random fill avoids those already placed).
     let mut all = sc.apples.clone();
-    let mut origins: Vec<Origin> = (0..all.len()).map(|index| Origin::Listed { index }).collect();
+    let mut origins: Vec<Origin> = (0..all.len())
+        .map(|index| Origin::Listed { index })
+        .collect();
     for (g, spec) in sc.generators.iter().enumerate() {
         let more = crate::scenario::generators::expand(spec, &all, &format!("generators[{g}]"))?;
-        origins.extend(std::iter::repeat_n(Origin::Generated { generator: g }, more.len()));
+        origins.extend(std::iter::repeat_n(
+            Origin::Generated { generator: g },
+            more.len(),
+        ));
         all.extend(more);
     }
     let mut feeds: Vec<(f64, usize, AppleSpec)> = Vec::new();

@@ -1,0 +1,149 @@
+//! The line audit's files: `audit.csv` (written here, and read back by `applesim audit` to
+//! compare layouts) and `audit.md` ([`Audit::markdown`]).
+
+use super::atomic::AtomicFile;
+use crate::analysis::audit::{Audit, OverThreshold, TransferPoint};
+use std::path::Path;
+
+/// Header of `audit.csv` (one row per transfer point, hardest first; `_p50`, `_p95`, `_max` are
+/// the median, 95th percentile and largest over the apples hit there).
+pub const AUDIT_HEADER: [&str; 21] = [
+    "transfer_point",
+    "contacts",
+    "impacts",
+    "apples_hit_share",
+    "peak_force_n_p50",
+    "peak_force_n_p95",
+    "peak_force_n_max",
+    "peak_g_p50",
+    "peak_g_p95",
+    "peak_g_max",
+    "velocity_change_m_s_p50",
+    "velocity_change_m_s_p95",
+    "velocity_change_m_s_max",
+    "absorbed_energy_j_total",
+    "absorbed_energy_j_max",
+    "apples_over_any",
+    "apples_over_force",
+    "apples_over_pressure",
+    "apples_over_energy",
+    "apples_over_static_force",
+    "apples_over_static_pressure",
+];
+
+/// The line audit as a table to read (`audit.md`, [`crate::analysis::audit::Audit::markdown`]).
+pub const AUDIT_MD: &str = "audit.md";
+
+/// Writes `audit.csv` (a figure without impacts to take it from is empty).
+pub fn write_audit(path: &Path, audit: &Audit) -> std::io::Result<()> {
+    let f = AtomicFile::create(path)?;
+    let mut w = csv::Writer::from_writer(f);
+    w.write_record(AUDIT_HEADER)?;
+    let num = |x: f64| {
+        if x.is_finite() {
+            x.to_string()
+        } else {
+            String::new()
+        }
+    };
+    for t in &audit.points {
+        let mut row = vec![
+            t.point.clone(),
+            t.contacts.to_string(),
+            t.impacts.to_string(),
+            num(t.apples_hit_share),
+        ];
+        for q in [t.peak_force_n, t.peak_g, t.velocity_change_m_s] {
+            row.extend(q.map(num));
+        }
+        row.extend(t.absorbed_energy_j.map(num));
+        row.extend(t.apples_over.named().map(|(_, n)| n.to_string()));
+        w.write_record(&row)?;
+    }
+    let f = w.into_inner().map_err(|e| e.into_error())?;
+    f.commit()
+}
+
+/// Errors reading an `audit.csv`.
+#[derive(Debug, thiserror::Error)]
+pub enum AuditReadError {
+    /// The file could not be read, or is not CSV.
+    #[error("{path}: {source}")]
+    Csv {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The CSV reader's error.
+        source: csv::Error,
+    },
+    /// The file is not an `audit.csv` of this version (header or a cell).
+    #[error("{path}: {message}")]
+    Format {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Reads an `audit.csv` written by [`write_audit`] (an empty cell reads as NaN).
+pub fn read_audit(path: &Path) -> Result<Audit, AuditReadError> {
+    let csv_err = |source| AuditReadError::Csv {
+        path: path.to_path_buf(),
+        source,
+    };
+    let format = |message: String| AuditReadError::Format {
+        path: path.to_path_buf(),
+        message,
+    };
+    let mut rd = csv::Reader::from_path(path).map_err(csv_err)?;
+    let header: Vec<String> = rd
+        .headers()
+        .map_err(csv_err)?
+        .iter()
+        .map(String::from)
+        .collect();
+    if header != AUDIT_HEADER {
+        return Err(format(format!(
+            "not an audit.csv of applesim {} (its header is {})",
+            env!("CARGO_PKG_VERSION"),
+            header.join(",")
+        )));
+    }
+    let mut points = Vec::new();
+    for (k, row) in rd.records().enumerate() {
+        let row = row.map_err(csv_err)?;
+        let num = |i: usize| -> Result<f64, AuditReadError> {
+            let cell = row.get(i).unwrap_or("");
+            if cell.is_empty() {
+                return Ok(f64::NAN);
+            }
+            cell.parse().map_err(|_| {
+                format(format!(
+                    "row {}, column {}: '{cell}' is not a number",
+                    k + 2,
+                    AUDIT_HEADER[i]
+                ))
+            })
+        };
+        let count = |i: usize| num(i).map(|x| if x.is_finite() { x as usize } else { 0 });
+        points.push(TransferPoint {
+            point: row.get(0).unwrap_or("").to_string(),
+            contacts: count(1)?,
+            impacts: count(2)?,
+            apples_hit_share: num(3)?,
+            peak_force_n: [num(4)?, num(5)?, num(6)?],
+            peak_g: [num(7)?, num(8)?, num(9)?],
+            velocity_change_m_s: [num(10)?, num(11)?, num(12)?],
+            absorbed_energy_j: [num(13)?, num(14)?],
+            apples_over: OverThreshold {
+                any: count(15)?,
+                force: count(16)?,
+                pressure: count(17)?,
+                energy: count(18)?,
+                static_force: count(19)?,
+                static_pressure: count(20)?,
+            },
+        });
+    }
+    Ok(Audit { points })
+}
