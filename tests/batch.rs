@@ -123,6 +123,40 @@ fn impact_sweep_gives_21_rows_with_peak_force_rising_with_speed_and_size() {
         );
         peak[k / 3][k % 3] = row["max_peak_force_n"].parse().unwrap();
     }
+    // Issue 20: per-surface columns (the line audit's transfer points), and no velocity change
+    // above the largest impact speed times (1 + e): the fastest apple touches at
+    // sqrt(1.4^2 + 2 g 0.1 mm) and eq. 12 with ke = 0.09 rebounds with at most e = sqrt(ke)
+    // (physics.md section 3; gravity only lowers it).
+    for col in [
+        "floor.impacts",
+        "floor.max_peak_force_n",
+        "floor.max_peak_g",
+        "floor.p95_peak_g",
+        "floor.max_velocity_change_m_s",
+        "floor.apples_over_threshold",
+    ] {
+        assert!(header.iter().any(|h| h == col), "no {col}: {header:?}");
+    }
+    let v_max = (1.4f64 * 1.4 + 2.0 * 9.81 * 1e-4).sqrt();
+    let bound = (1.0 + 0.09f64.sqrt()) * v_max;
+    let dv_cols: Vec<&String> = header
+        .iter()
+        .filter(|h| h.ends_with("velocity_change_m_s"))
+        .collect();
+    assert!(dv_cols.len() >= 2, "{dv_cols:?}");
+    let mut largest = 0.0f64;
+    for row in &rows {
+        assert!(
+            row["floor.impacts"].parse::<f64>().unwrap() >= 1.0,
+            "{row:?}"
+        );
+        for c in &dv_cols {
+            let dv: f64 = row[c.as_str()].parse().unwrap();
+            largest = largest.max(dv);
+            assert!(dv <= bound, "{c} = {dv} > {bound}: {row:?}");
+        }
+    }
+    println!("largest velocity change {largest:.4} m/s, bound (1 + sqrt(ke)) v = {bound:.4} m/s");
     for (i, row) in peak.iter().enumerate() {
         println!(
             "v {:>4} m/s: peak force {:8.3} {:8.3} {:8.3} N (D 60, 80, 100 mm)",

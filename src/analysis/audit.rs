@@ -105,25 +105,40 @@ fn region(surface: &str) -> &str {
     surface.split('/').next().unwrap_or(surface)
 }
 
-/// The transfer point of each contact (index in `events`).
+/// The transfer point of each contact (index in `events`): a surface contact's surface; for two
+/// apples, the region (a surface, or a bin with its walls) where the hit happens: that of the
+/// surface either apple is touching at the hit (the one it has touched the longest, if both
+/// are), else of the surface either apple touched last, the earlier arrival's (an apple coming
+/// off the chute hits the apples waiting in the bin: "apples on bin"); "apples in the air" if
+/// neither has touched a surface yet.
 pub fn points_of(events: &[ContactEvent]) -> Vec<String> {
-    // The surfaces each apple touched, by start time (events are in order of start).
-    let mut last_surface: BTreeMap<u32, Vec<(f64, &str)>> = BTreeMap::new();
+    // Each apple's surface contacts: (start, end, surface), in order of start.
+    let mut surfaces: BTreeMap<u32, Vec<(f64, f64, &str)>> = BTreeMap::new();
     for e in events {
         if let Party::Surface(_) = e.b_party {
-            last_surface
-                .entry(e.a_index)
-                .or_default()
-                .push((e.t_start_s, &e.b));
+            surfaces.entry(e.a_index).or_default().push((
+                e.t_start_s,
+                e.t_end_s.unwrap_or(f64::INFINITY),
+                &e.b,
+            ));
         }
     }
-    let before = |apple: u32, t: f64| -> Option<(f64, &str)> {
-        last_surface
-            .get(&apple)?
+    // The apple's place at `t`: (touching a surface now, -start of that contact, surface),
+    // the larger the better placed: a surface touched now, then the earliest arrival.
+    let place = |apple: u32, t: f64| -> Option<(bool, f64, &str)> {
+        let list = surfaces.get(&apple)?;
+        let open = list
             .iter()
-            .rev()
-            .find(|(t0, _)| *t0 <= t)
-            .copied()
+            .filter(|(t0, t1, _)| *t0 <= t && t <= *t1)
+            .min_by(|x, y| x.0.total_cmp(&y.0));
+        match open {
+            Some(&(t0, _, s)) => Some((true, -t0, s)),
+            None => list
+                .iter()
+                .rev()
+                .find(|(t0, _, _)| *t0 <= t)
+                .map(|&(t0, _, s)| (false, -t0, s)),
+        }
     };
     events
         .iter()
@@ -131,14 +146,12 @@ pub fn points_of(events: &[ContactEvent]) -> Vec<String> {
             Party::Surface(_) => e.b.to_string(),
             Party::Apple(j) => {
                 let t = e.impact.map_or(e.t_start_s, |i| i.t_peak_s);
-                let a = before(e.a_index, t);
-                let b = before(j, t);
-                let last = match (a, b) {
-                    (Some(x), Some(y)) => Some(if x.0 >= y.0 { x.1 } else { y.1 }),
-                    (x, y) => x.or(y).map(|z| z.1),
+                let best = match (place(e.a_index, t), place(j, t)) {
+                    (Some(x), Some(y)) => Some(if (x.0, x.1) >= (y.0, y.1) { x } else { y }),
+                    (x, y) => x.or(y),
                 };
-                match last {
-                    Some(s) => format!("apples on {}", region(s)),
+                match best {
+                    Some((_, _, s)) => format!("apples on {}", region(s)),
                     None => "apples in the air".to_string(),
                 }
             }
@@ -147,12 +160,7 @@ pub fn points_of(events: &[ContactEvent]) -> Vec<String> {
 }
 
 /// The audit of a run's contacts; `bruise` tells which impacts exceeded a threshold.
-pub fn audit(
-    events: &[ContactEvent],
-    roster: &Roster,
-    gravity: crate::math::Vec3,
-    bruise: &BruiseReport,
-) -> Audit {
+pub fn audit(events: &[ContactEvent], roster: &Roster, bruise: &BruiseReport) -> Audit {
     let names = roster.by_name();
     let index: BTreeMap<&str, usize> = roster
         .apples()
@@ -183,7 +191,7 @@ pub fn audit(
             let (Some(a), Some(&k)) = (names.get(&**name), index.get(&**name)) else {
                 continue;
             };
-            let side = impacts::for_apple(pulse, a.mass_kg, gravity, towards);
+            let side = impacts::for_apple(pulse, a.mass_kg, towards);
             hits.entry(p).or_default().push(Hit {
                 apple: k,
                 peak_force_n: pulse.peak_force_n,

@@ -205,7 +205,6 @@ pub fn assess(
     roster: &BTreeMap<&str, &RosterApple>,
     order: &[&str],
 ) -> BruiseReport {
-    let gravity = crate::math::vec3(sc.gravity_m_s2);
     let thresholds = |material: &str| {
         Thresholds::from_spec(sc.materials.get(material).and_then(|m| m.bruise.as_ref()))
     };
@@ -254,7 +253,7 @@ pub fn assess(
             let side = e
                 .impact
                 .as_ref()
-                .map(|p| super::impacts::for_apple(p, mass, gravity, towards));
+                .map(|p| super::impacts::for_apple(p, mass, towards));
             let c = ContactAssessment {
                 contact: k,
                 apple: name,

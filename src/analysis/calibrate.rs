@@ -309,6 +309,7 @@ impl ImpactSetup {
                 position_m: [0.0, 0.0, r],
                 velocity_m_s: [0.0, 0.0, -v0],
                 angular_velocity_rad_s: [0.0; 3],
+                probe: None,
             }],
             generators: Vec::new(),
             sources: Vec::new(),

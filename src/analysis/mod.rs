@@ -35,12 +35,7 @@ pub fn analyse(sc: &Scenario, r: &RunResult) -> Analysis {
     let mass = |name: &str| roster.get(name).map_or(f64::NAN, |a| a.mass_kg);
     let order: Vec<&str> = r.apples.iter().map(|a| a.name.as_str()).collect();
     let bruise = bruise::assess(sc, &r.events, &roster, &order);
-    let audit = audit::audit(
-        &r.events,
-        &r.roster,
-        crate::math::vec3(sc.gravity_m_s2),
-        &bruise,
-    );
+    let audit = audit::audit(&r.events, &r.roster, &bruise);
     Analysis {
         pulse_fits: pulse::fit_events(&r.events, &mass),
         bruise,

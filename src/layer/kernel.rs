@@ -226,6 +226,15 @@ impl Ctx<'_> {
                 pressure_pa: resp.mean_pressure_pa,
                 point,
                 normal: n,
+                normal_velocities: [
+                    self.frame.vel[i].dot(n),
+                    match c.other {
+                        Party::Apple(j) => self.frame.vel[j as usize].dot(n),
+                        // Surfaces are immovable in the normal direction (a belt moves along
+                        // its own plane).
+                        Party::Surface(_) => 0.0,
+                    },
+                ],
             });
         }
         // Leapfrog kick with variable steps (see `StepControl::gravity`): the force at this pose

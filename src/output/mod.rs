@@ -11,6 +11,7 @@
 pub mod atomic;
 pub mod audit;
 pub mod plot;
+pub mod probe;
 pub mod vtk;
 
 use crate::analysis::bruise::{AppleAssessment, ContactAssessment};
@@ -72,6 +73,25 @@ pub struct Summary<'a> {
     /// The line audit: impacts per transfer point, hardest first (also `audit.csv`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub audit: Option<&'a [crate::analysis::audit::TransferPoint]>,
+    /// The virtual instrumented spheres: per probe its settings and impacts (also
+    /// `probe_NAME_impacts.csv`; the trace in `probe_NAME_trace.csv`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<ProbeSummary<'a>>,
+}
+
+/// One probe in `summary.json`.
+#[derive(Debug, Serialize)]
+pub struct ProbeSummary<'a> {
+    /// The probe apple.
+    pub apple: &'a str,
+    /// Its mass (kg).
+    pub mass_kg: f64,
+    /// How it sampled.
+    pub settings: &'a crate::record::probe::ProbeSpec,
+    /// The files it wrote.
+    pub files: [String; 2],
+    /// Its impacts, as in the impacts file.
+    pub impacts: &'a [crate::record::probe::ProbeImpact],
 }
 
 /// The bruise section of `summary.json`.
@@ -135,7 +155,6 @@ pub fn write_contacts(
     path: &Path,
     events: &[ContactEvent],
     roster: &crate::world::Roster,
-    gravity: crate::math::Vec3,
 ) -> std::io::Result<()> {
     let f = AtomicFile::create(path)?;
     let mut w = csv::Writer::from_writer(f);
@@ -151,7 +170,7 @@ pub fn write_contacts(
         };
         let side = |s: Option<(f64, f64)>, towards: bool| match (e.impact.as_ref(), s) {
             (Some(p), Some((_, m))) => {
-                let x = crate::analysis::impacts::for_apple(p, m, gravity, towards);
+                let x = crate::analysis::impacts::for_apple(p, m, towards);
                 (x.velocity_change_m_s.to_string(), x.peak_g.to_string())
             }
             _ => (String::new(), String::new()),
@@ -299,6 +318,20 @@ pub fn write_summary_with(
         pulse_fits: analysis.map(|a| a.pulse_fits.as_slice()),
         transitions: r.transition_summary.as_ref(),
         audit: analysis.map(|a| a.audit.points.as_slice()),
+        probes: r
+            .probes
+            .iter()
+            .map(|p| {
+                let stem = probe::stem(&p.apple);
+                ProbeSummary {
+                    apple: &p.apple,
+                    mass_kg: p.mass_kg,
+                    settings: &p.spec,
+                    files: [format!("{stem}_trace.csv"), format!("{stem}_impacts.csv")],
+                    impacts: &p.impacts,
+                }
+            })
+            .collect(),
     };
     let mut bytes = serde_json::to_vec_pretty(&s).map_err(std::io::Error::other)?;
     bytes.push(b'\n');
@@ -652,6 +685,10 @@ pub fn run_into(
     let title = sc.description.as_deref().unwrap_or("run");
     atomic::write_file(&p, analysis.audit.markdown(title).as_bytes()).map_err(io_at(&p))?;
     let points = crate::analysis::audit::points_of(&result.events);
+    for pr in &result.probes {
+        probe::write_probe(out_dir, pr, &result.events, &points)
+            .map_err(|(path, source)| RunError::Io { path, source })?;
+    }
     if let Some(chart) =
         crate::analysis::audit::ird_chart(&points, &analysis.bruise, &result.roster, title)
     {
@@ -660,13 +697,7 @@ pub fn run_into(
             .map_err(plot::PlotError::from)?;
     }
     let p = out_dir.join("contacts.csv");
-    write_contacts(
-        &p,
-        &result.events,
-        &result.roster,
-        crate::math::vec3(sc.gravity_m_s2),
-    )
-    .map_err(io_at(&p))?;
+    write_contacts(&p, &result.events, &result.roster).map_err(io_at(&p))?;
     if result.transition_summary.is_some() {
         let p = out_dir.join("transitions.csv");
         write_transitions(&p, &result.transitions).map_err(io_at(&p))?;

@@ -104,8 +104,15 @@ pub struct ImpactPulse {
     pub absorbed_energy_j: f64,
     /// Largest mean contact pressure of the pulse (Pa).
     pub max_pressure_pa: f64,
-    /// Contact normal at the peak, towards the apple (for the velocity change with gravity).
+    /// Contact normal at the peak, towards the apple.
     pub normal: [f64; 3],
+    /// Change of each body's velocity along the contact normal over the pulse (m/s): apple `a`
+    /// along the normal (towards it), the other body against it. Measured from the bodies'
+    /// velocities at the touch and after the pulse's last force kick, so that it is the change
+    /// of speed the body went through: an apple hit while another apple lands on it is not
+    /// credited with the other's push (the contact's impulse over the mass would be). A rebound
+    /// at v0 with restitution e gives (1 + e) v0.
+    pub velocity_change_m_s: [f64; 2],
 }
 
 /// The load a contact carries at rest (after its impact, or all along for a contact that starts
@@ -211,6 +218,10 @@ struct Pulse {
     impulse: f64,
     absorbed: f64,
     max_p: f64,
+    /// The bodies' normal velocities at the touch (m/s; see [`ContactSample::normal_velocities`]).
+    v_touch: [f64; 2],
+    /// The bodies' normal velocities at the last pose (m/s).
+    v_last: [f64; 2],
     /// The overlap has started to fall after the peak.
     unloading: bool,
     /// The fastest the overlap has fallen so far (m/s).
@@ -247,6 +258,9 @@ pub struct ContactSample {
     pub point: Vec3,
     /// Contact normal, towards the apple.
     pub normal: Vec3,
+    /// Velocities along `normal` of apple `a` and of the other body at this pose, before this
+    /// pose's force kick (m/s): what the impact's velocity change is measured from.
+    pub normal_velocities: [f64; 2],
 }
 
 impl OpenContact {
@@ -315,6 +329,8 @@ impl OpenContact {
     /// peak) or at `t_end` (separation).
     fn end_pulse(&mut self, t_end: f64) {
         if let Some(p) = self.pulse.take() {
+            let [va, vb] = p.v_last;
+            let [va0, vb0] = p.v_touch;
             self.impact = Some(ImpactPulse {
                 t_end_s: t_end,
                 duration_s: t_end - self.t_start,
@@ -324,6 +340,7 @@ impl OpenContact {
                 absorbed_energy_j: p.absorbed,
                 max_pressure_pa: p.max_p,
                 normal: arr3(self.normal_at_peak),
+                velocity_change_m_s: [va - va0, vb0 - vb],
             });
         }
     }
@@ -343,6 +360,15 @@ impl OpenContact {
         // stops falling (an overdamped landing settling onto its support), and at the latest
         // when the layer counts the contact as resting (an apple hit and then held, its overlap
         // still growing under the apples that land on it).
+        if let Some(p) = &mut self.pulse {
+            // This pose's velocities hold the last pose's kick: the pulse's velocity change
+            // runs to here if it ends now (at the last pose). At parting, the last pose's kick
+            // (of a force near zero) is not seen.
+            if self.steps == 0 {
+                p.v_touch = s.normal_velocities;
+            }
+            p.v_last = s.normal_velocities;
+        }
         if self.pulse.is_some() && self.steps > 0 && s.time_s > self.impact_deadline {
             let t = self.last_t;
             self.end_pulse(t);
@@ -676,6 +702,7 @@ mod tests {
             pressure_pa: 5.0,
             point: Vec3::ZERO,
             normal: Vec3::Z,
+            normal_velocities: [0.0, 0.0],
         });
         let e = c.finish(1.002, 1e-3, -0.5e-3, 1.0, names());
         assert!((e.t_start_s - 0.99975).abs() < 1e-12);
@@ -699,6 +726,7 @@ mod tests {
                 pressure_pa: 5.0,
                 point: Vec3::new(0.1, 0.2, 0.3),
                 normal: Vec3::Z,
+                normal_velocities: [0.0, 0.0],
             });
         }
         let e = c.finish(1.004, 1e-3, -0.5e-3, 0.7, names());

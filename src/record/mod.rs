@@ -2,5 +2,6 @@
 //! slip/roll transitions (detected by the driver from the layer's contact slips).
 
 pub mod events;
+pub mod probe;
 pub mod series;
 pub mod transitions;

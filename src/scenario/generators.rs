@@ -399,6 +399,7 @@ impl SourceSpec {
                         position_m: [p.x, p.y, p.z],
                         velocity_m_s: self.velocity_m_s,
                         angular_velocity_rad_s: [0.0; 3],
+                        probe: None,
                     },
                 )
             })
@@ -486,6 +487,7 @@ pub fn expand(
                             position_m: [p.x, p.y, p.z],
                             velocity_m_s: s.velocity_m_s,
                             angular_velocity_rad_s: [0.0; 3],
+                            probe: None,
                         });
                     }
                 }
@@ -555,6 +557,7 @@ pub fn expand(
                         position_m: [p.x, p.y, p.z],
                         velocity_m_s: s.velocity_m_s,
                         angular_velocity_rad_s: [0.0; 3],
+                        probe: None,
                     });
                 } else if attempts > max_attempts {
                     return Err(ScenarioError::invalid(
@@ -590,6 +593,7 @@ pub fn expand(
                     position_m: a.position_m,
                     velocity_m_s: s.velocity_m_s,
                     angular_velocity_rad_s: [0.0; 3],
+                    probe: None,
                 })
                 .collect())
         }

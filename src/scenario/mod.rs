@@ -630,6 +630,11 @@ pub struct AppleSpec {
     /// Angular velocity (rad/s).
     #[serde(default)]
     pub angular_velocity_rad_s: [f64; 3],
+    /// Makes this apple a virtual instrumented sphere: its accelerometer trace and impact table
+    /// are written as a sensor ball reports them (`probe_NAME_trace.csv`,
+    /// `probe_NAME_impacts.csv`). Give the apple the device's size, mass and material.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub probe: Option<crate::record::probe::ProbeSpec>,
 }
 
 /// Parses a scenario from JSON text; `file` names the source in messages. A leading UTF-8

@@ -553,6 +553,20 @@ pub const BRUISE_PRESSURE: Range = positive(
 /// Bruise thresholds: energy.
 pub const BRUISE_ENERGY: Range =
     positive("bruise energy", "E", 1e4, "J", "`bruise.absorbed_energy_j`");
+/// Sampling rates of a virtual instrumented sphere.
+pub const PROBE_RATE: Range = closed(
+    "probe sampling rate",
+    "f",
+    1.0,
+    1e7,
+    "Hz",
+    "`probe.sample_rate_hz`",
+);
+/// Trigger levels of a virtual instrumented sphere.
+pub const PROBE_TRIGGER: Range =
+    positive("probe trigger level", "a", 1e5, "g", "`probe.trigger_g`");
+/// The window a virtual instrumented sphere keeps around an impact.
+pub const PROBE_WINDOW: Range = closed("probe window", "w", 0.0, 1.0, "s", "`probe.window_s`");
 
 /// Every range, in the README's order.
 pub const TABLE: &[Range] = &[
@@ -597,6 +611,9 @@ pub const TABLE: &[Range] = &[
     BRUISE_FORCE,
     BRUISE_PRESSURE,
     BRUISE_ENERGY,
+    PROBE_RATE,
+    PROBE_TRIGGER,
+    PROBE_WINDOW,
 ];
 
 /// The table as Markdown rows (`| quantity | range | fields |`), as in the README.

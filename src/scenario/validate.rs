@@ -661,7 +661,13 @@ fn apple(
     ranges::ANGULAR_SPEED.check_norm(
         &format!("{f}.angular_velocity_rad_s"),
         a.angular_velocity_rad_s,
-    )
+    )?;
+    if let Some(p) = &a.probe {
+        ranges::PROBE_RATE.check(&format!("{f}.probe.sample_rate_hz"), p.sample_rate_hz)?;
+        ranges::PROBE_TRIGGER.check(&format!("{f}.probe.trigger_g"), p.trigger_g)?;
+        ranges::PROBE_WINDOW.check(&format!("{f}.probe.window_s"), p.window_s)?;
+    }
+    Ok(())
 }
 
 fn surface(

@@ -143,6 +143,25 @@ pub struct RunResult {
     /// Key results as flat, unit-suffixed numbers (one row of a batch table): every feature that
     /// produces a headline figure adds its keys here. Only finite values.
     pub metrics: BTreeMap<String, f64>,
+    /// What each virtual instrumented sphere (`apples[].probe`) recorded, in the order listed.
+    pub probes: Vec<ProbeRecord>,
+}
+
+/// What one virtual instrumented sphere recorded.
+#[derive(Debug, Clone)]
+pub struct ProbeRecord {
+    /// The probe apple's name.
+    pub apple: String,
+    /// Its index in the layer (and in [`RunResult::apples`]).
+    pub index: u32,
+    /// Its mass (kg).
+    pub mass_kg: f64,
+    /// How it sampled.
+    pub spec: crate::record::probe::ProbeSpec,
+    /// The kept samples (time s, reading g): windows around the impacts.
+    pub trace: Vec<(f64, f64)>,
+    /// The impacts as the device reports them.
+    pub impacts: Vec<crate::record::probe::ProbeImpact>,
 }
 
 /// The headline figures of a run (see [`RunResult::metrics`]).
@@ -213,6 +232,8 @@ pub struct Simulation {
     gravity: crate::math::Vec3,
     energy: Option<EnergyGuard>,
     detector: Option<Detector>,
+    /// The virtual instrumented spheres: (apple, recorder).
+    probes: Vec<(AppleId, crate::record::probe::ProbeRecorder)>,
 }
 
 /// Watches the total energy of a scene without energy input (no belt, no moving body).
@@ -280,6 +301,20 @@ impl Simulation {
             energy: energy.map(|e| EnergyGuard { v_bound, ..e }),
             detector: (sc.output.transitions.enabled && !world.layer.config().passive)
                 .then(|| Detector::new(sc.output.transitions, world.surface_frames.clone())),
+            probes: sc
+                .apples
+                .iter()
+                .filter_map(|a| {
+                    let spec = a.probe?;
+                    // Listed apples come first in the layer, in their order; found by name to
+                    // be independent of that.
+                    let id = (0..world.layer.apple_count())
+                        .map(|k| AppleId(k as u32))
+                        .find(|&id| world.layer.apple_name(id) == a.name)?;
+                    let m = world.layer.apple_mass(id);
+                    Some((id, crate::record::probe::ProbeRecorder::new(spec, m)))
+                })
+                .collect(),
             world,
         })
     }
@@ -405,6 +440,9 @@ impl Simulation {
         );
         if let Some(d) = self.detector.as_mut() {
             d.observe(request.time_s, &w.layer);
+        }
+        for (id, p) in &mut self.probes {
+            p.observe(request.time_s, w.layer.apple_contact_force(*id).length());
         }
         Ok(dt)
     }
@@ -651,6 +689,36 @@ impl Simulation {
             }
         }
         let mut metrics = base_metrics(&events, &apples);
+        let probes: Vec<ProbeRecord> = std::mem::take(&mut self.probes)
+            .into_iter()
+            .map(|(id, p)| {
+                let spec = *p.spec();
+                let (trace, impacts) = p.finish();
+                ProbeRecord {
+                    apple: self.world.layer.apple_name(id).to_string(),
+                    index: id.0,
+                    mass_kg: self.world.layer.apple_mass(id),
+                    spec,
+                    trace,
+                    impacts,
+                }
+            })
+            .collect();
+        for p in &probes {
+            let key = |what: &str| format!("probe.{}.{what}", p.apple);
+            metrics.insert(key("impacts"), p.impacts.len() as f64);
+            let max = |f: fn(&crate::record::probe::ProbeImpact) -> f64| {
+                p.impacts.iter().map(f).fold(f64::NAN, f64::max)
+            };
+            for (what, v) in [
+                ("max_peak_g", max(|i| i.peak_g)),
+                ("max_velocity_change_m_s", max(|i| i.velocity_change_m_s)),
+            ] {
+                if v.is_finite() {
+                    metrics.insert(key(what), v);
+                }
+            }
+        }
         let (transitions, transition_summary) = match self.detector.take() {
             Some(d) => {
                 let (t, s) = d.finish();
@@ -679,6 +747,7 @@ impl Simulation {
             apples,
             roster: std::mem::take(&mut self.world.roster),
             warnings,
+            probes,
         }
     }
 }
