@@ -1,5 +1,5 @@
-//! The handling line's documented results (docs/handling_line.md; the handling-line sections of
-//! docs/transitions.md and docs/accuracy.md).
+//! The handling line's documented results (docs/handling_line.md, the report of its run, and
+//! the handling-line sections of docs/transitions.md and docs/accuracy.md).
 //!
 //! The run is deterministic (byte-identical files, tests/determinism.rs), but the pile in the
 //! bin is chaotic: its figures have no closed form. They are checked as committed golden values
@@ -75,7 +75,26 @@ fn summary() -> serde_json::Value {
     serde_json::from_slice(&std::fs::read(line_run().join("summary.json")).unwrap()).unwrap()
 }
 
-/// docs/handling_line.md: the table per surface, the bin, the 80 N threshold, the warning.
+/// docs/handling_line.md is `applesim report` of this run, byte for byte (regenerate it with
+/// `applesim run scenarios/handling_line.json --out out/line && applesim report out/line --out
+/// docs/handling_line.md`).
+#[test]
+fn the_doc_is_the_report_of_the_run() {
+    let want = std::fs::read_to_string(repo("docs/handling_line.md")).unwrap();
+    let got = applesim::output::report::line_report(
+        line_run(),
+        "applesim report out/line --out docs/handling_line.md",
+    )
+    .unwrap();
+    assert!(
+        got == want,
+        "docs/handling_line.md is not the report of the run; regenerate it. The run's report:\n{got}"
+    );
+}
+
+/// The line's figures per surface (docs/handling_line.md's audit table: contacts and largest
+/// peak force; apple-apple contacts are its "apples on ..." rows together), the bin, the 80 N
+/// threshold, the warning.
 #[test]
 fn documented_results_of_the_line() {
     let contacts = rows("contacts.csv");

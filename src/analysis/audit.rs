@@ -279,8 +279,13 @@ impl Audit {
         m
     }
 
-    /// The audit as a Markdown table (`audit.md`).
+    /// The audit as a Markdown document (`audit.md`): a title and [`Self::table`].
     pub fn markdown(&self, title: &str) -> String {
+        format!("# Line audit: {title}\n\n{}", self.table())
+    }
+
+    /// The audit as a Markdown table with a line that says how to read it.
+    pub fn table(&self) -> String {
         let f = |x: f64, d: usize| {
             if x.is_finite() {
                 format!("{x:.d$}")
@@ -288,8 +293,8 @@ impl Audit {
                 "-".to_string()
             }
         };
-        let mut s = format!(
-            "# Line audit: {title}\n\nOne row per transfer point, hardest first. Peak g is the peak contact force over the apple's weight (g = 9.80665 m/s^2); the velocity change is the apple's over the impact pulse. Median / 95th percentile / largest over the apples hit.\n\n| transfer point | contacts | impacts | apples hit | peak force (N) | peak g | velocity change (m/s) | absorbed (J): all / largest | apples over a threshold (force, pressure, energy, static force, static pressure) |\n|---|---|---|---|---|---|---|---|---|\n"
+        let mut s = String::from(
+            "One row per transfer point, hardest first. Peak g is the peak contact force over the apple's weight (g = 9.80665 m/s^2); the velocity change is the apple's over the impact pulse. Median / 95th percentile / largest over the apples hit.\n\n| transfer point | contacts | impacts | apples hit | peak force (N) | peak g | velocity change (m/s) | absorbed (J): all / largest | apples over a threshold (force, pressure, energy, static force, static pressure) |\n|---|---|---|---|---|---|---|---|---|\n"
         );
         for t in &self.points {
             let q =

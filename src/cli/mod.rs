@@ -6,6 +6,7 @@ mod bench;
 mod calibrate;
 mod merge;
 mod plot;
+mod report;
 mod run;
 mod tradeoff;
 mod validate;
@@ -32,6 +33,9 @@ enum Command {
     Plot(plot::Args),
     /// Compare the line audits of run folders per transfer point (better/worse, by how much).
     Audit(audit::Args),
+    /// The line report of a run folder: the scene, the audit per transfer point, the apples over
+    /// a bruise threshold, the instrumented spheres, the warnings (Markdown).
+    Report(report::Args),
     /// Run a scenario across fidelity levels and step sizes and tabulate error against cost.
     Tradeoff(tradeoff::Args),
     /// Run a batch of scenarios (a sweep spec or a folder) in parallel, resumable, by shards.
@@ -55,6 +59,7 @@ pub fn main() -> i32 {
         Command::Calibrate(a) => calibrate::main(a),
         Command::Plot(a) => plot::main(a),
         Command::Audit(a) => audit::main(a),
+        Command::Report(a) => report::main(a),
         Command::Tradeoff(a) => tradeoff::main(a),
         Command::Batch(a) => batch::main(a),
         Command::Merge(a) => merge::main(a),

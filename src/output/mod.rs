@@ -12,6 +12,7 @@ pub mod atomic;
 pub mod audit;
 pub mod plot;
 pub mod probe;
+pub mod report;
 pub mod vtk;
 
 use crate::analysis::bruise::{AppleAssessment, ContactAssessment};
