@@ -190,7 +190,7 @@ fn files_carry_the_figures() {
         "RK4",
     );
     // velocity_change_m_s is the change of the apple's velocity over the impact pulse,
-    // (1 + e) v0 (docs/analysis.md): the impulse over m less gravity's m g t_c.
+    // (1 + e) v0 (docs/analysis.md), with e the RK4 rebound.
     let e_rk4 = rk4.rebound_m_s.unwrap() / v0;
     let dv = (1.0 + e_rk4) * v0;
     assert_ref(

@@ -59,14 +59,14 @@ pub fn line_report(dir: &Path, command: &str) -> Result<String, ReportError> {
         path: scp.clone(),
         source,
     })?;
-    let sc: serde_json::Value = serde_json::from_slice(&sc_text).map_err(|e| ReportError::Summary {
-        path: scp.clone(),
-        message: format!("not JSON: {e}"),
-    })?;
+    let sc: serde_json::Value =
+        serde_json::from_slice(&sc_text).map_err(|e| ReportError::Summary {
+            path: scp.clone(),
+            message: format!("not JSON: {e}"),
+        })?;
     let audit = read_audit(&dir.join("audit.csv"))?;
     let num = |v: &serde_json::Value, what: &str| {
-        v.as_f64()
-            .ok_or_else(|| bad(format!("no number `{what}`")))
+        v.as_f64().ok_or_else(|| bad(format!("no number `{what}`")))
     };
 
     let mut out = String::new();
@@ -103,8 +103,14 @@ pub fn line_report(dir: &Path, command: &str) -> Result<String, ReportError> {
     );
     let contacts = s["contacts"].as_array().map_or(0, |c| c.len());
     let _ = writeln!(out, "- {contacts} contacts.");
-    let diam: Vec<f64> = apples.iter().filter_map(|a| a["diameter_m"].as_f64()).collect();
-    let mass: Vec<f64> = apples.iter().filter_map(|a| a["mass_kg"].as_f64()).collect();
+    let diam: Vec<f64> = apples
+        .iter()
+        .filter_map(|a| a["diameter_m"].as_f64())
+        .collect();
+    let mass: Vec<f64> = apples
+        .iter()
+        .filter_map(|a| a["mass_kg"].as_f64())
+        .collect();
     let span = |v: &[f64], k: f64, d: usize| {
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
