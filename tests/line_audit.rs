@@ -216,6 +216,7 @@ fn the_instrumented_sphere_reads_peak_g_and_velocity_change_of_the_closed_forms(
         position_m: [0.0, 0.0, d / 2.0 + 1e-5],
         velocity_m_s: [0.0, 0.0, -v0],
         angular_velocity_rad_s: [0.0; 3],
+        on: None,
         probe: Some(ProbeSpec {
             sample_rate_hz: rate,
             ..ProbeSpec::default()

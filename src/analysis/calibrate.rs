@@ -310,6 +310,7 @@ impl ImpactSetup {
                 velocity_m_s: [0.0, 0.0, -v0],
                 angular_velocity_rad_s: [0.0; 3],
                 probe: None,
+                on: None,
             }],
             generators: Vec::new(),
             sources: Vec::new(),

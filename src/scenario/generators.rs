@@ -355,8 +355,13 @@ pub struct SourceSpec {
     /// Mass of every apple (kg); default from density.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_kg: Option<f64>,
-    /// Where apples appear (m).
+    /// Where apples appear (m); may be left out for a source placed `on` a surface.
+    #[serde(default = "super::layout::unset")]
     pub position_m: [f64; 3],
+    /// Placed on a surface, the spawn point resting on it (resolved into `position_m` when
+    /// loaded; the largest apple of the size distribution just clears it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub on: Option<super::layout::OnSpec>,
     /// Random offset of the appearing point, uniform in +- this on each axis (m).
     #[serde(default)]
     pub jitter_m: f64,
@@ -400,6 +405,7 @@ impl SourceSpec {
                         velocity_m_s: self.velocity_m_s,
                         angular_velocity_rad_s: [0.0; 3],
                         probe: None,
+                        on: None,
                     },
                 )
             })
@@ -488,6 +494,7 @@ pub fn expand(
                             velocity_m_s: s.velocity_m_s,
                             angular_velocity_rad_s: [0.0; 3],
                             probe: None,
+                            on: None,
                         });
                     }
                 }
@@ -558,6 +565,7 @@ pub fn expand(
                         velocity_m_s: s.velocity_m_s,
                         angular_velocity_rad_s: [0.0; 3],
                         probe: None,
+                        on: None,
                     });
                 } else if attempts > max_attempts {
                     return Err(ScenarioError::invalid(
@@ -594,6 +602,7 @@ pub fn expand(
                     velocity_m_s: s.velocity_m_s,
                     angular_velocity_rad_s: [0.0; 3],
                     probe: None,
+                    on: None,
                 })
                 .collect())
         }

@@ -8,6 +8,7 @@
 pub mod budget;
 mod de;
 pub mod generators;
+pub mod layout;
 pub mod models;
 pub mod presets;
 pub mod ranges;
@@ -622,8 +623,12 @@ pub struct AppleSpec {
     /// Mass (kg); default density x volume.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_kg: Option<f64>,
-    /// Centre (m).
+    /// Centre (m); may be left out for an apple placed `on` a surface.
+    #[serde(default = "layout::unset")]
     pub position_m: [f64; 3],
+    /// Placed on a surface (resolved into `position_m` when loaded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub on: Option<layout::OnSpec>,
     /// Centre velocity (m/s).
     #[serde(default)]
     pub velocity_m_s: [f64; 3],
@@ -644,6 +649,7 @@ pub struct AppleSpec {
 pub fn from_json(text: &str, file: &str) -> Result<Scenario, ScenarioError> {
     let mut sc: Scenario = parse_one(text, file)?;
     presets::resolve(&mut sc)?;
+    layout::resolve(&mut sc)?;
     Ok(sc)
 }
 

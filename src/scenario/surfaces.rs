@@ -184,6 +184,7 @@ pub struct BoxSpec {
     /// Full edge lengths along the local x, y, z axes (m).
     pub size_m: [f64; 3],
     /// Centre (m).
+    #[serde(default = "super::layout::unset")]
     pub position_m: [f64; 3],
     /// Orientation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -191,6 +192,9 @@ pub struct BoxSpec {
     /// Contact model.
     #[serde(default)]
     pub contact_model: ContactModel,
+    /// Placed relative to another surface (resolved into `position_m` when loaded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub place: Option<super::layout::PlaceSpec>,
 }
 
 /// A conveyor belt.
@@ -204,6 +208,7 @@ pub struct ConveyorSpec {
     /// Full edge lengths (m): length along local x, width along y, thickness along z.
     pub size_m: [f64; 3],
     /// Centre (m).
+    #[serde(default = "super::layout::unset")]
     pub position_m: [f64; 3],
     /// Orientation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -214,6 +219,9 @@ pub struct ConveyorSpec {
     /// Contact model.
     #[serde(default)]
     pub contact_model: ContactModel,
+    /// Placed relative to another surface (resolved into `position_m` when loaded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub place: Option<super::layout::PlaceSpec>,
 }
 
 /// Cross-section of a chute.
@@ -256,6 +264,7 @@ pub struct ChuteSpec {
     #[serde(default)]
     pub incline_deg: f64,
     /// Reference point (m).
+    #[serde(default = "super::layout::unset")]
     pub position_m: [f64; 3],
     /// Orientation applied after the incline (e.g. a heading about z).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -263,6 +272,9 @@ pub struct ChuteSpec {
     /// Contact model.
     #[serde(default)]
     pub contact_model: ContactModel,
+    /// Placed relative to another surface (resolved into `position_m` when loaded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub place: Option<super::layout::PlaceSpec>,
 }
 
 /// Per-wall materials of a bin; absent walls use the bin's `material`.
@@ -304,6 +316,7 @@ pub struct BinSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_thickness_m: Option<f64>,
     /// Centre of the floor's inside (top) face (m).
+    #[serde(default = "super::layout::unset")]
     pub position_m: [f64; 3],
     /// Orientation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -311,6 +324,9 @@ pub struct BinSpec {
     /// Contact model.
     #[serde(default)]
     pub contact_model: ContactModel,
+    /// Placed relative to another surface (resolved into `position_m` when loaded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub place: Option<super::layout::PlaceSpec>,
 }
 
 /// A triangle mesh.
