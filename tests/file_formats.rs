@@ -284,11 +284,15 @@ fn summary_keys_are_as_documented() {
             "bruise",
             "pulse_fits",
             "transitions",
+            "fates",
+            "throughput",
+            "sources",
         ],
     );
     assert_eq!(
         keys(&s["apples"][0]),
         sorted(&[
+            "fate",
             "name",
             "diameter_m",
             "mass_kg",

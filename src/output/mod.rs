@@ -55,6 +55,10 @@ pub struct Summary<'a> {
     pub apples: &'a [AppleFinal],
     /// Warnings.
     pub warnings: &'a [String],
+    /// Apples per fate, throughput per bin, what each source fed (`fates`, `throughput`,
+    /// `sources`).
+    #[serde(flatten)]
+    pub line: &'a crate::sim::fate::LineEnd,
     /// Key results as flat, unit-suffixed numbers (what `applesim merge` tabulates).
     pub metrics: &'a std::collections::BTreeMap<String, f64>,
     /// Bruise assessment: per apple, and the contacts over a threshold (all contacts in
@@ -279,6 +283,7 @@ pub fn write_summary_with(
         contacts: &r.events,
         apples: &r.apples,
         warnings: &r.warnings,
+        line: &r.line,
         metrics: &r.metrics,
         bruise: analysis.map(|a| BruiseSummary {
             apples_at_risk: a
