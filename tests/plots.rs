@@ -311,7 +311,10 @@ fn force_chart_default_window_is_around_the_impact_of_a_resting_apple() {
         recs.len(),
         500.0 - start_ms
     );
-    assert!(window >= impact_ms, "window to {window} ms, impact {impact_ms} ms");
+    assert!(
+        window >= impact_ms,
+        "window to {window} ms, impact {impact_ms} ms"
+    );
     assert!(
         window <= (1.0 + plot::IMPACT_WINDOW_MARGIN) * impact_ms + 0.1,
         "window to {window} ms, impact {impact_ms} ms"
@@ -330,10 +333,18 @@ fn force_chart_default_window_is_around_the_impact_of_a_resting_apple() {
     };
     let s = plot::plot_runs(std::slice::from_ref(&run), &run, &opts).unwrap();
     assert_eq!(force_window_end(&s.notes), 100.0, "{:?}", s.notes);
-    assert!(s.notes.iter().any(|n| n.contains("force chart: 1 to 100 ms")), "{:?}", s.notes);
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.contains("force chart: 1 to 100 ms")),
+        "{:?}",
+        s.notes
+    );
     // Bad windows are refused with the option named.
     for bad in ["5", "5:1", "a:2", "-1:3"] {
-        let e = plot::ChartWindow::parse("--window", bad, "ms").unwrap_err().to_string();
+        let e = plot::ChartWindow::parse("--window", bad, "ms")
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with(&format!("--window {bad}: ")), "{e}");
     }
 }
@@ -382,7 +393,13 @@ fn time_window_of_the_charts_against_time() {
             assert_eq!(has("0.065"), cut, "{}/{f}: {:?}", d.display(), svg.texts);
             assert_eq!(has("0.14"), !cut, "{}/{f}: {:?}", d.display(), svg.texts);
             if f == plot::SLIP_CHART {
-                assert_eq!(has("to rolling"), !cut, "{}/{f}: {:?}", d.display(), svg.texts);
+                assert_eq!(
+                    has("to rolling"),
+                    !cut,
+                    "{}/{f}: {:?}",
+                    d.display(),
+                    svg.texts
+                );
             }
         }
     }

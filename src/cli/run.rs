@@ -187,10 +187,25 @@ fn progress_bar(duration_s: f64) -> ProgressBar {
 /// A step length as a person writes it: 4 significant digits, small ones as 5e-5.
 fn step(x: f64) -> String {
     if x != 0.0 && x.abs() < 1e-3 {
-        let rounded: f64 = format!("{x:.3e}").parse().unwrap_or(x);
-        format!("{rounded:e}")
+        sci(x)
     } else {
         human(x, 4, 0)
+    }
+}
+
+/// `x` in e-notation to 4 significant digits, without trailing zeros (2.4e-4, 1e-3).
+fn sci(x: f64) -> String {
+    let rounded: f64 = format!("{x:.3e}").parse().unwrap_or(x);
+    format!("{rounded:e}")
+}
+
+/// An adaptive run's shortest and longest steps, both written alike ("2.4e-4 to 1e-3", not
+/// "2.4e-4 to 0.001").
+fn step_range(lo: f64, hi: f64) -> String {
+    if lo != 0.0 && lo.abs() < 1e-3 {
+        format!("{} to {}", sci(lo), sci(hi))
+    } else {
+        format!("{} to {}", step(lo), step(hi))
     }
 }
 
@@ -199,10 +214,9 @@ fn step(x: f64) -> String {
 fn steps_line(r: &RunResult) -> String {
     let steps = if r.step_policy == "adaptive" {
         format!(
-            "{} adaptive steps of {} to {} s",
+            "{} adaptive steps of {} s",
             r.steps,
-            step(r.step_range_s[0]),
-            step(r.step_range_s[1])
+            step_range(r.step_range_s[0], r.step_range_s[1])
         )
     } else {
         format!("{} steps of {} s", r.steps, step(r.time_step_s))
