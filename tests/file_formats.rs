@@ -276,6 +276,8 @@ fn summary_keys_are_as_documented() {
             "steps",
             "simulated_time_s",
             "time_step_s",
+            "step_policy",
+            "step_range_s",
             "wall_time_s",
             "contacts",
             "apples",

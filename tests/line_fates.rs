@@ -373,3 +373,119 @@ fn end_message_in_human_units_with_the_step_range_and_no_bar_on_a_pipe() {
     assert!(first.contains(" s (0.03 s simulated) in "), "{first}");
     assert!(first.contains(" to 1e-3 s ("), "{first}");
 }
+
+/// README, Outputs: every field of `apples[].fate` (each kind), `fates`, `throughput`, `sources`
+/// and the line's metrics is documented (as `name`), from the types `summary.json` is written
+/// from.
+#[test]
+fn readme_documents_the_line_end() {
+    use applesim::sim::fate::{
+        BinThroughput, Entry, Fate, FateCounts, LastContact, LeaveReason, LineEnd,
+    };
+    use applesim::world::{Blocker, SourceFeed};
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let start = readme.find("- `apples[].fate`").expect("the fate section");
+    let section = &readme[start..readme[start..].find("- `contacts.csv`").unwrap() + start];
+    let documented = |what: &str, v: &Value| {
+        for (k, x) in v.as_object().unwrap() {
+            let shown = if k == "kind" {
+                format!("`{}`", x.as_str().unwrap())
+            } else {
+                format!("`{k}`")
+            };
+            assert!(
+                section.contains(&shown),
+                "{what}: {shown} is not in the README"
+            );
+        }
+    };
+    let fates = [
+        Fate::InBin {
+            bin: "bin".into(),
+            entered_s: Some(1.0),
+        },
+        Fate::OnSurface {
+            surface: "belt".into(),
+        },
+        Fate::Floating {},
+        Fate::LeftScene {
+            reason: LeaveReason::BelowEverySurface,
+            time_s: 1.0,
+            position_m: [0.0; 3],
+            velocity_m_s: [0.0; 3],
+            last_surface: Some(LastContact {
+                surface: "belt".into(),
+                t_end_s: Some(0.5),
+            }),
+        },
+        Fate::Moving {
+            speed_m_s: 0.5,
+            in_bin: None,
+            on: None,
+        },
+    ];
+    for f in &fates {
+        let v = serde_json::to_value(f).unwrap();
+        documented(f.kind(), &v);
+        if let Some(l) = v.get("last_surface") {
+            documented("last_surface", l);
+        }
+    }
+    for r in [
+        LeaveReason::BelowEverySurface,
+        LeaveReason::OutsideSceneBounds,
+    ] {
+        let shown = format!("`{}`", serde_json::to_value(r).unwrap().as_str().unwrap());
+        assert!(section.contains(&shown), "{shown}");
+    }
+    documented(
+        "fates",
+        &serde_json::to_value(FateCounts::default()).unwrap(),
+    );
+    let bin = |name: &str| BinThroughput {
+        bin: name.into(),
+        apples: 2,
+        from_start: 0,
+        first_entry_s: Some(1.0),
+        last_entry_s: Some(2.0),
+        apples_per_s: Some(1.0),
+        entries: vec![
+            Entry {
+                apple: "a".into(),
+                time_s: 1.0,
+            },
+            Entry {
+                apple: "b".into(),
+                time_s: 2.0,
+            },
+        ],
+    };
+    let b = serde_json::to_value(bin("one")).unwrap();
+    documented("throughput", &b);
+    documented("throughput entries", &b["entries"][0]);
+    let feed = SourceFeed {
+        name: "feed".into(),
+        blocked_by: vec![Blocker {
+            what: "apple 'feed-1'".into(),
+            apples: 1,
+        }],
+        ..SourceFeed::default()
+    };
+    let s = serde_json::to_value(&feed).unwrap();
+    documented("sources", &s);
+    documented("blocked_by", &s["blocked_by"][0]);
+    let line = LineEnd {
+        fates: FateCounts::default(),
+        throughput: vec![bin("one"), bin("two")],
+        sources: vec![feed],
+    };
+    for (m, _) in line.metrics() {
+        let generic = m.replace(".one", ".NAME").replace(".two", ".NAME");
+        assert!(
+            section.contains(&format!("`{generic}`")),
+            "metric {generic} is not in the README"
+        );
+    }
+    // model.scene_bounds in the scenario reference.
+    assert!(readme.contains("| `model.scene_bounds` |"));
+}
