@@ -489,3 +489,34 @@ fn readme_documents_the_line_end() {
     // model.scene_bounds in the scenario reference.
     assert!(readme.contains("| `model.scene_bounds` |"));
 }
+
+/// The fates and the bin throughput are the same whatever the thread count (the line's first
+/// 6 s: apples have entered the bin, later ones are still on the belt).
+#[test]
+fn fates_and_throughput_do_not_depend_on_the_threads() {
+    let dir = tmp("threads");
+    let sc = line_scenario(&dir, |v| v["duration_s"] = json!(6.0));
+    let mut got = Vec::new();
+    for threads in ["1", "2"] {
+        let out = dir.join(format!("t{threads}"));
+        let o = applesim_run(&sc, &out, &["--quiet", "--threads", threads]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let s = json_file(&out.join("summary.json"));
+        let fates: Vec<Value> = s["apples"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|a| a["fate"].clone())
+            .collect();
+        got.push((fates, s["fates"].clone(), s["throughput"].clone()));
+    }
+    let (fates, counts, throughput) = &got[0];
+    println!("{counts}\n{throughput}");
+    assert!(
+        throughput[0]["apples"].as_u64().unwrap() > 0,
+        "apples reached the bin"
+    );
+    assert!(counts["moving"].as_u64().unwrap() > 0);
+    assert_eq!(got[0], got[1], "--threads 1 and 2");
+    assert_eq!(fates.len(), 20);
+}
