@@ -520,3 +520,51 @@ fn fates_and_throughput_do_not_depend_on_the_threads() {
     assert_eq!(got[0], got[1], "--threads 1 and 2");
     assert_eq!(fates.len(), 20);
 }
+
+/// On a terminal `applesim run` draws its bar (elapsed time, simulated time, time left) and
+/// clears it before the end message. The terminal is a pseudo-terminal from util-linux
+/// `script`; without it the test says so and passes.
+#[test]
+fn the_bar_is_drawn_on_a_terminal() {
+    let Ok(st) = Command::new("script").arg("--version").output() else {
+        println!("no `script` here: the terminal case is not tested");
+        return;
+    };
+    if !st.status.success() {
+        println!("`script` is not util-linux's: the terminal case is not tested");
+        return;
+    }
+    let dir = tmp("terminal");
+    let sc = line_scenario(&dir, line_without_chute);
+    let cmd = format!(
+        "'{}' run '{}' --out '{}'",
+        env!("CARGO_BIN_EXE_applesim"),
+        sc.display(),
+        dir.join("out").display()
+    );
+    let o = Command::new("script")
+        .args(["-qec", &cmd, "/dev/null"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{text}");
+    let bar = text
+        .split(['\r', '\n'])
+        .find(|l| l.contains(" of 1.5 s simulated, "))
+        .unwrap_or_else(|| panic!("no bar drawn: {text:?}"));
+    println!("{bar}");
+    // "00:00:00 [=>   ] 0.35 of 1.5 s simulated, 0s left"
+    assert!(
+        bar.contains("00:00:") && bar.contains('[') && bar.contains(" left"),
+        "{bar}"
+    );
+    // Cleared (erase line) before the end message, which follows it whole.
+    let end = text
+        .find("30000 steps of 5e-5 s (1.5 s simulated)")
+        .expect("end message");
+    assert!(
+        text[..end].ends_with("\x1b[2K"),
+        "{:?}",
+        &text[end.saturating_sub(80)..end]
+    );
+}

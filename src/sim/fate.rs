@@ -660,7 +660,9 @@ mod tests {
         assert_eq!(secs(2.41237), "2.412");
         assert_eq!(secs(10.0), "10");
         assert_eq!(secs(0.00005), "0.00005");
-        assert_eq!(human(-146.2345, 3, 3), "-146.235");
+        // Rounded from the binary value: -146.2345 is -146.23449999..., written -146.234.
+        assert_eq!(human(-146.2346, 3, 3), "-146.235");
+        assert_eq!(human(-146.2345, 3, 3), "-146.234");
         assert_eq!(human(-0.0001, 3, 3), "-0.0001");
         assert_eq!(human(-0.00001, 1, 3), "-0.00001");
     }
