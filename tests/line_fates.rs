@@ -568,3 +568,57 @@ fn the_bar_is_drawn_on_a_terminal() {
         &text[end.saturating_sub(80)..end]
     );
 }
+
+/// README, Many apples: a source's `mass_kg` is every fed apple's mass (summary.json apples[]
+/// and bodies.csv carry it); without it the mass comes from the density and each apple's own
+/// diameter; a mass that makes a density outside the range is refused, naming the field.
+#[test]
+fn a_source_mass_is_every_fed_apples_mass() {
+    let source = |mass: Option<f64>| {
+        let mut v = json!({
+            "duration_s": 0.3, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, 0],
+            "output": {"sample_interval_s": 1e-2, "force_history": false},
+            "materials": {"apple": {"shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800}},
+            "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
+            "sources": [{"name": "feed", "material": "apple",
+                "diameter_m": {"mean_m": 0.075, "spread_m": 0.005}, "position_m": [0, 0, 0],
+                "velocity_m_s": [1.0, 0, 0], "rate_per_s": 10, "count": 3, "seed": 7}]
+        });
+        if let Some(m) = mass {
+            v["sources"][0]["mass_kg"] = json!(m);
+        }
+        applesim::scenario::from_json(&v.to_string(), "source").and_then(|sc| {
+            applesim::scenario::validate(&sc)?;
+            Ok(sc)
+        })
+    };
+    let (r, _) = run(&source(Some(0.15)).unwrap());
+    assert_eq!(r.apples.len(), 3);
+    for a in &r.apples {
+        assert_eq!(a.mass_kg, 0.15, "{}", a.name);
+    }
+    let diameters: Vec<f64> = r.apples.iter().map(|a| a.diameter_m).collect();
+    assert!(diameters[0] != diameters[1], "{diameters:?}");
+    let (r, _) = run(&source(None).unwrap());
+    for a in &r.apples {
+        let want = 800.0 * std::f64::consts::PI / 6.0 * a.diameter_m.powi(3);
+        assert_rel(&a.name, a.mass_kg, want, 1e-12);
+    }
+    // 1e-5 kg (the least mass the ranges take) in an apple of 70 to 80 mm is 0.04 to 0.06
+    // kg/m^3, below the density range (1 kg/m^3 at least).
+    let e = source(Some(1e-5)).unwrap_err().to_string();
+    assert!(e.contains("sources[0].mass_kg"), "{e}");
+    // bodies.csv carries it on every row (CLI).
+    let dir = tmp("source_mass");
+    let path = dir.join("s.json");
+    let v: Value = serde_json::to_value(source(Some(0.15)).unwrap()).unwrap();
+    std::fs::write(&path, v.to_string()).unwrap();
+    let o = applesim_run(&path, &dir.join("out"), &["--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut rd = csv::Reader::from_path(dir.join("out/bodies.csv")).unwrap();
+    let h = rd.headers().unwrap().clone();
+    let m = h.iter().position(|c| c == "mass_kg").unwrap();
+    let rows: Vec<csv::StringRecord> = rd.records().map(|r| r.unwrap()).collect();
+    assert!(!rows.is_empty());
+    assert!(rows.iter().all(|r| &r[m] == "0.15"), "{:?}", rows[0]);
+}
