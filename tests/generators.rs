@@ -299,7 +299,8 @@ fn a_fed_apple_waits_for_its_spot() {
     assert!(
         r.warnings
             .iter()
-            .any(|w| w.contains("waited for their spot")),
+            .any(|w| w.starts_with("source 'feed': 1 apple waited, ")
+                && w.contains("for apple 'feed-1' to clear the spot")),
         "{:?}",
         r.warnings
     );

@@ -254,17 +254,7 @@ fn force_chart_window_keeps_landing_pulses_visible() {
     applesim::output::run_to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
     let s = plot::plot_runs(std::slice::from_ref(&run), &run, &PlotOptions::default()).unwrap();
     println!("{:?}", s.notes);
-    let note = s
-        .notes
-        .iter()
-        .find(|n| n.starts_with("force chart: the first"))
-        .unwrap();
-    let window: f64 = note["force chart: the first ".len()..]
-        .split(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let window = force_window_end(&s.notes);
     assert!(window < 50.0, "window {window} ms");
     // Whole impacts are not cut: the elastic drop of Fig. 1 is drawn to its end.
     let curve: Vec<(f64, f64)> = (0..=100)
@@ -274,4 +264,156 @@ fn force_chart_window_keeps_landing_pulses_visible() {
         })
         .collect();
     assert_eq!(plot::force_window_ms(&[&curve]), 5.6);
+}
+
+/// The end of the force chart's window (ms) from its note ("force chart: 0 to 12.3 ms since
+/// first touch (...)").
+fn force_window_end(notes: &[String]) -> f64 {
+    let note = notes
+        .iter()
+        .find(|n| n.starts_with("force chart: "))
+        .unwrap_or_else(|| panic!("no force chart window note in {notes:?}"));
+    let rest = &note[note.find(" to ").expect("FROM to TO") + 4..];
+    rest.split(' ').next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn force_chart_default_window_is_around_the_impact_of_a_resting_apple() {
+    // Issue 20: an apple dropped on the plate (ke = 0.09) lands, bounces once a millimetre and
+    // rests on it for the rest of the 0.5 s run: a contact of about 470 ms whose impact is over
+    // in a few ms. The default window spans the impact pulses and a fifth more (the landing's
+    // pulse lasts until it parts, 22 ms after the touch, the force slowly fading), not the
+    // whole contact; --window overrides it.
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.duration_s = 0.5;
+    sc.contact.ke = Some(0.09);
+    sc.apples[0].velocity_m_s = [0.0, 0.0, -0.5];
+    sc.output.force_history = true;
+    let root = tmp("plots_resting");
+    let run = root.join("rest");
+    applesim::output::run_to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
+    let contacts = std::fs::read_to_string(run.join("contacts.csv")).unwrap();
+    let mut rows = csv::Reader::from_reader(contacts.as_bytes());
+    let h = rows.headers().unwrap().clone();
+    let col = |n: &str| h.iter().position(|c| c == n).unwrap();
+    let recs: Vec<csv::StringRecord> = rows.records().map(|r| r.unwrap()).collect();
+    let num = |r: &csv::StringRecord, n: &str| r[col(n)].parse::<f64>().ok();
+    // The landing (the first contact) and, after the bounces, the rest to the end of the run.
+    let impact_ms = 1e3 * num(&recs[0], "impact_duration_s").unwrap();
+    let last = recs.last().unwrap();
+    assert!(last[col("t_end_s")].is_empty(), "still resting at the end");
+    let start_ms = 1e3 * num(last, "t_start_s").unwrap();
+    assert!(start_ms < 100.0, "resting from {start_ms} ms");
+    let s = plot::plot_runs(std::slice::from_ref(&run), &run, &PlotOptions::default()).unwrap();
+    let window = force_window_end(&s.notes);
+    println!(
+        "{} contacts, landing impact {impact_ms:.3} ms, resting contact {:.1} ms, default window to {window} ms",
+        recs.len(),
+        500.0 - start_ms
+    );
+    assert!(
+        window >= impact_ms,
+        "window to {window} ms, impact {impact_ms} ms"
+    );
+    assert!(
+        window <= (1.0 + plot::IMPACT_WINDOW_MARGIN) * impact_ms + 0.1,
+        "window to {window} ms, impact {impact_ms} ms"
+    );
+    assert!(
+        window < 0.1 * (500.0 - start_ms),
+        "window {window} ms of a {} ms contact",
+        500.0 - start_ms
+    );
+    read_svg(&run.join("force_time.svg"));
+
+    // --window FROM:TO replaces it.
+    let opts = PlotOptions {
+        force_window_ms: Some(plot::ChartWindow::parse("--window", "1:100", "ms").unwrap()),
+        ..PlotOptions::default()
+    };
+    let s = plot::plot_runs(std::slice::from_ref(&run), &run, &opts).unwrap();
+    assert_eq!(force_window_end(&s.notes), 100.0, "{:?}", s.notes);
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.contains("force chart: 1 to 100 ms")),
+        "{:?}",
+        s.notes
+    );
+    // Bad windows are refused with the option named.
+    for bad in ["5", "5:1", "a:2", "-1:3"] {
+        let e = plot::ChartWindow::parse("--window", bad, "ms")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with(&format!("--window {bad}: ")), "{e}");
+    }
+}
+
+#[test]
+fn time_window_of_the_charts_against_time() {
+    // Issue 20: `--time-window FROM:TO` (s) restricts the slip, speed and spin charts, in
+    // `applesim run --plots` and in `applesim plot`. Figs. 6-7's apple starts rolling at
+    // 48.5 ms: a window from 60 to 100 ms leaves the transition mark out and starts its time
+    // axis at 0.06 s.
+    let bin = env!("CARGO_BIN_EXE_applesim");
+    let dir = tmp("plots_time_window");
+    let st = std::process::Command::new(bin)
+        .arg("run")
+        .arg(repo("scenarios/slip_to_roll.json"))
+        .arg("--out")
+        .arg(dir.join("run"))
+        .args(["--plots", "--quiet", "--time-window", "0.06:0.1"])
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let whole = tmp("plots_time_window_whole");
+    let st = std::process::Command::new(bin)
+        .arg("plot")
+        .arg(dir.join("run"))
+        .arg("--out")
+        .arg(&whole)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let windowed = dir.join("plotted");
+    let st = std::process::Command::new(bin)
+        .arg("plot")
+        .arg(dir.join("run"))
+        .arg("--out")
+        .arg(&windowed)
+        .args(["--time-window", "0.06:0.1"])
+        .status()
+        .unwrap();
+    assert!(st.success());
+    for (d, cut) in [(dir.join("run"), true), (windowed, true), (whole, false)] {
+        for f in [plot::SLIP_CHART, plot::SPEED_CHART] {
+            let svg = read_svg(&d.join(f));
+            let has = |t: &str| svg.texts.iter().any(|x| x == t);
+            // The x axis: ticks every 5 ms inside the window, every 20 ms over the whole run.
+            assert_eq!(has("0.065"), cut, "{}/{f}: {:?}", d.display(), svg.texts);
+            assert_eq!(has("0.14"), !cut, "{}/{f}: {:?}", d.display(), svg.texts);
+            if f == plot::SLIP_CHART {
+                assert_eq!(
+                    has("to rolling"),
+                    !cut,
+                    "{}/{f}: {:?}",
+                    d.display(),
+                    svg.texts
+                );
+            }
+        }
+    }
+    // A bad window is refused before anything runs, naming the option.
+    let out = std::process::Command::new(bin)
+        .arg("run")
+        .arg(repo("scenarios/slip_to_roll.json"))
+        .arg("--out")
+        .arg(dir.join("bad"))
+        .args(["--plots", "--time-window", "0.1:0.05"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: --time-window 0.1:0.05: "), "{err}");
+    assert!(!dir.join("bad").exists());
 }

@@ -3,7 +3,9 @@
 use applesim::batch::isolate;
 use applesim::output;
 use applesim::output::plot::{self, PlotOptions};
+use applesim::sim::fate::{human, secs};
 use applesim::sim::RunResult;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Read};
 use std::path::{Path, PathBuf};
 
@@ -24,6 +26,14 @@ pub struct Args {
     /// output folder.
     #[arg(long)]
     plots: bool,
+    /// With --plots: time window FROM:TO of the force chart, in ms since first touch; default:
+    /// from the touch to the end of the longest impact pulse and a fifth more.
+    #[arg(long, value_name = "FROM:TO", requires = "plots")]
+    window: Option<String>,
+    /// With --plots: time window FROM:TO of the charts against time (slip, speed, angular
+    /// speed), in s of simulated time; default: the whole run.
+    #[arg(long, value_name = "FROM:TO", requires = "plots")]
+    time_window: Option<String>,
     /// Threads for the contact force pass (default: every core). The outputs do not depend on
     /// it, byte for byte.
     #[arg(long)]
@@ -42,14 +52,22 @@ pub fn main(a: Args) -> Result<(), String> {
         .scenario
         .clone()
         .expect("clap requires it without --batch-job");
+    let plot_options = PlotOptions {
+        force_window_ms: super::plot::windows(a.window.as_deref(), "--window", "ms")?,
+        time_window_s: super::plot::windows(a.time_window.as_deref(), "--time-window", "s")?,
+        ..PlotOptions::default()
+    };
     let (sc, base) = super::load_scenario(&scenario)?;
-    let tty = std::io::stderr().is_terminal() && !a.quiet;
-    let mut last = -1i64;
+    // The bar only on a terminal: a pipe or a log file gets no control characters.
+    let bar = (std::io::stderr().is_terminal() && !a.quiet).then(|| progress_bar(sc.duration_s));
     let mut progress = |f: f64| {
-        let pct = (f * 100.0) as i64;
-        if tty && pct != last {
-            last = pct;
-            eprint!("\r{pct:3} %");
+        if let Some(b) = &bar {
+            b.set_position((f * 1000.0).round() as u64);
+            b.set_message(format!(
+                "{} of {} s simulated",
+                human(f * sc.duration_s, 3, 2),
+                secs(sc.duration_s)
+            ));
         }
     };
     // The charts are drawn into the set before it is switched in, so they belong to it; their
@@ -57,7 +75,7 @@ pub fn main(a: Args) -> Result<(), String> {
     let mut plots: Option<(plot::PlotSummary, PathBuf)> = None;
     let mut draw = |dir: &Path, _: &RunResult| -> Result<(), output::RunError> {
         if a.plots {
-            let p = plot::plot_runs(&[dir.to_path_buf()], dir, &PlotOptions::default())?;
+            let p = plot::plot_runs(&[dir.to_path_buf()], dir, &plot_options)?;
             plots = Some((p, dir.to_path_buf()));
         }
         Ok(())
@@ -66,8 +84,8 @@ pub fn main(a: Args) -> Result<(), String> {
         output::run_to_dir_with(&sc, &base, &a.out, &mut progress, &mut draw)
     })?
     .map_err(|e| e.to_string());
-    if tty {
-        eprint!("\r      \r");
+    if let Some(b) = &bar {
+        b.finish_and_clear();
     }
     let r = r?;
     let plots = plots.map(|(mut p, staged)| {
@@ -83,10 +101,7 @@ pub fn main(a: Args) -> Result<(), String> {
         p
     });
     if !a.quiet {
-        println!(
-            "{} steps of {} s ({} s simulated) in {:.2} s wall time",
-            r.steps, r.time_step_s, r.simulated_time_s, r.wall_time_s
-        );
+        println!("{}", steps_line(&r));
         println!("{} contact events", r.events.len());
         if let Some(e) = r
             .events
@@ -94,8 +109,11 @@ pub fn main(a: Args) -> Result<(), String> {
             .max_by(|x, y| x.peak_force_n.total_cmp(&y.peak_force_n))
         {
             println!(
-                "largest peak force: {:.3} N, '{}' on '{}' at t = {:.6} s",
-                e.peak_force_n, e.a, e.b, e.t_peak_s
+                "largest peak force: {:.3} N, '{}' on '{}' at t = {} s",
+                e.peak_force_n,
+                e.a,
+                e.b,
+                secs(e.t_peak_s)
             );
         }
         if let Some(n) = r.metrics.get("bruised_apples") {
@@ -112,6 +130,12 @@ pub fn main(a: Args) -> Result<(), String> {
                 t.transitions,
                 t.apples.len()
             );
+        }
+        println!("{}", fates_line(&r));
+        for b in &r.line.throughput {
+            if b.apples > 0 {
+                println!("{}", bin_line(b));
+            }
         }
         for w in &r.warnings {
             println!("warning: {w}");
@@ -145,6 +169,105 @@ pub fn main(a: Args) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The progress bar of a run on a terminal: elapsed time, the bar, simulated time and the time
+/// left (as `applesim batch` shows its runs).
+fn progress_bar(duration_s: f64) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {msg}, {eta} left")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("0 of {} s simulated", secs(duration_s)));
+    bar
+}
+
+/// A step length as a person writes it: 4 significant digits, small ones as 5e-5.
+fn step(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-3 {
+        sci(x)
+    } else {
+        human(x, 4, 0)
+    }
+}
+
+/// `x` in e-notation to 4 significant digits, without trailing zeros (2.4e-4, 1e-3).
+fn sci(x: f64) -> String {
+    let rounded: f64 = format!("{x:.3e}").parse().unwrap_or(x);
+    format!("{rounded:e}")
+}
+
+/// An adaptive run's shortest and longest steps, both written alike ("2.4e-4 to 1e-3", not
+/// "2.4e-4 to 0.001").
+fn step_range(lo: f64, hi: f64) -> String {
+    if lo != 0.0 && lo.abs() < 1e-3 {
+        format!("{} to {}", sci(lo), sci(hi))
+    } else {
+        format!("{} to {}", step(lo), step(hi))
+    }
+}
+
+/// "200000 steps of 5e-5 s (10 s simulated) in 1.11 s wall time"; an adaptive run gives the
+/// range of its steps.
+fn steps_line(r: &RunResult) -> String {
+    let steps = if r.step_policy == "adaptive" {
+        format!(
+            "{} adaptive steps of {} s",
+            r.steps,
+            step_range(r.step_range_s[0], r.step_range_s[1])
+        )
+    } else {
+        format!("{} steps of {} s", r.steps, step(r.time_step_s))
+    };
+    format!(
+        "{steps} ({} s simulated) in {:.2} s wall time",
+        secs(r.simulated_time_s),
+        r.wall_time_s
+    )
+}
+
+/// Where the apples ended, counted: "20 apples: 20 in bins, 0 on surfaces, ...".
+fn fates_line(r: &RunResult) -> String {
+    let f = &r.line.fates;
+    let mut parts = vec![
+        format!("{} in bins", f.in_bin),
+        format!("{} on surfaces", f.on_surface),
+    ];
+    if f.floating > 0 {
+        parts.push(format!("{} at rest touching nothing", f.floating));
+    }
+    parts.push(format!("{} left the scene", f.left_scene));
+    parts.push(format!("{} moving at the end", f.moving));
+    if f.never_fed > 0 || !r.line.sources.is_empty() {
+        parts.push(format!("{} never fed in", f.never_fed));
+    }
+    format!(
+        "{} apple{}: {} (summary.json apples[].fate)",
+        r.apples.len(),
+        if r.apples.len() == 1 { "" } else { "s" },
+        parts.join(", ")
+    )
+}
+
+/// One bin's arrivals: "bin 'bin': 20 apples arrived from t = 3.614 to 8.364 s, 4 per second".
+fn bin_line(b: &applesim::sim::fate::BinThroughput) -> String {
+    let span = match (b.first_entry_s, b.last_entry_s) {
+        (Some(f), Some(l)) if l > f => format!(" from t = {} to {} s", secs(f), secs(l)),
+        (Some(f), _) => format!(" at t = {} s", secs(f)),
+        _ => String::new(),
+    };
+    let rate = b
+        .apples_per_s
+        .map(|x| format!(", {} per second", human(x, 4, 0)))
+        .unwrap_or_default();
+    format!(
+        "bin '{}': {} apple{} arrived{span}{rate}",
+        b.bin,
+        b.apples,
+        if b.apples == 1 { "" } else { "s" }
+    )
 }
 
 /// `applesim run --batch-job`: one run of a batch, in a process of its own. The answer goes to

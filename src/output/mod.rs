@@ -58,6 +58,10 @@ pub struct Summary<'a> {
     pub apples: &'a [AppleFinal],
     /// Warnings.
     pub warnings: &'a [String],
+    /// Apples per fate, throughput per bin, what each source fed (`fates`, `throughput`,
+    /// `sources`).
+    #[serde(flatten)]
+    pub line: &'a crate::sim::fate::LineEnd,
     /// Key results as flat, unit-suffixed numbers (what `applesim merge` tabulates).
     pub metrics: &'a std::collections::BTreeMap<String, f64>,
     /// Bruise assessment: per apple, and the contacts over a threshold (all contacts in
@@ -304,6 +308,7 @@ pub fn write_summary_with(
         contacts: &r.events,
         apples: &r.apples,
         warnings: &r.warnings,
+        line: &r.line,
         metrics: &r.metrics,
         bruise: analysis.map(|a| BruiseSummary {
             apples_at_risk: a
@@ -439,7 +444,7 @@ pub fn write_forces(path: &Path, events: &[ContactEvent]) -> std::io::Result<()>
 }
 
 /// Header of `pulse_fits.csv` (fields of [`PulseFit`]).
-pub const PULSE_FITS_HEADER: [&str; 18] = [
+pub const PULSE_FITS_HEADER: [&str; 19] = [
     "contact",
     "a",
     "b",
@@ -452,6 +457,7 @@ pub const PULSE_FITS_HEADER: [&str; 18] = [
     "converged",
     "k_p",
     "k_p_shape",
+    "k_p_measured",
     "peak_force_n",
     "contact_time_s",
     "restitution",
@@ -460,7 +466,8 @@ pub const PULSE_FITS_HEADER: [&str; 18] = [
     "eq15_error",
 ];
 
-/// Writes `pulse_fits.csv`; `eq15_error` is eq15_peak_force_n / peak_force_n - 1.
+/// Writes `pulse_fits.csv`: the fields of [`PulseFit`] (those of `summary.json`'s
+/// `pulse_fits`) plus `eq15_error`, eq15_peak_force_n / peak_force_n - 1.
 pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
     let f = AtomicFile::create(path)?;
     let mut w = csv::Writer::from_writer(f);
@@ -479,6 +486,7 @@ pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
             p.converged.to_string(),
             p.k_p.to_string(),
             p.k_p_shape.to_string(),
+            p.k_p_measured.to_string(),
             p.peak_force_n.to_string(),
             p.contact_time_s.to_string(),
             p.restitution.to_string(),

@@ -57,6 +57,86 @@ pub enum PlotError {
     /// A chart could not be drawn or written.
     #[error(transparent)]
     Chart(#[from] ChartError),
+    /// A time window given as an argument is not `FROM:TO` with FROM < TO.
+    #[error("{flag} {text}: {message}")]
+    BadWindow {
+        /// The option (`--window`, `--time-window`).
+        flag: String,
+        /// The argument as given.
+        text: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// A time window of a chart: the part of its time axis drawn, `from..=to` in the chart's own
+/// unit (ms since first touch for the force chart, s for the charts against time).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChartWindow {
+    /// Start.
+    pub from: f64,
+    /// End.
+    pub to: f64,
+}
+
+impl ChartWindow {
+    /// Parses `FROM:TO` (0 <= FROM < TO, in `unit`) given to the option `flag`; either end may
+    /// be left out (`:20` is 0 to 20, `5:` from 5 to the end).
+    pub fn parse(flag: &str, text: &str, unit: &str) -> Result<Self, PlotError> {
+        let bad = |message: String| PlotError::BadWindow {
+            flag: flag.to_string(),
+            text: text.to_string(),
+            message,
+        };
+        let (a, b) = text
+            .split_once(':')
+            .ok_or_else(|| bad(format!("give FROM:TO in {unit}, e.g. 0:20")))?;
+        let num = |s: &str, empty: f64| -> Result<f64, PlotError> {
+            let s = s.trim();
+            if s.is_empty() {
+                return Ok(empty);
+            }
+            s.parse::<f64>()
+                .ok()
+                .filter(|x| !x.is_nan())
+                .ok_or_else(|| bad(format!("'{s}' is not a number of {unit}")))
+        };
+        let (from, to) = (num(a, 0.0)?, num(b, f64::INFINITY)?);
+        if !(from >= 0.0 && from.is_finite() && to > from) {
+            return Err(bad(format!("needs 0 <= FROM < TO ({unit})")));
+        }
+        Ok(Self { from, to })
+    }
+
+    /// Whether `x` lies in the window.
+    pub fn contains(&self, x: f64) -> bool {
+        x >= self.from && x <= self.to
+    }
+
+    /// The part of a curve inside the window, with points interpolated where it crosses the
+    /// window's ends, so that a curve cut by the window still reaches its edge.
+    pub fn clip(&self, points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+        let mut out = Vec::new();
+        let at = |p: (f64, f64), q: (f64, f64), x: f64| {
+            let f = if q.0 != p.0 { (x - p.0) / (q.0 - p.0) } else { 0.0 };
+            (x, p.1 + f * (q.1 - p.1))
+        };
+        for (i, &p) in points.iter().enumerate() {
+            if let Some(&q) = i.checked_sub(1).and_then(|j| points.get(j)) {
+                // Entering through the start, or leaving through the end, between q and p.
+                if q.0 < self.from && p.0 > self.from {
+                    out.push(at(q, p, self.from));
+                }
+                if q.0 < self.to && p.0 > self.to {
+                    out.push(at(q, p, self.to));
+                }
+            }
+            if self.contains(p.0) {
+                out.push(p);
+            }
+        }
+        out
+    }
 }
 
 /// Choices of [`plot_runs`].
@@ -66,8 +146,11 @@ pub struct PlotOptions {
     pub max_series: usize,
     /// Only these apples (all when empty).
     pub apples: Vec<String>,
-    /// Time window of the force chart (ms from first touch); `None`: [`force_window_ms`].
-    pub window_ms: Option<f64>,
+    /// Time window of the force chart (ms since first touch); `None`: [`force_window`].
+    pub force_window_ms: Option<ChartWindow>,
+    /// Time window of the charts against time (slip, speed, angular speed; s of simulated
+    /// time); `None`: the whole run.
+    pub time_window_s: Option<ChartWindow>,
     /// Bin width of the rolling-start histogram (m).
     pub histogram_bin_m: f64,
 }
@@ -77,21 +160,92 @@ impl Default for PlotOptions {
         Self {
             max_series: 10,
             apples: Vec::new(),
-            window_ms: None,
+            force_window_ms: None,
+            time_window_s: None,
             histogram_bin_m: 0.05,
         }
     }
 }
 
-/// Below this share of its peak a contact's force counts as past its impact pulse.
+/// Below this share of its peak a contact's force counts as past its impact pulse (the fallback
+/// of [`force_window_ms`], for run folders without `impact_duration_s`).
 pub const PULSE_END_SHARE: f64 = 0.25;
 
-/// The automatic time window of the force chart (ms): five times the longest impact pulse (time
+/// The margin of the force chart's default window after the last impact pulse, as a share of
+/// that pulse: enough to see the force settle to its resting level, or reach zero.
+pub const IMPACT_WINDOW_MARGIN: f64 = 0.2;
+
+/// An impact reported longer than this many times its rise to the peak is no pulse: the contact
+/// record ends an impact at separation or when the overlap turns back to loading, and an apple
+/// that lands without rebounding (an overdamped landing on a belt) never turns back, so its
+/// "impact" spans its whole resting time. A rebound lasts about 1 to 5 times its rise (elastic:
+/// 2; eq. 12 with ke = 0.09: about 4.3).
+pub const PULSE_RISE_FACTOR: f64 = 20.0;
+
+/// The end of a curve's impact pulse (s since touch): `impact_duration_s` when it is a pulse,
+/// else the first instant after the peak when the force has come three quarters of the way down
+/// to the level it ends at (its resting load, or zero); `None` for a contact without an impact.
+pub fn pulse_end_s(c: &ForceCurve) -> Option<f64> {
+    let d = c.impact_duration_s?;
+    let (ipk, peak) = c
+        .points
+        .iter()
+        .enumerate()
+        .fold((0, f64::MIN), |a, (i, p)| if p.1 > a.1 { (i, p.1) } else { a });
+    let t_peak = c.points.get(ipk).map_or(0.0, |p| p.0);
+    if d <= PULSE_RISE_FACTOR * t_peak || t_peak <= 0.0 {
+        return Some(d);
+    }
+    let last = c.points.last().map_or(0.0, |p| p.1);
+    let level = last + PULSE_END_SHARE * (peak - last);
+    c.points[ipk..]
+        .iter()
+        .find(|p| p.1 <= level)
+        .map(|p| p.0)
+        .or(Some(d))
+}
+
+/// The default time window of the force chart (ms since first touch): from the touch to the end
+/// of the last impact pulse of the curves drawn ([`pulse_end_s`]: `contacts.csv`
+/// `impact_duration_s`, the pulse until the apple rebounds or its overlap turns back to loading),
+/// plus [`IMPACT_WINDOW_MARGIN`] of it, and no longer than the longest curve. An apple that
+/// lands and rests has a contact lasting seconds whose impact is over in milliseconds: spanning
+/// its resting force would squeeze every pulse against the axis. Curves without an impact
+/// (contacts that started at rest) do not set it; when no curve has one, the window spans them
+/// all, and a run folder written before `impact_duration_s` existed gets [`force_window_ms`].
+pub fn force_window(curves: &[&ForceCurve]) -> ChartWindow {
+    let longest = curves
+        .iter()
+        .filter_map(|c| c.points.last().map(|p| 1e3 * p.0))
+        .fold(0.0, f64::max);
+    let pulse = curves
+        .iter()
+        .filter_map(|c| pulse_end_s(c))
+        .fold(f64::NAN, f64::max);
+    let old_folder = curves.iter().any(|c| !c.impact_known);
+    let to = if old_folder {
+        let ms: Vec<Vec<(f64, f64)>> = curves
+            .iter()
+            .map(|c| c.points.iter().map(|&(t, p)| (1e3 * t, p)).collect())
+            .collect();
+        let refs: Vec<&[(f64, f64)]> = ms.iter().map(|c| c.as_slice()).collect();
+        force_window_ms(&refs)
+    } else if pulse.is_finite() {
+        (1e3 * pulse * (1.0 + IMPACT_WINDOW_MARGIN)).min(longest)
+    } else {
+        longest
+    };
+    ChartWindow {
+        from: 0.0,
+        to: if to > 0.0 { to } else { longest.max(f64::MIN_POSITIVE) },
+    }
+}
+
+/// A window from the curves' shapes alone (ms): five times the longest impact pulse (time
 /// from touch until the force first falls below [`PULSE_END_SHARE`] of its peak after the peak),
-/// but no longer than the longest contact. An apple that lands on a belt and rides it has one
-/// contact lasting seconds; the window keeps its landing pulse visible, as in the paper's
-/// figures, while whole impacts (which end within about 1.3 times their pulse, or 4.3 times
-/// for ke = 0.09) are drawn whole.
+/// but no longer than the longest contact. Whole impacts (which end within about 1.3 times
+/// their pulse, or 4.3 times for ke = 0.09) are drawn whole; a resting contact never falls
+/// below the share, so a run with one is better served by [`force_window`].
 pub fn force_window_ms(curves: &[&[(f64, f64)]]) -> f64 {
     let mut pulse = 0.0f64;
     let mut longest = 0.0f64;
@@ -110,6 +264,11 @@ pub fn force_window_ms(curves: &[&[(f64, f64)]]) -> f64 {
         pulse = pulse.max(end);
     }
     (5.0 * pulse).min(longest)
+}
+
+/// A time in ms as a note prints it: to 0.1 ms, finer below 1 ms.
+fn short_ms(x: f64) -> String {
+    crate::sim::fate::human(x, 2, 1)
 }
 
 /// What [`plot_runs`] wrote.
@@ -188,6 +347,7 @@ pub fn plot_runs(
 
     // Figs. 1-5: force against time since first touch.
     let mut force_series = Vec::new();
+    let mut drawn: Vec<&ForceCurve> = Vec::new();
     for (r, run) in runs.iter().enumerate() {
         if !run.has_forces {
             summary.notes.push(format!(
@@ -225,6 +385,7 @@ pub fn plot_runs(
                 > 1
         };
         for c in curves {
+            drawn.push(c);
             let when = if repeated(c) {
                 format!(" at {:.1} ms", c.t_start_s * 1e3)
             } else {
@@ -254,16 +415,18 @@ pub fn plot_runs(
             .iter()
             .filter_map(|s| s.points.last().map(|p| p.0))
             .fold(0.0, f64::max);
-        let window = opts.window_ms.unwrap_or_else(|| {
-            let c: Vec<&[(f64, f64)]> = force_series.iter().map(|s| s.points.as_slice()).collect();
-            force_window_ms(&c)
-        });
-        if window < longest {
+        let (window, why) = match opts.force_window_ms {
+            Some(w) => (w, "--window"),
+            None => (force_window(&drawn), "the impact pulses and a fifth more; --window"),
+        };
+        if window.from > 0.0 || window.to < longest {
             summary.notes.push(format!(
-                "force chart: the first {window:.1} ms of each contact (the longest lasts {longest:.1} ms; --window-ms)"
+                "force chart: {} to {} ms since first touch ({why}; the longest contact lasts {longest:.1} ms)",
+                short_ms(window.from),
+                short_ms(window.to.min(longest)),
             ));
             for s in &mut force_series {
-                s.points.retain(|p| p.0 <= window);
+                s.points = window.clip(&s.points);
             }
         }
         let chart = LineChart::new(
@@ -337,6 +500,22 @@ pub fn plot_runs(
                 label: format!("{}{} ({} rolling starts)", prefix(r), surface, x.len()),
                 points: histogram_outline(&edges, &counts),
             });
+        }
+    }
+    if let Some(w) = opts.time_window_s {
+        for s in speed.iter_mut().chain(spin.iter_mut()).chain(slip.iter_mut()) {
+            s.points = w.clip(&s.points);
+        }
+        for points in marks.values_mut() {
+            points.retain(|p| w.contains(p.0));
+        }
+        marks.retain(|_, p| !p.is_empty());
+        let series = speed.iter().chain(&slip);
+        if speed.len() + slip.len() > 0 && series.clone().all(|s| s.points.is_empty()) {
+            summary.notes.push(format!(
+                "--time-window {}:{} s holds no sample of the runs: the charts against time are empty",
+                w.from, w.to
+            ));
         }
     }
     if !slip.is_empty() {

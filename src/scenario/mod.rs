@@ -532,6 +532,28 @@ pub struct ModelSpec {
     /// ([`budget`]).
     #[serde(default = "default_max_output_mb")]
     pub max_output_mb: f64,
+    /// The box the scene lives in: an apple whose centre leaves it has left the scene (it is
+    /// reported and taken out of the run). Without it, only apples that fall below every
+    /// surface leave.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene_bounds: Option<BoundsSpec>,
+}
+
+/// An axis-aligned box (`model.scene_bounds`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundsSpec {
+    /// The corner with the smallest coordinates (m).
+    pub min_m: [f64; 3],
+    /// The corner with the largest coordinates (m).
+    pub max_m: [f64; 3],
+}
+
+impl BoundsSpec {
+    /// Whether the point `p` is inside the box (or on its faces).
+    pub fn contains(&self, p: [f64; 3]) -> bool {
+        (0..3).all(|i| p[i] >= self.min_m[i] && p[i] <= self.max_m[i])
+    }
 }
 
 fn default_max_memory_mb() -> f64 {
@@ -606,6 +628,7 @@ impl Default for ModelSpec {
             max_steps: default_max_steps(),
             max_memory_mb: default_max_memory_mb(),
             max_output_mb: default_max_output_mb(),
+            scene_bounds: None,
         }
     }
 }

@@ -301,6 +301,10 @@ pub fn validate(sc: &Scenario) -> R {
             ));
         }
     }
+    inside_bounds(sc, &all, |k| match made_by[k] {
+        None => format!("apples[{k}].position_m"),
+        Some(g) => format!("generators[{g}]"),
+    })?;
     check_apple_overlaps(&all, |j, i| match (made_by[j], made_by[i]) {
         (None, _) => format!("apples[{j}].position_m"),
         (Some(k), Some(l)) if k == l && matches!(sc.generators[k], GeneratorSpec::Grid(_)) => {
@@ -336,7 +340,68 @@ fn model(sc: &Scenario) -> R {
     ranges::MEMORY_BUDGET.check("model.max_memory_mb", m.max_memory_mb)?;
     ranges::OUTPUT_BUDGET.check("model.max_output_mb", m.max_output_mb)?;
     ranges::SPEED_THRESHOLD.check("model.sleep.speed_m_s", m.sleep.speed_m_s)?;
-    ranges::DURATION.check("model.sleep.time_s", m.sleep.time_s)
+    ranges::DURATION.check("model.sleep.time_s", m.sleep.time_s)?;
+    if let Some(b) = &m.scene_bounds {
+        ranges::POSITION.check_each("model.scene_bounds.min_m", b.min_m)?;
+        ranges::POSITION.check_each("model.scene_bounds.max_m", b.max_m)?;
+        for i in 0..3 {
+            if b.max_m[i] <= b.min_m[i] {
+                return Err(ScenarioError::invalid(
+                    format!("model.scene_bounds.max_m[{i}]"),
+                    format!(
+                        "{} m is not above min_m[{i}] = {} m: the box is empty",
+                        num(b.max_m[i]),
+                        num(b.min_m[i])
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Apples and sources' spawn regions must start inside `model.scene_bounds` (an apple outside
+/// would leave the scene at its first step): `apples` are those present at the start, `field`
+/// names the field of the k-th.
+fn inside_bounds(sc: &Scenario, all: &[AppleSpec], field: impl Fn(usize) -> String) -> R {
+    let Some(b) = &sc.model.scene_bounds else {
+        return Ok(());
+    };
+    let outside = |p: [f64; 3]| format!("[{}, {}, {}] m", num(p[0]), num(p[1]), num(p[2]));
+    let bounds = format!(
+        "model.scene_bounds ({} to {})",
+        outside(b.min_m),
+        outside(b.max_m)
+    );
+    for (k, a) in all.iter().enumerate() {
+        if !b.contains(a.position_m) {
+            return Err(ScenarioError::invalid(
+                field(k),
+                format!(
+                    "apple '{}' starts at {}, outside {bounds}: it would leave the scene at once",
+                    a.name,
+                    outside(a.position_m)
+                ),
+            ));
+        }
+    }
+    for (k, s) in sc.sources.iter().enumerate() {
+        let j = s.jitter_m;
+        let lo = [0, 1, 2].map(|i| s.position_m[i] - j);
+        let hi = [0, 1, 2].map(|i| s.position_m[i] + j);
+        if !(b.contains(lo) && b.contains(hi)) {
+            return Err(ScenarioError::invalid(
+                format!("sources[{k}].position_m"),
+                format!(
+                    "the spawn point of source '{}' ({} +- {} m) is outside {bounds}: its apples would leave the scene at once",
+                    s.name,
+                    outside(s.position_m),
+                    num(j)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn pairs(sc: &Scenario, mats: &BTreeMap<&str, Material>) -> R {

@@ -7,6 +7,7 @@
 //! a total energy that rises in a scene with no energy input (`model.energy_tolerance`), and runs
 //! that would take more than `model.max_steps` steps.
 
+pub mod fate;
 pub mod slip_roll;
 pub mod timestep;
 
@@ -107,6 +108,8 @@ pub struct AppleFinal {
     pub peak_pressure_pa: f64,
     /// Number of contact events of this apple.
     pub contacts: usize,
+    /// Where it ended: in a bin, on a surface, out of the scene, still moving.
+    pub fate: fate::Fate,
 }
 
 /// Everything a run produced.
@@ -140,6 +143,8 @@ pub struct RunResult {
     pub transition_summary: Option<TransitionSummary>,
     /// Things the user should know that did not stop the run.
     pub warnings: Vec<String>,
+    /// The line's end: apples per fate, throughput per bin, what each source fed.
+    pub line: fate::LineEnd,
     /// Key results as flat, unit-suffixed numbers (one row of a batch table): every feature that
     /// produces a headline figure adds its keys here. Only finite values.
     pub metrics: BTreeMap<String, f64>,
@@ -234,6 +239,8 @@ pub struct Simulation {
     detector: Option<Detector>,
     /// The virtual instrumented spheres: (apple, recorder).
     probes: Vec<(AppleId, crate::record::probe::ProbeRecorder)>,
+    /// Bin entries and apples leaving the scene, seen at the output samples.
+    tracker: fate::Tracker,
 }
 
 /// Watches the total energy of a scene without energy input (no belt, no moving body).
@@ -315,6 +322,7 @@ impl Simulation {
                     Some((id, crate::record::probe::ProbeRecorder::new(spec, m)))
                 })
                 .collect(),
+            tracker: fate::Tracker::new(sc),
             world,
         })
     }
@@ -372,7 +380,7 @@ impl Simulation {
             self.states.push(AppleState {
                 index: k as u32,
                 name: layer.apple_name(id).into(),
-                position: rb.translation(),
+                position: self.world.shown_position(k).unwrap_or(rb.translation()),
                 velocity: rb.linvel(),
                 angular_velocity: rb.angvel(),
                 contact_force: layer.apple_contact_force(id),
@@ -481,6 +489,7 @@ impl Simulation {
             sink.sample(self.time_s, &self.states)?;
             self.next_sample += 1;
             self.check_energy()?;
+            self.track();
         } else if self.step % 1000 == 0 {
             self.refresh_states();
             self.check_energy()?;
@@ -519,6 +528,15 @@ impl Simulation {
             }
         };
         Ok(())
+    }
+
+    /// Looks at the apples just sampled: bin entries, and apples that left the scene, which are
+    /// taken out of the run ([`fate`]).
+    fn track(&mut self) {
+        for k in self.tracker.observe(self.time_s, &self.states, &self.world) {
+            let at = self.states[k].position;
+            self.world.take_out(k, at);
+        }
     }
 
     /// Total mechanical energy (J) with the velocities taken at the poses' time (symplectic
@@ -609,6 +627,7 @@ impl Simulation {
         self.refresh_states();
         sink.sample(self.time_s, &self.states)?;
         self.check_energy()?;
+        self.track();
         let wall = start.elapsed().as_secs_f64();
         Ok(self.finish(wall))
     }
@@ -643,11 +662,15 @@ impl Simulation {
                 touch(j as usize);
             }
         }
+        let feeds = self.world.source_feeds(self.time_s);
+        let tracker = self.tracker;
+        let (fates, line) = tracker.finish(&self.states, &self.world, &events, feeds);
         let apples: Vec<AppleFinal> = self
             .states
             .iter()
+            .zip(fates)
             .enumerate()
-            .map(|(k, s)| AppleFinal {
+            .map(|(k, (s, fate))| AppleFinal {
                 name: s.name.to_string(),
                 diameter_m: s.diameter_m,
                 mass_kg: s.mass_kg,
@@ -657,21 +680,10 @@ impl Simulation {
                 peak_force_n: peak[k],
                 peak_pressure_pa: peak_p[k],
                 contacts: count[k],
+                fate,
             })
             .collect();
-        let mut warnings = Vec::new();
-        let postponed = self.world.postponed_emissions();
-        if postponed > 0 {
-            warnings.push(format!(
-                "{postponed} fed-in apples waited for their spot to clear (the source emits faster than apples leave it)"
-            ));
-        }
-        let pending = self.world.pending_emissions();
-        if pending > 0 {
-            warnings.push(format!(
-                "{pending} apples of the sources were never fed in: the run ended first"
-            ));
-        }
+        let mut warnings = fate::warnings(&apples, &line, self.time_s);
         let worst = events.iter().map(|e| (e.max_overlap_m, e)).fold(
             None::<(f64, &ContactEvent)>,
             |acc, x| match acc {
@@ -719,6 +731,7 @@ impl Simulation {
                 }
             }
         }
+        metrics.extend(line.metrics());
         let (transitions, transition_summary) = match self.detector.take() {
             Some(d) => {
                 let (t, s) = d.finish();
@@ -748,6 +761,7 @@ impl Simulation {
             roster: std::mem::take(&mut self.world.roster),
             warnings,
             probes,
+            line,
         }
     }
 }

@@ -23,10 +23,12 @@ use crate::layer::{
     AppleId, Coefficients, ContactLayer, Guard, LayerConfig, LayerError, MaterialId, SleepConfig,
     StepControl, SurfaceId, SurfaceOptions,
 };
-use crate::math::vec3;
+use crate::math::{vec3, Vec3};
 use crate::scenario::{self, AppleSpec, ContactModel, Fidelity, Scenario, ScenarioError, TimeStep};
-use rapier3d_f64::prelude::*;
 pub use roster::{apple_mass, sphere_mass, Origin, Roster, RosterApple};
+use rapier3d_f64::math::Pose;
+use rapier3d_f64::prelude::*;
+use serde::Serialize;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 use surfaces::SurfacePart;
@@ -73,10 +75,106 @@ pub struct World {
     pub surface_frames: Vec<Option<rapier3d_f64::math::Pose>>,
     /// Whether apples carry ball colliders (only when rapier itself must touch them).
     apple_colliders: bool,
+    /// The bins' inner boxes, in scenario order (where apples end and when they entered).
+    pub bins: Vec<BinBox>,
     materials: BTreeMap<String, (MaterialId, Material)>,
-    /// Emissions still to come: (planned time, source index, apple), in order.
-    pending: VecDeque<(f64, usize, AppleSpec)>,
-    postponed: u64,
+    /// Emissions still to come, in order of planned time.
+    pending: VecDeque<Feed>,
+    /// What each source fed in so far and what held it up (in scenario order).
+    feeds: Vec<SourceFeed>,
+    /// Per apple, where it left the scene if it was taken out of the run.
+    taken_out: Vec<Option<Vec3>>,
+}
+
+/// The inside of a bin: where an apple counts as in it (its centre inside the box bounded by
+/// the floor's top face and the walls' inner faces, up to the walls' height).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BinBox {
+    /// The bin's name (its walls are `NAME/floor`, `NAME/x_min`, ...).
+    pub name: String,
+    /// Centre of the floor's top face, and the bin's orientation.
+    pub frame: Pose,
+    /// Inside length (x), width (y) and wall height (z) (m).
+    pub inner_size_m: [f64; 3],
+}
+
+impl BinBox {
+    /// A point in the bin's frame: x, y from the floor's centre, z up from the floor's top face.
+    pub fn local(&self, p: Vec3) -> Vec3 {
+        self.frame.inverse_transform_point(p)
+    }
+
+    /// Whether the point `p` (an apple's centre) is inside the bin.
+    pub fn contains(&self, p: Vec3) -> bool {
+        let q = self.local(p);
+        let [lx, ly, h] = self.inner_size_m;
+        q.x.abs() <= lx / 2.0 && q.y.abs() <= ly / 2.0 && q.z >= 0.0 && q.z <= h
+    }
+}
+
+/// One planned emission of a source.
+#[derive(Debug, Clone)]
+struct Feed {
+    /// Planned time (s).
+    time_s: f64,
+    /// Index in `sources`.
+    source: usize,
+    apple: AppleSpec,
+    /// What first held it up (`apple 'feed-3'`), if its spot was taken when it was due.
+    blocker: Option<String>,
+}
+
+/// What a source fed in and what held it up: the `sources` section of `summary.json`.
+///
+/// An apple whose spot is taken when its time comes waits (and the source's later apples wait
+/// behind it, so that the order of the feed is kept); the waiting is counted in apples and
+/// seconds, with what took the spot, because a line designer reads it as "the feed is faster
+/// than the line clears it".
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct SourceFeed {
+    /// The source's name.
+    pub name: String,
+    /// Apples it was to feed (`count`).
+    pub count: usize,
+    /// Apples fed in.
+    pub fed: usize,
+    /// Apples whose time had not come when the run ended (never fed in).
+    pub not_due: usize,
+    /// Apples due but still waiting for their spot at the end (never fed in).
+    pub still_waiting: usize,
+    /// Apples that waited for their spot (fed in late, or still waiting at the end).
+    pub waited: usize,
+    /// Their waits together (s): entry (or the end) less planned time.
+    pub wait_total_s: f64,
+    /// The longest wait (s).
+    pub wait_longest_s: f64,
+    /// What took the spot, with the apples each held up, most first.
+    pub blocked_by: Vec<Blocker>,
+}
+
+/// Something that took a source's spot.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Blocker {
+    /// `apple 'NAME'` or `surface 'NAME'`.
+    pub what: String,
+    /// Apples of the source it held up.
+    pub apples: usize,
+}
+
+impl SourceFeed {
+    /// Counts one apple's wait of `wait_s` caused by `blocker`.
+    fn count_wait(&mut self, wait_s: f64, blocker: &str) {
+        self.waited += 1;
+        self.wait_total_s += wait_s;
+        self.wait_longest_s = self.wait_longest_s.max(wait_s);
+        match self.blocked_by.iter_mut().find(|b| b.what == blocker) {
+            Some(b) => b.apples += 1,
+            None => self.blocked_by.push(Blocker {
+                what: blocker.to_string(),
+                apples: 1,
+            }),
+        }
+    }
 }
 
 /// The layer's coefficients and sub-models of a pair's contact law (validated: the eq. 12
@@ -166,9 +264,19 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         roster: Roster::default(),
         surface_colliders: Vec::new(),
         surface_frames: Vec::new(),
+        bins: bins(sc)?,
         materials,
         pending: VecDeque::new(),
-        postponed: 0,
+        feeds: sc
+            .sources
+            .iter()
+            .map(|s| SourceFeed {
+                name: s.name.clone(),
+                count: s.count as usize,
+                ..SourceFeed::default()
+            })
+            .collect(),
+        taken_out: Vec::new(),
         apple_colliders: rigid
             || sc
                 .surfaces
@@ -194,7 +302,17 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     }
     world.layer.check_conformity()?;
     check_initial_surface_overlaps(sc, &plan.initial, &world)?;
-    world.pending = plan.feeds.into();
+    check_spawn_points(sc, &world)?;
+    world.pending = plan
+        .feeds
+        .into_iter()
+        .map(|(time_s, source, apple)| Feed {
+            time_s,
+            source,
+            apple,
+            blocker: None,
+        })
+        .collect();
 
     // Apples with colliders (rapier's own contact with rigid surfaces): a step of length zero runs
     // rapier's collision detection only, so the rigid contacts touching at t = 0 are known before
@@ -317,31 +435,41 @@ impl World {
 
     /// Feeds in the apples of sources whose time has come (at time `t`). An apple whose spot is
     /// still taken waits for it to clear (it and the ones after it from the same source are
-    /// postponed, in order). Returns how many appeared.
+    /// postponed, in order); what took the spot is remembered for the report. Returns how many
+    /// appeared.
     pub fn emit_due(&mut self, t: f64) -> Result<usize, BuildError> {
         let mut emitted = 0;
-        let mut blocked_sources: Vec<usize> = Vec::new();
+        // Sources held up in this call, with what holds them.
+        let mut blocked: Vec<(usize, String)> = Vec::new();
         let mut kept = VecDeque::new();
         while let Some(front) = self.pending.front() {
-            if front.0 > t + 1e-12 {
+            if front.time_s > t + 1e-12 {
                 break;
             }
-            let (when, src, a) = self.pending.pop_front().unwrap();
-            if blocked_sources.contains(&src) || !self.spot_is_free(&a) {
-                if !blocked_sources.contains(&src) {
-                    blocked_sources.push(src);
-                    self.postponed += 1;
-                }
-                kept.push_back((when, src, a));
+            let mut f = self.pending.pop_front().expect("front exists");
+            let held = match blocked.iter().find(|(s, _)| *s == f.source) {
+                Some((_, by)) => Some(by.clone()),
+                None => self.spot_taken_by(&f.apple).inspect(|by| {
+                    blocked.push((f.source, by.clone()));
+                }),
+            };
+            if let Some(by) = held {
+                f.blocker.get_or_insert(by);
+                kept.push_back(f);
                 continue;
             }
             self.add_apple(
-                &a,
+                &f.apple,
                 Origin::Fed {
-                    source: src,
-                    time_s: when,
+                    source: f.source,
+                    time_s: f.time_s,
                 },
             )?;
+            let feed = &mut self.feeds[f.source];
+            feed.fed += 1;
+            if let Some(by) = &f.blocker {
+                feed.count_wait(t - f.time_s, by);
+            }
             emitted += 1;
         }
         while let Some(x) = kept.pop_back() {
@@ -354,9 +482,26 @@ impl World {
         Ok(emitted)
     }
 
-    /// Emissions postponed because the spot was taken.
-    pub fn postponed_emissions(&self) -> u64 {
-        self.postponed
+    /// What each source fed in and what held it up, for a run that ended at `end_s`: the apples
+    /// still pending are counted as still waiting (their spot was taken when they were due) or
+    /// not due (their time had not come).
+    pub fn source_feeds(&self, end_s: f64) -> Vec<SourceFeed> {
+        let mut out = self.feeds.clone();
+        for f in &self.pending {
+            let feed = &mut out[f.source];
+            match &f.blocker {
+                Some(by) => {
+                    feed.still_waiting += 1;
+                    feed.count_wait((end_s - f.time_s).max(0.0), by);
+                }
+                None => feed.not_due += 1,
+            }
+        }
+        for feed in &mut out {
+            // Most apples held up first; ties in order of appearance (a stable sort).
+            feed.blocked_by.sort_by(|a, b| b.apples.cmp(&a.apples));
+        }
+        out
     }
 
     /// Emissions still to come.
@@ -364,29 +509,228 @@ impl World {
         self.pending.len()
     }
 
-    fn spot_is_free(&self, a: &AppleSpec) -> bool {
+    /// What takes the spot of a due apple: another apple it would overlap, or a surface it would
+    /// sink into deeper than an apple may be placed ([`MAX_INITIAL_SURFACE_OVERLAP_RATIO`]; a
+    /// static surface cannot, the spawn points were checked when the world was built, but a
+    /// library user may move one).
+    fn spot_taken_by(&self, a: &AppleSpec) -> Option<String> {
         let p = vec3(a.position_m);
         let r = a.diameter_m / 2.0;
         for (k, &bh) in self.apple_bodies.iter().enumerate() {
             let q = self.physics.bodies[bh].translation();
-            let rr = self.layer.apple_radius(AppleId(k as u32));
-            if (q - p).length() < r + rr {
-                return false;
+            let id = AppleId(k as u32);
+            if (q - p).length() < r + self.layer.apple_radius(id) {
+                return Some(format!("apple '{}'", self.layer.apple_name(id)));
             }
         }
         let mut hits = Vec::new();
         for (s, &ch) in self.surface_colliders.iter().enumerate() {
             if let Some(co) = self.physics.colliders.get(ch) {
                 hits.clear();
-                let shape = self.layer.surface_shape(SurfaceId(s as u32));
-                crate::layer::surface::surface_hits(shape, co, p, r, 0.0, &mut hits);
-                if hits.iter().any(|h| h.overlap_m > 0.0) {
-                    return false;
+                let id = SurfaceId(s as u32);
+                crate::layer::surface::surface_hits(
+                    self.layer.surface_shape(id),
+                    co,
+                    p,
+                    r,
+                    0.0,
+                    &mut hits,
+                );
+                if hits
+                    .iter()
+                    .any(|h| h.overlap_m > MAX_INITIAL_SURFACE_OVERLAP_RATIO * r)
+                {
+                    return Some(format!("surface '{}'", self.layer.surface_name(id)));
                 }
             }
         }
-        true
+        None
     }
+
+    /// The height (along `up`, a unit vector against gravity) of the lowest point of every
+    /// surface, read from the colliders now (a library user may move or remove them): `None`
+    /// when there is no surface, or one reaches down without end (a plane that is not level).
+    /// An apple more than its diameter below it has nothing left to land on.
+    pub fn lowest_surface_height(&self, up: Vec3) -> Option<f64> {
+        let mut lowest = f64::INFINITY;
+        for &ch in &self.surface_colliders {
+            let Some(co) = self.physics.colliders.get(ch) else {
+                continue;
+            };
+            let h = match co.shape().as_halfspace() {
+                Some(hs) => {
+                    let n = co.rotation() * hs.normal;
+                    if n.dot(up) > 1.0 - 1e-9 {
+                        co.translation().dot(up)
+                    } else {
+                        return None;
+                    }
+                }
+                None => {
+                    let b = co.compute_aabb();
+                    let (lo, hi) = (b.mins, b.maxs);
+                    let mut h = f64::INFINITY;
+                    for c in 0..8 {
+                        let corner = Vec3::new(
+                            if c & 1 == 0 { lo.x } else { hi.x },
+                            if c & 2 == 0 { lo.y } else { hi.y },
+                            if c & 4 == 0 { lo.z } else { hi.z },
+                        );
+                        h = h.min(corner.dot(up));
+                    }
+                    h
+                }
+            };
+            if !h.is_finite() {
+                return None;
+            }
+            lowest = lowest.min(h);
+        }
+        lowest.is_finite().then_some(lowest)
+    }
+
+    /// Takes apple `k` out of the simulation (it left the scene at `at`): rapier no longer moves
+    /// it, and it is parked far from everything, each apple at its own spot, where no contact
+    /// can reach it; [`Self::shown_position`] still gives `at`, the place where it left. An
+    /// apple falling for ever would otherwise cost steps for nothing (an adaptive run shortens
+    /// its steps so that no apple moves more than half of rapier's prediction distance per step,
+    /// which a fast fall makes tiny), and one frozen where it left would be an obstacle hanging
+    /// in the air for the apples that follow it.
+    pub fn take_out(&mut self, k: usize, at: Vec3) {
+        if self.taken_out.len() <= k {
+            self.taken_out.resize(k + 1, None);
+        }
+        let parked = self.taken_out.iter().filter(|x| x.is_some()).count();
+        self.taken_out[k] = Some(at);
+        if let Some(rb) = self.physics.bodies.get_mut(self.apple_bodies[k]) {
+            rb.set_linvel(Vec3::ZERO, false);
+            rb.set_angvel(Vec3::ZERO, false);
+            // Apples are at most 1 m wide (the diameter range): 3 m apart never touch, and
+            // PARKING_M below the origin is beyond any scene (positions are at most 1e4 m).
+            let spot = Vec3::new(3.0 * parked as f64, 0.0, -PARKING_M);
+            rb.set_translation(spot, false);
+            rb.set_enabled(false);
+        }
+    }
+
+    /// Where to show apple `k`: the place where it left the scene when it was taken out
+    /// ([`Self::take_out`]), else `None` (its body's own position).
+    pub fn shown_position(&self, k: usize) -> Option<Vec3> {
+        self.taken_out.get(k).copied().flatten()
+    }
+}
+
+/// How far below the origin apples taken out of the run are parked (m).
+const PARKING_M: f64 = 1e5;
+
+/// The inner boxes of the scenario's bins.
+fn bins(sc: &Scenario) -> Result<Vec<BinBox>, ScenarioError> {
+    let mut out = Vec::new();
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        if let scenario::SurfaceSpec::Bin(b) = s {
+            let rotation =
+                scenario::surfaces::rotation_of(&b.rotation, &format!("surfaces[{k}]"))?;
+            out.push(BinBox {
+                name: b.name.clone(),
+                frame: Pose::from_parts(vec3(b.position_m), rotation),
+                inner_size_m: b.inner_size_m,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// A source whose spawn point overlaps a surface could never feed an apple (each would wait for
+/// its spot for ever): refused before the run, naming the source and the surface. The spawn
+/// region is `position_m` +- `jitter_m` on each axis, with the source's largest diameter; it is
+/// probed at its centre, corners, edge and face centres (exact for planes and for flat faces,
+/// whose overlap is largest at a corner of the region), and an overlap up to
+/// [`MAX_INITIAL_SURFACE_OVERLAP_RATIO`] of the radius is allowed, as for an apple placed at the
+/// start.
+fn check_spawn_points(sc: &Scenario, world: &World) -> Result<(), ScenarioError> {
+    let mut hits = Vec::new();
+    for (k, src) in sc.sources.iter().enumerate() {
+        let d = src.diameter_m.max_m();
+        let r = d / 2.0;
+        let j = src.jitter_m;
+        let centre = vec3(src.position_m);
+        let offsets: &[f64] = if j > 0.0 { &[0.0, -1.0, 1.0] } else { &[0.0] };
+        // The deepest overlap at a probe: (overlap, surface, point).
+        let deepest = |p: Vec3, hits: &mut Vec<crate::layer::surface::SurfaceHit>| {
+            let mut worst: Option<(f64, SurfaceId, Vec3)> = None;
+            for (s, &ch) in world.surface_colliders.iter().enumerate() {
+                let Some(co) = world.physics.colliders.get(ch) else {
+                    continue;
+                };
+                let id = SurfaceId(s as u32);
+                hits.clear();
+                let shape = world.layer.surface_shape(id);
+                crate::layer::surface::surface_hits(shape, co, p, r, 0.0, hits);
+                for h in hits.iter() {
+                    if worst.is_none_or(|w| h.overlap_m > w.0) {
+                        worst = Some((h.overlap_m, id, p));
+                    }
+                }
+            }
+            worst
+        };
+        let allowed = MAX_INITIAL_SURFACE_OVERLAP_RATIO * r;
+        // The centre names position_m; a corner of the jitter region only, jitter_m.
+        let mut found = deepest(centre, &mut hits)
+            .filter(|w| w.0 > allowed)
+            .map(|w| (w, true));
+        if found.is_none() {
+            for &ox in offsets {
+                for &oy in offsets {
+                    for &oz in offsets {
+                        let p = centre + j * Vec3::new(ox, oy, oz);
+                        if let Some(w) = deepest(p, &mut hits).filter(|w| w.0 > allowed) {
+                            if found.is_none_or(|(f, _)| w.0 > f.0) {
+                                found = Some((w, false));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let Some(((u, s, p), at_centre)) = found else {
+            continue;
+        };
+        let surface = world.layer.surface_name(s);
+        let at = format!("[{}, {}, {}] m", short(p.x), short(p.y), short(p.z));
+        return Err(if at_centre {
+            ScenarioError::invalid(
+                format!("sources[{k}].position_m"),
+                format!(
+                    "the spawn point of source '{}' overlaps surface '{surface}' by {:.1} mm (an apple of its largest diameter, {} m, centred at {at}): none of its apples could be fed in; move position_m at least that far clear of the surface",
+                    src.name,
+                    u * 1e3,
+                    short(d),
+                ),
+            )
+        } else {
+            ScenarioError::invalid(
+                format!("sources[{k}].jitter_m"),
+                format!(
+                    "the spawn region of source '{}' (position_m +- {} m) overlaps surface '{surface}' by {:.1} mm (an apple of its largest diameter, {} m, centred at {at}): apples placed there could not be fed in; reduce jitter_m or move position_m clear of the surface",
+                    src.name,
+                    short(j),
+                    u * 1e3,
+                    short(d),
+                ),
+            )
+        });
+    }
+    Ok(())
+}
+
+/// A coordinate as a person writes it: 6 significant digits, no trailing zeros
+/// (0.8420000000000001 -> 0.842).
+fn short(x: f64) -> String {
+    format!("{x:.5e}")
+        .parse::<f64>()
+        .map(|y| y.to_string())
+        .unwrap_or_else(|_| x.to_string())
 }
 
 fn check_initial_surface_overlaps(

@@ -27,6 +27,12 @@ pub struct ForceCurve {
     pub t_start_s: f64,
     /// Peak force (N).
     pub peak_force_n: f64,
+    /// Duration of its impact pulse (s; `contacts.csv` `impact_duration_s`): `None` for a
+    /// contact that started at rest, or a run folder written before the column existed.
+    pub impact_duration_s: Option<f64>,
+    /// Whether `contacts.csv` has the `impact_duration_s` column (run folders written before it
+    /// existed do not).
+    pub impact_known: bool,
     /// (time since first touch s, force N), with the zero-force touch and parting instants.
     pub points: Vec<(f64, f64)>,
 }
@@ -124,6 +130,11 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
             &mut rd,
             &["a", "b", "t_start_s", "t_end_s", "peak_force_n"],
         )?;
+        // Older run folders have no impact column: their charts fall back to the force curve.
+        let impact_col = rd
+            .headers()
+            .ok()
+            .and_then(|h| h.iter().position(|c| c == "impact_duration_s"));
         let mut by_index = Vec::new();
         for rec in rd.records() {
             let rec = rec.map_err(|e| parse_error(&contacts_path, e))?;
@@ -135,6 +146,12 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
                 b: rec[c[1]].to_string(),
                 t_start_s: t0,
                 peak_force_n: num(&contacts_path, &rec[c[4]])?,
+                impact_duration_s: match impact_col {
+                    Some(i) => Some(num(&contacts_path, rec.get(i).unwrap_or(""))?)
+                        .filter(|x| x.is_finite()),
+                    None => None,
+                },
+                impact_known: impact_col.is_some(),
                 points: if t1.is_finite() {
                     vec![(t1 - t0, 0.0)]
                 } else {
