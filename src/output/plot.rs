@@ -118,7 +118,11 @@ impl ChartWindow {
     pub fn clip(&self, points: &[(f64, f64)]) -> Vec<(f64, f64)> {
         let mut out = Vec::new();
         let at = |p: (f64, f64), q: (f64, f64), x: f64| {
-            let f = if q.0 != p.0 { (x - p.0) / (q.0 - p.0) } else { 0.0 };
+            let f = if q.0 != p.0 {
+                (x - p.0) / (q.0 - p.0)
+            } else {
+                0.0
+            };
             (x, p.1 + f * (q.1 - p.1))
         };
         for (i, &p) in points.iter().enumerate() {
@@ -187,11 +191,11 @@ pub const PULSE_RISE_FACTOR: f64 = 20.0;
 /// to the level it ends at (its resting load, or zero); `None` for a contact without an impact.
 pub fn pulse_end_s(c: &ForceCurve) -> Option<f64> {
     let d = c.impact_duration_s?;
-    let (ipk, peak) = c
-        .points
-        .iter()
-        .enumerate()
-        .fold((0, f64::MIN), |a, (i, p)| if p.1 > a.1 { (i, p.1) } else { a });
+    let (ipk, peak) =
+        c.points.iter().enumerate().fold(
+            (0, f64::MIN),
+            |a, (i, p)| if p.1 > a.1 { (i, p.1) } else { a },
+        );
     let t_peak = c.points.get(ipk).map_or(0.0, |p| p.0);
     if d <= PULSE_RISE_FACTOR * t_peak || t_peak <= 0.0 {
         return Some(d);
@@ -237,7 +241,11 @@ pub fn force_window(curves: &[&ForceCurve]) -> ChartWindow {
     };
     ChartWindow {
         from: 0.0,
-        to: if to > 0.0 { to } else { longest.max(f64::MIN_POSITIVE) },
+        to: if to > 0.0 {
+            to
+        } else {
+            longest.max(f64::MIN_POSITIVE)
+        },
     }
 }
 
@@ -417,7 +425,10 @@ pub fn plot_runs(
             .fold(0.0, f64::max);
         let (window, why) = match opts.force_window_ms {
             Some(w) => (w, "--window"),
-            None => (force_window(&drawn), "the impact pulses and a fifth more; --window"),
+            None => (
+                force_window(&drawn),
+                "the impact pulses and a fifth more; --window",
+            ),
         };
         if window.from > 0.0 || window.to < longest {
             summary.notes.push(format!(
@@ -503,7 +514,11 @@ pub fn plot_runs(
         }
     }
     if let Some(w) = opts.time_window_s {
-        for s in speed.iter_mut().chain(spin.iter_mut()).chain(slip.iter_mut()) {
+        for s in speed
+            .iter_mut()
+            .chain(spin.iter_mut())
+            .chain(slip.iter_mut())
+        {
             s.points = w.clip(&s.points);
         }
         for points in marks.values_mut() {

@@ -266,9 +266,15 @@ mod tests {
             "{i:?} {dv}"
         );
         assert!((i.t_start_s - 0.005).abs() < 2e-6 && (i.t_end_s - 0.009).abs() < 2e-6);
-        // The trace holds the window: 1 ms before the trigger to 1 ms after the fall.
+        // The trace holds the window: 1 ms before the trigger to 1 ms after the reading fell back
+        // under it (sin(pi x) = 5 / 100 at x = 1 - asin(0.05) / pi).
+        let fall = 0.005 + len * (1.0 - (0.05f64).asin() / std::f64::consts::PI);
         assert!(trace.first().unwrap().0 < i.t_trigger_s - 0.99e-3);
-        assert!(trace.last().unwrap().0 > 0.009 + 0.99e-3);
+        let last = trace.last().unwrap().0;
+        assert!(
+            last > fall + 0.99e-3 && last < fall + 1.01e-3,
+            "{last} {fall}"
+        );
     }
 
     /// Sampled more coarsely than the steps, the reading is the interpolated value at each

@@ -309,9 +309,7 @@ impl Tracker {
                 let b = bin.expect("checked");
                 let when = match track.prev {
                     // Present from the start: not an arrival.
-                    None if !matches!(world.roster.apples()[k].origin, Origin::Fed { .. }) => {
-                        None
-                    }
+                    None if !matches!(world.roster.apples()[k].origin, Origin::Fed { .. }) => None,
                     // Fed in inside the bin: it arrived when it appeared.
                     None => Some(t),
                     // Crossed the walls' top between the last sample and this one.

@@ -25,9 +25,9 @@ use crate::layer::{
 };
 use crate::math::{vec3, Vec3};
 use crate::scenario::{self, AppleSpec, ContactModel, Fidelity, Scenario, ScenarioError, TimeStep};
-pub use roster::{apple_mass, sphere_mass, Origin, Roster, RosterApple};
 use rapier3d_f64::math::Pose;
 use rapier3d_f64::prelude::*;
+pub use roster::{apple_mass, sphere_mass, Origin, Roster, RosterApple};
 use serde::Serialize;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
@@ -628,8 +628,7 @@ fn bins(sc: &Scenario) -> Result<Vec<BinBox>, ScenarioError> {
     let mut out = Vec::new();
     for (k, s) in sc.surfaces.iter().enumerate() {
         if let scenario::SurfaceSpec::Bin(b) = s {
-            let rotation =
-                scenario::surfaces::rotation_of(&b.rotation, &format!("surfaces[{k}]"))?;
+            let rotation = scenario::surfaces::rotation_of(&b.rotation, &format!("surfaces[{k}]"))?;
             out.push(BinBox {
                 name: b.name.clone(),
                 frame: Pose::from_parts(vec3(b.position_m), rotation),
