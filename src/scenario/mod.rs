@@ -9,6 +9,7 @@ pub mod budget;
 mod de;
 pub mod generators;
 pub mod models;
+pub mod motion;
 pub mod presets;
 pub mod ranges;
 pub mod stepping;
