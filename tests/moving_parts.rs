@@ -32,7 +32,8 @@ fn materials() -> Value {
 fn e_star() -> f64 {
     let a = Material::from_shear(APPLE.0, APPLE.1, None).unwrap();
     let s = Material::from_shear(STEEL.0, STEEL.1, None).unwrap();
-    1.0 / ((1.0 - APPLE.1 * APPLE.1) / a.youngs_modulus_pa + (1.0 - STEEL.1 * STEEL.1) / s.youngs_modulus_pa)
+    1.0 / ((1.0 - APPLE.1 * APPLE.1) / a.youngs_modulus_pa
+        + (1.0 - STEEL.1 * STEEL.1) / s.youngs_modulus_pa)
 }
 
 fn parse(v: &Value) -> Scenario {
@@ -156,7 +157,8 @@ fn powered_rollers_spin_an_apple_at_their_surface_speed() {
             let (res, s) = run(&sc);
             let s = s.of(0);
             let late: Vec<_> = s.iter().filter(|(t, _)| *t >= 1.0).collect();
-            let spin = late.iter().map(|(_, a)| a.angular_velocity.x).sum::<f64>() / late.len() as f64;
+            let spin =
+                late.iter().map(|(_, a)| a.angular_velocity.x).sum::<f64>() / late.len() as f64;
             // Static sag at each roller: the normal load m g / (2 cos beta), eq. 12 at rest.
             let h = elliptic::sphere_on_cylinder(ra, rr);
             let k = normal::stiffness(e_star(), h.stiffness_radius_m);
@@ -182,7 +184,13 @@ fn powered_rollers_spin_an_apple_at_their_surface_speed() {
                 1e3 * u,
                 load
             );
-            assert_ref(&format!("{what}: spin, w_r R_r / R"), -spin, w * rr / ra, 0.01, "closed form (issue)");
+            assert_ref(
+                &format!("{what}: spin, w_r R_r / R"),
+                -spin,
+                w * rr / ra,
+                0.01,
+                "closed form (issue)",
+            );
             // No slip at either roller: w_a (R - u) = w_r R_r with the overlap the apple has
             // (the roller's own share of it is 1e-5 of u: steel).
             // With rolling resistance the apple leans on one roller (unequal overlaps, a slip of
@@ -197,7 +205,11 @@ fn powered_rollers_spin_an_apple_at_their_surface_speed() {
                 "closed form",
             );
             let y_end = res.apples[0].final_position_m[1];
-            println!("{what}: centre y at the end {:.3} mm (sag u {:.1} um)", 1e3 * y_end, 1e6 * u);
+            println!(
+                "{what}: centre y at the end {:.3} mm (sag u {:.1} um)",
+                1e3 * y_end,
+                1e6 * u
+            );
             if rolling == "none" {
                 assert!(y_end.abs() < 1e-4, "stays in the valley");
             } else {
@@ -235,7 +247,13 @@ fn an_apple_dropped_on_a_roller_hits_with_the_elliptic_hertz_law() {
         let cf = theory::elastic_impact(m, v0, k, h.stiffness_radius_m);
         let what = format!("R_r {rr}");
         for tol in [0.01, 2.0 * 0.05e-2] {
-            assert_ref(&format!("{what}: peak force"), e.peak_force_n, cf.peak_force_n, tol, "elliptic Hertz");
+            assert_ref(
+                &format!("{what}: peak force"),
+                e.peak_force_n,
+                cf.peak_force_n,
+                tol,
+                "elliptic Hertz",
+            );
             assert_ref(
                 &format!("{what}: contact time"),
                 e.duration_s.unwrap(),
@@ -300,8 +318,10 @@ fn bad_motions_are_refused_naming_the_field() {
         })
     };
     let tray = |motion: Value| {
-        base(json!({"name": "t", "type": "box", "material": "steel", "size_m": [1, 1, 0.02],
-                    "position_m": [0, 0, 0], "motion": motion}))
+        base(
+            json!({"name": "t", "type": "box", "material": "steel", "size_m": [1, 1, 0.02],
+                    "position_m": [0, 0, 0], "motion": motion}),
+        )
     };
     let cases = [
         (
@@ -360,7 +380,11 @@ fn the_roller_singulator_turns_each_apple_under_the_camera() {
             .into_iter()
             .filter(|(_, a)| (0.45..=0.55).contains(&a.position.x))
             .collect();
-        assert!(pts.len() > 80, "apple {k} crosses the station ({} samples)", pts.len());
+        assert!(
+            pts.len() > 80,
+            "apple {k} crosses the station ({} samples)",
+            pts.len()
+        );
         let worst_v = pts
             .iter()
             .map(|(_, a)| (a.velocity.x - v).abs() / v)
@@ -376,7 +400,13 @@ fn the_roller_singulator_turns_each_apple_under_the_camera() {
             100.0 * worst_v
         );
         assert!(worst_v <= 1e-4, "rides with the bed");
-        assert_ref("spin under the camera, w_r R_r / R", spin, w_r * r_r / r_a, 0.01, "closed form (issue)");
+        assert_ref(
+            "spin under the camera, w_r R_r / R",
+            spin,
+            w_r * r_r / r_a,
+            0.01,
+            "closed form (issue)",
+        );
         assert!(turns >= 1.25, "turns {turns}");
     }
 }

@@ -114,8 +114,9 @@ pub fn surface_hits(
                 if h.overlap_m > -margin {
                     if h.curvature_1_m.is_nan() {
                         // On the side (computed only for hits kept: it solves for the ellipse).
-                        h.curvature_1_m =
-                            crate::contact::elliptic::cylinder_equivalent_curvature(radius, cy.radius);
+                        h.curvature_1_m = crate::contact::elliptic::cylinder_equivalent_curvature(
+                            radius, cy.radius,
+                        );
                     }
                     out.push(h);
                 }
@@ -429,8 +430,8 @@ mod tests {
         assert_eq!(hits.len(), 1);
         assert!((hits[0].overlap_m - 0.001).abs() < 1e-12);
         assert!((hits[0].normal - Vec3::Z).length() < 1e-12);
-        let r_star = crate::contact::normal::effective_radius(1.0 / r, hits[0].curvature_1_m)
-            .unwrap();
+        let r_star =
+            crate::contact::normal::effective_radius(1.0 / r, hits[0].curvature_1_m).unwrap();
         let exact = crate::contact::elliptic::sphere_on_cylinder(r, 0.03).stiffness_radius_m;
         assert!((r_star - exact).abs() < 1e-15);
         // Beyond the +x end, on the axis: flat end.

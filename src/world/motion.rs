@@ -35,7 +35,10 @@ enum Offset {
 /// its slope (the right-hand slope at a keyframe).
 fn lerp<T>(keys: &[(f64, T)], t: f64) -> (T, T)
 where
-    T: Copy + std::ops::Sub<Output = T> + std::ops::Add<Output = T> + std::ops::Mul<f64, Output = T>,
+    T: Copy
+        + std::ops::Sub<Output = T>
+        + std::ops::Add<Output = T>
+        + std::ops::Mul<f64, Output = T>,
 {
     let zero = keys[0].1 * 0.0;
     if t < keys[0].0 {
@@ -102,7 +105,9 @@ impl Motion {
             let axis = vec3(unit_axis("axis", r.axis).ok()?);
             let profile = match (&r.angular_velocity_rad_s, &r.keyframes) {
                 (Some(w), _) => Scalar::Rate(*w),
-                (None, Some(k)) => Scalar::Keys(k.iter().map(|&(t, a)| (t, a.to_radians())).collect()),
+                (None, Some(k)) => {
+                    Scalar::Keys(k.iter().map(|&(t, a)| (t, a.to_radians())).collect())
+                }
                 _ => return None,
             };
             Some((axis, vec3(r.point_m), profile))
@@ -230,7 +235,9 @@ mod tests {
         let m = Motion::of(&s).unwrap();
         let p = m.pose(0.1);
         assert_eq!(p.translation, Vec3::new(1.0, 2.0, 3.0));
-        assert!((p.rotation * Vec3::Y - Vec3::new(0.0, 1.0f64.cos(), 1.0f64.sin())).length() < 1e-15);
+        assert!(
+            (p.rotation * Vec3::Y - Vec3::new(0.0, 1.0f64.cos(), 1.0f64.sin())).length() < 1e-15
+        );
         let (lin, ang) = m.velocity(0.1);
         assert_eq!(lin, Vec3::ZERO);
         assert_eq!(ang, Vec3::new(10.0, 0.0, 0.0));
