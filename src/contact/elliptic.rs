@@ -9,14 +9,18 @@
 //! complete elliptic integrals K(e), E(e) satisfy (Johnson eqs. 4.36-4.39, the pressure
 //! p = p0 sqrt(1 - x^2/a^2 - y^2/b^2)):
 //!
-//!     B/A = R'/R'' = ((a/b)^2 E - K) / (K - E)        (fixes e from the geometry alone)
-//!     A = p0 b (K - E) / (E* e^2 a^2)
-//!     delta = p0 b K / E*,      P = 2/3 pi a b p0
+//! ```text
+//! B/A = R'/R'' = ((a/b)^2 E - K) / (K - E)        (fixes e from the geometry alone)
+//! A = p0 b (K - E) / (E* e^2 a^2)
+//! delta = p0 b K / E*,      P = 2/3 pi a b p0
+//! ```
 //!
 //! e does not depend on the load, so the force is still P = k delta^(3/2) with a constant k:
 //! eliminating a, b and p0,
 //!
-//!     k = 4/3 E* sqrt(R_k),   R_k = pi^2 / (4 g sqrt(1 - e^2) K^3),   g = A e^2 / ((K - E) sqrt(1 - e^2))
+//! ```text
+//! k = 4/3 E* sqrt(R_k),   R_k = pi^2 / (4 g sqrt(1 - e^2) K^3),   g = A e^2 / ((K - E) sqrt(1 - e^2))
+//! ```
 //!
 //! and the contact area pi a b = pi R_a delta with R_a = 1 / (g K). Both reduce to R* = R' = R''
 //! for a circle (e -> 0). The layer uses R_k as the contact's R*: force, impact time and energy are
