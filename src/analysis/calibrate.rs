@@ -320,6 +320,7 @@ impl ImpactSetup {
                 point_m: [0.0; 3],
                 normal: [0.0, 0.0, 1.0],
                 contact_model: Default::default(),
+                motion: None,
             })],
         }
     }

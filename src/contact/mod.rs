@@ -9,6 +9,7 @@
 //! one contact; the rolling torque is computed beside it ([`rolling_torque`]).
 
 pub mod damping;
+pub mod elliptic;
 pub mod friction;
 pub mod geometry;
 pub mod material;

@@ -376,7 +376,11 @@ impl Detection {
                         1.0 / cx.frame.radius[a],
                         hit.curvature_1_m,
                     );
-                    let v_s = self.surf_now[s].velocity_at(cx.frame.pos[a]);
+                    // The surface's material point under the apple (a turning roller's or a
+                    // swinging part's velocity differs from the one at the apple's centre).
+                    let v_s = self.surf_now[s].velocity_at(
+                        cx.frame.pos[a] - hit.normal * (cx.frame.radius[a] - hit.overlap_m),
+                    );
                     if let (Some(c), Some(r_star)) = (control, r_star) {
                         let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
                         let m_n = registry.apples[a].mass;

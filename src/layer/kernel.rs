@@ -230,9 +230,16 @@ impl Ctx<'_> {
                     self.frame.vel[i].dot(n),
                     match c.other {
                         Party::Apple(j) => self.frame.vel[j as usize].dot(n),
-                        // Surfaces are immovable in the normal direction (a belt moves along
-                        // its own plane).
-                        Party::Surface(_) => 0.0,
+                        // A belt moves along its own plane; a moving part (a kinematic body) may
+                        // move along the normal too.
+                        Party::Surface(s) => {
+                            let now = &self.surf_now[s as usize];
+                            if now.moving {
+                                now.velocity_at(point).dot(n)
+                            } else {
+                                0.0
+                            }
+                        }
                     },
                 ],
             });

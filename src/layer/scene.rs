@@ -23,6 +23,9 @@ pub(super) struct SurfaceNow {
     pub extent_m: f64,
     /// Moved or removed since the last step: wakes the sleepers near it.
     pub changed: bool,
+    /// A cylinder: turning about its own axis (a powered roller) moves its material, not its
+    /// shape, so that alone neither wakes sleepers nor rebuilds the candidate lists.
+    pub axisymmetric: bool,
     /// The parent body is not fixed, or the surface is a running belt: apples on it stay awake.
     pub moving: bool,
     /// Velocity field of the parent body: linear velocity, angular velocity, centre of mass.
@@ -57,6 +60,7 @@ impl SurfaceNow {
             pose_at_build: Pose::IDENTITY,
             extent_m: f64::INFINITY,
             changed: false,
+            axisymmetric: false,
             moving: false,
             lin: Vec3::ZERO,
             ang: Vec3::ZERO,
@@ -106,11 +110,16 @@ impl SurfaceNow {
             } else {
                 f64::INFINITY
             };
+            self.axisymmetric = co.shape().as_cylinder().is_some();
             rebuild = true;
         } else if pose != self.pose {
+            // A roller spinning in place: the same shape (to rounding: its pose is recomputed
+            // from the time every step).
+            let spun_only = self.axisymmetric
+                && moved_by(&self.pose, &pose, self.extent_m, true) <= 1e-12 * self.extent_m;
             self.pose = pose;
-            self.changed = true;
-            if moved_by(&self.pose_at_build, &pose, self.extent_m) > half_skin {
+            self.changed = !spun_only;
+            if moved_by(&self.pose_at_build, &pose, self.extent_m, self.axisymmetric) > half_skin {
                 rebuild = true;
             }
         }
@@ -184,10 +193,17 @@ impl SurfaceNow {
 }
 
 /// Largest displacement of a point of a shape within `extent` of its origin when its pose goes
-/// from `a` to `b` (m).
-fn moved_by(a: &Pose, b: &Pose, extent: f64) -> f64 {
+/// from `a` to `b` (m). For a shape symmetric about its local y axis (a cylinder) only the turn
+/// of that axis counts.
+fn moved_by(a: &Pose, b: &Pose, extent: f64, axisymmetric: bool) -> f64 {
     let shift = (b.translation - a.translation).length();
-    let angle = a.rotation.angle_between(b.rotation);
+    let angle = if axisymmetric {
+        let (ya, yb) = (a.rotation * Vec3::Y, b.rotation * Vec3::Y);
+        // atan2 of |cross| and dot: accurate for small angles, unlike acos.
+        ya.cross(yb).length().atan2(ya.dot(yb))
+    } else {
+        a.rotation.angle_between(b.rotation)
+    };
     if angle == 0.0 {
         shift
     } else {

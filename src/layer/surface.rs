@@ -109,6 +109,17 @@ pub fn surface_hits(
                         out.push(h);
                     }
                 }
+            } else if let Some(cy) = s.as_cylinder() {
+                let mut h = cylinder_hit(pose, cy.half_height, cy.radius, centre, radius);
+                if h.overlap_m > -margin {
+                    if h.curvature_1_m.is_nan() {
+                        // On the side (computed only for hits kept: it solves for the ellipse).
+                        h.curvature_1_m = crate::contact::elliptic::cylinder_equivalent_curvature(
+                            radius, cy.radius,
+                        );
+                    }
+                    out.push(h);
+                }
             } else if let Some(m) = s.as_trimesh() {
                 mesh_hits(pose, m, centre, radius, margin, out);
             } else {
@@ -152,6 +163,62 @@ fn cuboid_hit(pose: &Pose, half: Vec3, centre: Vec3, radius: f64) -> Option<Surf
         overlap_m: radius + dep,
         curvature_1_m: 0.0,
     })
+}
+
+/// An apple on a cylinder (a roller; rapier's cylinder has its axis along local y). On the
+/// curved side the contact is elliptical Hertz (curvature 1/r across the axis, 0 along it): the
+/// hit carries the equivalent curvature whose effective radius is the exact elliptic law's
+/// stiffness radius ([`crate::contact::elliptic`]). The flat ends are flat; the rims count as flat
+/// (like a box's edges). A side hit is returned with a NaN curvature, filled in by
+/// [`surface_hits`] for the hits it keeps.
+pub fn cylinder_hit(
+    pose: &Pose,
+    half_height: f64,
+    r_cyl: f64,
+    centre: Vec3,
+    radius: f64,
+) -> SurfaceHit {
+    let p = pose.inverse_transform_point(centre);
+    let radial = Vec3::new(p.x, 0.0, p.z);
+    let rho = radial.length();
+    let beyond_end = p.y.abs() - half_height;
+    let outside_side = rho - r_cyl;
+    let side = |rho: f64| {
+        let n = if rho > 0.0 { radial / rho } else { Vec3::X };
+        SurfaceHit {
+            normal: pose.rotation * n,
+            overlap_m: radius - (rho - r_cyl),
+            curvature_1_m: f64::NAN,
+        }
+    };
+    let end = || SurfaceHit {
+        normal: pose.rotation * (Vec3::Y * p.y.signum()),
+        overlap_m: radius - beyond_end,
+        curvature_1_m: 0.0,
+    };
+    if beyond_end <= 0.0 && outside_side >= 0.0 {
+        return side(rho);
+    }
+    if beyond_end > 0.0 && outside_side < 0.0 {
+        return end();
+    }
+    if beyond_end > 0.0 {
+        // Beyond the rim: the closest point is on the edge circle.
+        let q = Vec3::new(0.0, half_height * p.y.signum(), 0.0) + radial * (r_cyl / rho);
+        let d = p - q;
+        let dist = d.length();
+        return SurfaceHit {
+            normal: pose.rotation * (d / dist),
+            overlap_m: radius - dist,
+            curvature_1_m: 0.0,
+        };
+    }
+    // Centre inside the cylinder: leave through the nearer of the side and the end.
+    if -outside_side <= -beyond_end {
+        side(rho)
+    } else {
+        end()
+    }
 }
 
 fn trough_hit(
@@ -339,5 +406,52 @@ mod tests {
         assert!((th[0].overlap_m - 0.001).abs() < 1e-12);
         assert!((th[0].normal - Vec3::Z).length() < 1e-12);
         assert_eq!(th[0].curvature_1_m, -10.0);
+    }
+
+    #[test]
+    fn cylinder_side_end_and_rim() {
+        // A roller of radius 30 mm, 0.4 m long, axis along world x (local y turned onto x).
+        let pose = Pose::from_parts(
+            Vec3::new(0.0, 0.0, 0.1),
+            rapier3d_f64::math::Rotation::from_rotation_arc(Vec3::Y, Vec3::X),
+        );
+        let col = ColliderBuilder::cylinder(0.2, 0.03).position(pose).build();
+        let r = 0.037;
+        let mut hits = Vec::new();
+        // Above the side, 1 mm deep.
+        surface_hits(
+            &SurfaceShape::FromCollider,
+            &col,
+            Vec3::new(0.05, 0.0, 0.1 + 0.03 + r - 0.001),
+            r,
+            0.0,
+            &mut hits,
+        );
+        assert_eq!(hits.len(), 1);
+        assert!((hits[0].overlap_m - 0.001).abs() < 1e-12);
+        assert!((hits[0].normal - Vec3::Z).length() < 1e-12);
+        let r_star =
+            crate::contact::normal::effective_radius(1.0 / r, hits[0].curvature_1_m).unwrap();
+        let exact = crate::contact::elliptic::sphere_on_cylinder(r, 0.03).stiffness_radius_m;
+        assert!((r_star - exact).abs() < 1e-15);
+        // Beyond the +x end, on the axis: flat end.
+        hits.clear();
+        surface_hits(
+            &SurfaceShape::FromCollider,
+            &col,
+            Vec3::new(0.2 + r - 0.002, 0.0, 0.1),
+            r,
+            0.0,
+            &mut hits,
+        );
+        assert!((hits[0].overlap_m - 0.002).abs() < 1e-12);
+        assert!((hits[0].normal - Vec3::X).length() < 1e-12);
+        assert_eq!(hits[0].curvature_1_m, 0.0);
+        // Off the rim at 45 degrees.
+        hits.clear();
+        let c = Vec3::new(0.2, 0.0, 0.13) + Vec3::new(1.0, 0.0, 1.0).normalize() * 0.036;
+        surface_hits(&SurfaceShape::FromCollider, &col, c, r, 0.0, &mut hits);
+        assert!((hits[0].overlap_m - 0.001).abs() < 1e-12);
+        assert_eq!(hits[0].curvature_1_m, 0.0);
     }
 }

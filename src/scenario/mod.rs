@@ -10,6 +10,7 @@ mod de;
 pub mod generators;
 pub mod layout;
 pub mod models;
+pub mod motion;
 pub mod presets;
 pub mod ranges;
 pub mod stepping;

@@ -238,7 +238,7 @@ pub const SPEED: Range = magnitude(
     "|v|",
     100.0,
     "m/s",
-    "`velocity_m_s` of apples, generators and sources (magnitude), `belt_velocity_m_s`",
+    "`velocity_m_s` of apples, generators and sources (magnitude), `belt_velocity_m_s`, `motion.translation.velocity_m_s` (magnitude) and the speed between two `motion.translation.keyframes`, a roller's surface speed `angular_velocity_rad_s` x `radius_m`",
 );
 /// Speed thresholds (slip detection, sleep).
 pub const SPEED_THRESHOLD: Range = positive(
@@ -254,7 +254,7 @@ pub const ANGULAR_SPEED: Range = magnitude(
     "|w|",
     1e4,
     "rad/s",
-    "`apples[].angular_velocity_rad_s` (magnitude)",
+    "`apples[].angular_velocity_rad_s` (magnitude), a roller's and `motion.rotation`'s `angular_velocity_rad_s`, the rate between two `motion.rotation.keyframes`",
 );
 /// Gravity (an acceleration; zero for the paper's gravity-free checks).
 pub const ACCELERATION: Range = magnitude(
@@ -270,7 +270,7 @@ pub const POSITION: Range = magnitude(
     "|x|",
     1e4,
     "m",
-    "each coordinate of `position_m`, `point_m`, `origin_m`, `region_min_m`, `region_max_m`, and of every generated apple",
+    "each coordinate of `position_m`, `point_m`, `origin_m`, `region_min_m`, `region_max_m`, `motion.translation.keyframes` offsets, and of every generated apple",
 );
 /// Apple diameters.
 pub const DIAMETER: Range = closed(
@@ -386,7 +386,7 @@ pub const TIME: Range = closed(
     0.0,
     1e5,
     "s",
-    "`sources[].start_s`, `output.transitions.min_dwell_s`",
+    "`sources[].start_s`, `output.transitions.min_dwell_s`, `motion` keyframe times",
 );
 /// Time steps.
 pub const TIME_STEP: Range = closed(
@@ -520,6 +520,14 @@ pub const ANGLE: Range = magnitude(
     "deg",
     "`rotation.angle_deg`, `rotation.euler_xyz_deg`",
 );
+/// Angles turned by a keyframed rotation (a part may turn many times).
+pub const TURN: Range = magnitude(
+    "turned angle",
+    "|a|",
+    1e9,
+    "deg",
+    "`motion.rotation.keyframes` angles",
+);
 /// Chute slopes.
 pub const INCLINE: Range = Range {
     quantity: "chute slope",
@@ -606,6 +614,7 @@ pub const TABLE: &[Range] = &[
     HYSTERESIS,
     SCALE,
     ANGLE,
+    TURN,
     INCLINE,
     HALF_ANGLE,
     BRUISE_FORCE,

@@ -5,6 +5,7 @@
 //! `{"euler_xyz_deg": [rx, ry, rz]}`: rotations about the fixed world x, then y, then z axes
 //! (R = Rz Ry Rx).
 
+use super::motion::MotionSpec;
 use super::ranges::{self, num};
 use super::{de, ScenarioError};
 use crate::math::{vec3, Vec3};
@@ -113,11 +114,13 @@ pub enum SurfaceSpec {
     Bin(BinSpec),
     /// A triangle mesh from an OBJ or STL file.
     Mesh(MeshSpec),
+    /// A cylinder turning about its own axis at a set rate (a powered roller).
+    Roller(RollerSpec),
 }
 
 impl<'de> Deserialize<'de> for SurfaceSpec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        const TYPES: &[&str] = &["plane", "box", "conveyor", "chute", "bin", "mesh"];
+        const TYPES: &[&str] = &["plane", "box", "conveyor", "chute", "bin", "mesh", "roller"];
         let (t, v) = de::tagged(d, TYPES)?;
         Ok(match t {
             "plane" => SurfaceSpec::Plane(de::from_value(v)?),
@@ -125,6 +128,7 @@ impl<'de> Deserialize<'de> for SurfaceSpec {
             "conveyor" => SurfaceSpec::Conveyor(de::from_value(v)?),
             "chute" => SurfaceSpec::Chute(de::from_value(v)?),
             "bin" => SurfaceSpec::Bin(de::from_value(v)?),
+            "roller" => SurfaceSpec::Roller(de::from_value(v)?),
             _ => SurfaceSpec::Mesh(de::from_value(v)?),
         })
     }
@@ -140,6 +144,7 @@ impl SurfaceSpec {
             SurfaceSpec::Chute(s) => &s.name,
             SurfaceSpec::Bin(s) => &s.name,
             SurfaceSpec::Mesh(s) => &s.name,
+            SurfaceSpec::Roller(s) => &s.name,
         }
     }
 
@@ -152,7 +157,32 @@ impl SurfaceSpec {
             SurfaceSpec::Chute(s) => s.contact_model,
             SurfaceSpec::Bin(s) => s.contact_model,
             SurfaceSpec::Mesh(s) => s.contact_model,
+            SurfaceSpec::Roller(s) => s.contact_model,
         }
+    }
+
+    /// The prescribed motion, if any.
+    pub fn motion(&self) -> Option<&MotionSpec> {
+        match self {
+            SurfaceSpec::Plane(s) => s.motion.as_ref(),
+            SurfaceSpec::Box(s) => s.motion.as_ref(),
+            SurfaceSpec::Conveyor(s) => s.motion.as_ref(),
+            SurfaceSpec::Chute(s) => s.motion.as_ref(),
+            SurfaceSpec::Bin(s) => s.motion.as_ref(),
+            SurfaceSpec::Mesh(s) => s.motion.as_ref(),
+            SurfaceSpec::Roller(s) => s.motion.as_ref(),
+        }
+    }
+
+    /// Whether the surface feeds energy into the scene: a running belt, a turning roller or a
+    /// prescribed motion (the energy guard is off for such scenes).
+    pub fn is_moving(&self) -> bool {
+        self.motion().is_some()
+            || match self {
+                SurfaceSpec::Conveyor(c) => c.belt_velocity_m_s != 0.0,
+                SurfaceSpec::Roller(r) => r.angular_velocity_rad_s != 0.0,
+                _ => false,
+            }
     }
 }
 
@@ -171,6 +201,9 @@ pub struct PlaneSpec {
     /// Contact model.
     #[serde(default)]
     pub contact_model: ContactModel,
+    /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
 }
 
 /// A box.
@@ -195,6 +228,9 @@ pub struct BoxSpec {
     /// Placed relative to another surface (resolved into `position_m` when loaded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub place: Option<super::layout::PlaceSpec>,
+    /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
 }
 
 /// A conveyor belt.
@@ -222,6 +258,9 @@ pub struct ConveyorSpec {
     /// Placed relative to another surface (resolved into `position_m` when loaded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub place: Option<super::layout::PlaceSpec>,
+    /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
 }
 
 /// Cross-section of a chute.
@@ -275,6 +314,9 @@ pub struct ChuteSpec {
     /// Placed relative to another surface (resolved into `position_m` when loaded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub place: Option<super::layout::PlaceSpec>,
+    /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
 }
 
 /// Per-wall materials of a bin; absent walls use the bin's `material`.
@@ -327,6 +369,9 @@ pub struct BinSpec {
     /// Placed relative to another surface (resolved into `position_m` when loaded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub place: Option<super::layout::PlaceSpec>,
+    /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
 }
 
 /// A triangle mesh.
@@ -351,6 +396,38 @@ pub struct MeshSpec {
     /// Contact model.
     #[serde(default)]
     pub contact_model: ContactModel,
+    /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
+}
+
+/// A roller: a cylinder of `radius_m` and `length_m` centred on `position_m`, its axis along
+/// `axis`, turning about it at `angular_velocity_rad_s` (right-hand rule about `axis`; a
+/// powered roller, whose rate no load changes).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RollerSpec {
+    /// Unique name.
+    pub name: String,
+    /// Material of the roller's surface.
+    pub material: String,
+    /// Radius (m).
+    pub radius_m: f64,
+    /// Length along the axis (m).
+    pub length_m: f64,
+    /// Centre (m).
+    pub position_m: [f64; 3],
+    /// Axis direction (any length > 0; normalised).
+    pub axis: [f64; 3],
+    /// Rate of turn about `axis` (rad/s; default 0).
+    #[serde(default)]
+    pub angular_velocity_rad_s: f64,
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+    /// Prescribed motion of the whole roller (see [`super::motion`]), besides its own turning.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
 }
 
 /// A uniform or per-axis scale.

@@ -857,6 +857,31 @@ fn surface(
             position("position_m", m.position_m)?;
             rotation_of(&m.rotation, f)?;
         }
+        SurfaceSpec::Roller(r) => {
+            material_of(&format!("{f}.material"), &r.material, mats)?;
+            length("radius_m", r.radius_m)?;
+            length("length_m", r.length_m)?;
+            position("position_m", r.position_m)?;
+            super::motion::unit_axis(&format!("{f}.axis"), r.axis)?;
+            let w = r.angular_velocity_rad_s;
+            ranges::ANGULAR_SPEED.check_abs(&format!("{f}.angular_velocity_rad_s"), w)?;
+            // Its surface speed is a speed like any other.
+            if !ranges::SPEED.contains((w * r.radius_m).abs()) {
+                return Err(ScenarioError::invalid(
+                    format!("{f}.angular_velocity_rad_s"),
+                    format!(
+                        "{} rad/s on a radius of {} m moves the roller's surface at {} m/s, outside the range of fruit handling ({})",
+                        num(w),
+                        num(r.radius_m),
+                        ranges::num3((w * r.radius_m).abs()),
+                        ranges::SPEED.describe()
+                    ),
+                ));
+            }
+        }
+    }
+    if let Some(m) = s.motion() {
+        super::motion::validate(&format!("{f}.motion"), m)?;
     }
     Ok(())
 }

@@ -263,9 +263,7 @@ impl Simulation {
         let plan = timestep::plan(sc, &world);
         timestep::check_steps(sc, &world, &plan).map_err(BuildError::from)?;
         let v_bound = timestep::speed_bound(sc, &world).max(0.01);
-        let belt_or_moving = sc.surfaces.iter().any(|s| {
-            matches!(s, crate::scenario::SurfaceSpec::Conveyor(c) if c.belt_velocity_m_s != 0.0)
-        });
+        let belt_or_moving = sc.surfaces.iter().any(|s| s.is_moving());
         let energy = (!belt_or_moving && sc.fidelity != crate::scenario::Fidelity::Rigid)
             .then_some({
                 EnergyGuard {
@@ -527,6 +525,7 @@ impl Simulation {
                 }
             }
         };
+        self.world.set_time(self.time_s);
         Ok(())
     }
 

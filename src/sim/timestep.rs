@@ -54,7 +54,7 @@ pub struct StepPlan {
 }
 
 /// Largest speed along the scene's "up" that free fall over its height can produce, plus the
-/// fastest initial, fed-in or belt speed (m/s).
+/// fastest initial, fed-in, belt or moving-part speed (m/s).
 pub fn speed_bound(sc: &Scenario, world: &World) -> f64 {
     let g = vec3(sc.gravity_m_s2);
     let gmag = g.length();
@@ -104,7 +104,8 @@ pub fn speed_bound(sc: &Scenario, world: &World) -> f64 {
     } else {
         0.0
     };
-    v0 + (2.0 * gmag * height).sqrt() + belt
+    // A moving part (a turning roller, a swinging flap) meets apples at its own speed too.
+    v0 + (2.0 * gmag * height).sqrt() + belt.max(world.moving_speed_m_s())
 }
 
 /// The stiffest contact the scene can produce (see the module documentation).

@@ -14,6 +14,7 @@
 //! rapier would spend a sixth of its step computing it.
 
 pub mod mesh;
+pub mod motion;
 pub mod roster;
 pub mod surfaces;
 
@@ -77,6 +78,12 @@ pub struct World {
     apple_colliders: bool,
     /// The bins' inner boxes, in scenario order (where apples end and when they entered).
     pub bins: Vec<BinBox>,
+    /// The kinematic body of each moving surface spec and its motion.
+    movers: Vec<(RigidBodyHandle, motion::Motion)>,
+    /// Largest speed of any moving part's surface over its profile (m/s).
+    moving_speed_m_s: f64,
+    /// Time of the current poses (s), set by the driver ([`World::set_time`]).
+    time_s: f64,
     materials: BTreeMap<String, (MaterialId, Material)>,
     /// Emissions still to come, in order of planned time.
     pending: VecDeque<Feed>,
@@ -277,6 +284,9 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             })
             .collect(),
         taken_out: Vec::new(),
+        movers: Vec::new(),
+        moving_speed_m_s: 0.0,
+        time_s: 0.0,
         apple_colliders: rigid
             || sc
                 .surfaces
@@ -292,8 +302,36 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         .or_else(|| sc.sources.first().map(|s| s.material.clone()));
     for (k, s) in sc.surfaces.iter().enumerate() {
         let field = format!("surfaces[{k}]");
+        // A moving part rides a kinematic body placed at its rest pose, moving at its initial
+        // velocity (rapier derives the velocity from the poses only once it steps).
+        let mover = motion::Motion::of(s).map(|m| {
+            let (lin, ang) = m.velocity(0.0);
+            let body = RigidBodyBuilder::kinematic_position_based()
+                .pose(m.rest_pose())
+                .linvel(lin)
+                .angvel(ang)
+                .build();
+            (world.physics.bodies.insert(body), m)
+        });
         for part in surfaces::parts(s, &field, base_dir)? {
-            world.add_surface(part, apple_material.as_deref())?;
+            let parent = mover.as_ref().map(|(b, m)| (*b, m.rest_pose()));
+            world.add_surface(part, apple_material.as_deref(), parent)?;
+        }
+        if let Some((b, m)) = mover {
+            // The farthest point of its colliders from the body's origin.
+            let origin = m.rest_pose().translation;
+            let reach = world.physics.bodies[b]
+                .colliders()
+                .iter()
+                .filter_map(|&c| world.physics.colliders.get(c))
+                .map(|c| {
+                    let bs = c.shape().compute_local_bounding_sphere();
+                    (c.position() * bs.center - origin).length() + bs.radius
+                })
+                .filter(|r| r.is_finite())
+                .fold(0.0, f64::max);
+            world.moving_speed_m_s = world.moving_speed_m_s.max(m.max_speed_m_s(reach));
+            world.movers.push((b, m));
         }
     }
     let plan = roster::plan(sc)?;
@@ -328,8 +366,30 @@ impl World {
     /// set are for that step). The step is set here, every step; the world has no step of its
     /// own.
     pub fn advance(&mut self, dt_s: f64) {
+        if dt_s > 0.0 {
+            // Each moving part to its pose at the end of the step: rapier moves it there and
+            // gives it the velocity that does so.
+            let t = self.time_s + dt_s;
+            for (b, m) in &self.movers {
+                if let Some(rb) = self.physics.bodies.get_mut(*b) {
+                    rb.set_next_kinematic_position(m.pose(t));
+                }
+            }
+        }
         self.physics.integration_parameters.dt = dt_s;
         self.physics.step_with_events(self.layer.hooks(), &());
+    }
+
+    /// Sets the time of the current poses (s): the driver's clock, from which the next step's
+    /// poses of moving parts are computed ([`World::advance`]).
+    pub fn set_time(&mut self, time_s: f64) {
+        self.time_s = time_s;
+    }
+
+    /// The largest speed of a moving part's surface over its whole profile (m/s; 0 without
+    /// moving parts).
+    pub fn moving_speed_m_s(&self) -> f64 {
+        self.moving_speed_m_s
     }
 
     /// Runs rapier's collision detection without moving anything (a step of length zero).
@@ -343,6 +403,7 @@ impl World {
         &mut self,
         part: SurfacePart,
         apple_material: Option<&str>,
+        parent: Option<(RigidBodyHandle, rapier3d_f64::math::Pose)>,
     ) -> Result<(), BuildError> {
         let (mid, _) = self.materials[&part.material];
         let rigid = part.model == ContactModel::Rigid || self.layer.config().passive;
@@ -369,7 +430,18 @@ impl World {
                 InteractionTestMode::And,
             ));
         }
-        let ch = self.physics.colliders.insert(collider);
+        let ch = match parent {
+            Some((body, rest)) => {
+                // Attached at its scenario pose relative to the body's rest pose, massless (the
+                // body's centre of mass stays at its origin).
+                let at = rest.inverse() * collider.position;
+                collider = collider.position(at).density(0.0);
+                let set = &mut self.physics;
+                set.colliders
+                    .insert_with_parent(collider, body, &mut set.bodies)
+            }
+            None => self.physics.colliders.insert(collider),
+        };
         self.layer.add_surface(
             &mut self.physics.colliders,
             ch,

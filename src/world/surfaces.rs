@@ -226,6 +226,19 @@ pub fn parts(
                 .position(pose);
             vec![part(&m.name, &m.material, collider, m.contact_model)]
         }
+        SurfaceSpec::Roller(r) => {
+            let axis = vec3(crate::scenario::motion::unit_axis(
+                &format!("{field}.axis"),
+                r.axis,
+            )?);
+            // rapier's cylinder has its axis along local y.
+            let pose = Pose::from_parts(
+                vec3(r.position_m),
+                Rotation::from_rotation_arc(Vec3::Y, axis),
+            );
+            let collider = ColliderBuilder::cylinder(r.length_m / 2.0, r.radius_m).position(pose);
+            vec![part(&r.name, &r.material, collider, r.contact_model)]
+        }
     })
 }
 

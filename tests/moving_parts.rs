@@ -1,0 +1,412 @@
+//! Moving parts (issue 22; docs/physics.md section 12) against closed forms, each with its
+//! tolerance and the figure measured with this build (docs/physics.md 12.4):
+//!
+//! - a steel tray (a `box` with a keyframed `motion.translation`: at rest, then a ramp to V) under
+//!   an apple resting on it: the apple reaches V at T = (rho/R) V / (mu_r g) after the ramp
+//!   starts, whatever the ramp (the angular momentum about a point of the tray's surface changes
+//!   only by the rolling torque and the pseudo-force of the ramp, whose total is m rho V);
+//! - two powered rollers turning alike: an apple in their valley spins at
+//!   w_a = w_r R_r / rho (rho = R - u its lever), no slip at either roller;
+//! - an apple dropped on a roller (no gravity, elastic): peak force and contact time of the
+//!   elliptic Hertz law (contact::elliptic);
+//! - a sleeping apple is woken by a part that moves into it;
+//! - refusals naming the field.
+
+mod common;
+use applesim::contact::{elliptic, material::Material, normal, theory};
+use applesim::record::series::MemorySeries;
+use applesim::scenario::{self, Scenario};
+use common::*;
+use serde_json::{json, Value};
+
+const G: f64 = 9.81;
+const APPLE: (f64, f64) = (1.0e6, 0.18);
+const STEEL: (f64, f64) = (8.1e10, 0.28);
+
+fn materials() -> Value {
+    json!({
+        "apple": {"shear_modulus_pa": APPLE.0, "poisson_ratio": APPLE.1, "density_kg_m3": 800},
+        "steel": {"shear_modulus_pa": STEEL.0, "poisson_ratio": STEEL.1}})
+}
+
+fn e_star() -> f64 {
+    let a = Material::from_shear(APPLE.0, APPLE.1, None).unwrap();
+    let s = Material::from_shear(STEEL.0, STEEL.1, None).unwrap();
+    1.0 / ((1.0 - APPLE.1 * APPLE.1) / a.youngs_modulus_pa
+        + (1.0 - STEEL.1 * STEEL.1) / s.youngs_modulus_pa)
+}
+
+fn parse(v: &Value) -> Scenario {
+    scenario::from_json(&v.to_string(), "moving").unwrap()
+}
+
+/// Item 2a: the paper's Figs. 6-7 apple (D 80 mm, 0.107 kg) at its static sag on a steel tray at
+/// rest; at t0 = 0.2 s the tray starts by a ramp to V over 0.1 s (the parabola x = V t^2 / (2 t_r)
+/// in 20 keyframes, then V), friction 0.5, eq. 12 with `elastic-plastic` rolling resistance. The
+/// centre reaches V at t0 + (rho/R) V/(mu_r g): within 1 % (the issue); stated 0.01 %, checked at
+/// twice that. Then it rides within 0.2 % of V.
+#[test]
+fn a_tray_started_by_a_ramp_brings_an_apple_to_its_speed_at_the_closed_form_time() {
+    let (r, m, mu, ke) = (0.04, 0.107, 0.5, 0.09);
+    let k = normal::stiffness(e_star(), r);
+    for (v, mu_r) in [(0.4, 0.03), (0.8, 0.05)] {
+        let sag = (2.0 * m * G / ((1.0 + ke) * k)).powf(2.0 / 3.0);
+        let rho = r - sag;
+        let (t0, tr) = (0.2, 0.1);
+        let t_cf = rho / r * v / (mu_r * G);
+        let end = t0 + t_cf + 1.0;
+        let mut keys = vec![json!([0.0, [0.0, 0.0, 0.0]])];
+        for i in 0..=20 {
+            let t = tr * i as f64 / 20.0;
+            keys.push(json!([t0 + t, [v * t * t / (2.0 * tr), 0.0, 0.0]]));
+        }
+        keys.push(json!([end, [v * tr / 2.0 + v * (end - t0 - tr), 0.0, 0.0]]));
+        let sc = parse(&json!({
+            "duration_s": end, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+            "output": {"sample_interval_s": 1e-3, "force_history": false},
+            "materials": materials(),
+            "contact": {"friction": mu, "ke": ke, "lambda_s_m": 1000, "rolling": "elastic-plastic",
+                        "rolling_friction": mu_r},
+            "model": {"sleep": {"enabled": false}},
+            "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * r, "mass_kg": m,
+                "position_m": [-0.3, 0, rho]}],
+            "surfaces": [{"name": "tray", "type": "box", "material": "steel",
+                "size_m": [1.5, 0.3, 0.02], "position_m": [0, 0, -0.01],
+                "motion": {"translation": {"keyframes": keys}}}]
+        }));
+        let (_, s) = run(&sc);
+        let s = s.of(0);
+        let target = v * (1.0 - 1e-4);
+        let i = s
+            .iter()
+            .position(|(_, a)| a.velocity.x >= target)
+            .expect("reaches V");
+        let ((ta, va), (tb, vb)) = (
+            (s[i - 1].0, s[i - 1].1.velocity.x),
+            (s[i].0, s[i].1.velocity.x),
+        );
+        let t_reach = ta + (target - va) * (tb - ta) / (vb - va) - t0;
+        let what = format!("V {v} mu_r {mu_r}");
+        assert_ref(
+            &format!("{what}: time to V from the ramp's start, (rho/R) V/(mu_r g)"),
+            t_reach,
+            t_cf,
+            0.01,
+            "closed form (issue)",
+        );
+        assert_ref(
+            &format!("{what}: time to V"),
+            t_reach,
+            t_cf,
+            2.0 * 0.01e-2,
+            "closed form",
+        );
+        let worst = s
+            .iter()
+            .filter(|(t, _)| *t >= t0 + t_cf)
+            .map(|(_, a)| (a.velocity.x - v).abs())
+            .fold(0.0, f64::max);
+        println!("{what}: after T |v - V| <= {worst:.3e} m/s");
+        assert!(worst <= 2e-3 * v, "rides with the tray");
+    }
+}
+
+/// Two steel rollers of radius `rr`, axes along x at y = +-d, z = 0, turning at `w` about +x, and
+/// an apple of radius `ra` (paper apple) set touching both in their valley.
+fn roller_pair(ra: f64, rr: f64, w: f64, rolling: &str, duration: f64) -> (Scenario, f64) {
+    let beta: f64 = 30f64.to_radians();
+    let d = (ra + rr) * beta.sin();
+    let z = (ra + rr) * beta.cos();
+    let roller = |name: &str, y: f64| {
+        json!({"name": name, "type": "roller", "material": "steel", "radius_m": rr,
+               "length_m": 0.3, "position_m": [0, y, 0], "axis": [1, 0, 0],
+               "angular_velocity_rad_s": w})
+    };
+    let sc = parse(&json!({
+        "duration_s": duration, "time_step_s": 2e-5, "gravity_m_s2": [0, 0, -G],
+        "output": {"sample_interval_s": 1e-3, "force_history": false},
+        "materials": materials(),
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000, "rolling": rolling},
+        "model": {"sleep": {"enabled": false}},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * ra,
+            "position_m": [0, 0, z]}],
+        "surfaces": [roller("r1", -d), roller("r2", d)]
+    }));
+    (sc, beta)
+}
+
+/// Item 2b: an apple (R 37 mm, the paper's material, 800 kg/m^3) set in the valley of two steel
+/// rollers (R_r 20 and 40 mm, contact 30 degrees from the vertical) turning alike at 20 rad/s: it
+/// spins the other way at w_a = w_r R_r / (R - u), u its overlap (no slip at either roller;
+/// docs/physics.md 12.2), and its centre stays in the valley. Mean spin over the last 0.5 s of
+/// 1.5 s: within 1 % of w_r R_r / R (the issue; measured +0.64 to +0.80 %, the lever) and of the
+/// R - u form (u from the apple's final centre) within 0.001 % without rolling resistance
+/// (measured 0.0008 %) and 0.06 % with the default `elastic-plastic` (measured 0.059 %: the apple
+/// leans on one roller, the two overlaps differ by 4 %), each checked at twice that. The spin-up
+/// leaves the Mindlin stick springs of the two contacts loaded against each other: the resting
+/// normal forces are 1.12-1.36 N against the 0.96 N the weight needs, and the overlap 0.21-0.29 mm
+/// against the static sag's 0.22-0.23 mm (printed; docs/physics.md 12.2).
+#[test]
+fn powered_rollers_spin_an_apple_at_their_surface_speed() {
+    let ra: f64 = 0.037;
+    let m = 800.0 * 4.0 / 3.0 * std::f64::consts::PI * ra.powi(3);
+    for rr in [0.02, 0.04] {
+        for rolling in ["none", "elastic-plastic"] {
+            let w = 20.0;
+            let (sc, beta) = roller_pair(ra, rr, w, rolling, 1.5);
+            let (res, s) = run(&sc);
+            let s = s.of(0);
+            let late: Vec<_> = s.iter().filter(|(t, _)| *t >= 1.0).collect();
+            let spin =
+                late.iter().map(|(_, a)| a.angular_velocity.x).sum::<f64>() / late.len() as f64;
+            // Static sag at each roller: the normal load m g / (2 cos beta), eq. 12 at rest.
+            let h = elliptic::sphere_on_cylinder(ra, rr);
+            let k = normal::stiffness(e_star(), h.stiffness_radius_m);
+            let load = m * G / (2.0 * beta.cos());
+            let u = (2.0 * load / (1.09 * k)).powf(2.0 / 3.0);
+            let what = format!("R_r {rr} rolling {rolling}");
+            // The apple's overlap with each roller from its final centre (the rollers at
+            // y = +-d, z = 0).
+            let c = s.last().unwrap().1.position;
+            let d = (ra + rr) * beta.sin();
+            let u_of = |y: f64| ra + rr - ((c.y - y).powi(2) + c.z.powi(2)).sqrt();
+            let (u1, u2) = (u_of(-d), u_of(d));
+            let loads: Vec<f64> = res
+                .events
+                .iter()
+                .filter(|e| e.t_end_s.is_none())
+                .map(|e| e.resting.as_ref().map_or(f64::NAN, |r| r.mean_force_n))
+                .collect();
+            println!(
+                "{what}: overlaps {:.4} / {:.4} mm (static sag {:.4} mm), resting normal forces {loads:.4?} N against m g / (2 cos beta) = {:.4} N",
+                1e3 * u1,
+                1e3 * u2,
+                1e3 * u,
+                load
+            );
+            assert_ref(
+                &format!("{what}: spin, w_r R_r / R"),
+                -spin,
+                w * rr / ra,
+                0.01,
+                "closed form (issue)",
+            );
+            // No slip at either roller: w_a (R - u) = w_r R_r with the overlap the apple has
+            // (the roller's own share of it is 1e-5 of u: steel).
+            // With rolling resistance the apple leans on one roller (unequal overlaps, a slip of
+            // a few 1e-4 at one of them): the mean overlap's form is looser.
+            let u_mean = 0.5 * (u1 + u2);
+            let stated = if rolling == "none" { 0.001e-2 } else { 0.06e-2 };
+            assert_ref(
+                &format!("{what}: spin, w_r R_r / (R - u)"),
+                -spin,
+                w * rr / (ra - u_mean),
+                2.0 * stated,
+                "closed form",
+            );
+            let y_end = res.apples[0].final_position_m[1];
+            println!(
+                "{what}: centre y at the end {:.3} mm (sag u {:.1} um)",
+                1e3 * y_end,
+                1e6 * u
+            );
+            if rolling == "none" {
+                assert!(y_end.abs() < 1e-4, "stays in the valley");
+            } else {
+                assert!(y_end.abs() < 5e-3, "leans, stays in the valley");
+            }
+        }
+    }
+}
+
+/// Item 3: an apple (R 37 mm, 0.107 kg) dropped at 1 m/s onto a fixed steel roller (R_r 20 and
+/// 60 mm), no gravity, elastic (`hertz` fidelity): peak force and contact time of the elliptic
+/// Hertz law P = 4/3 E* sqrt(R_k) u^(3/2) (section 4's closed forms with R_k): within 1 % (the
+/// issue); stated 0.05 %, checked at twice that. Johnson's bare sqrt(R' R'') would be 1.4-0.3 %
+/// off the peak force (printed).
+#[test]
+fn an_apple_dropped_on_a_roller_hits_with_the_elliptic_hertz_law() {
+    let (ra, m, v0) = (0.037, 0.107, 1.0);
+    for rr in [0.02, 0.06] {
+        let sc = parse(&json!({
+            "duration_s": 0.012, "time_step_s": 2e-6, "gravity_m_s2": [0, 0, 0],
+            "fidelity": "hertz",
+            "output": {"sample_interval_s": 1e-3, "force_history": false},
+            "materials": materials(),
+            "contact": {"friction": 0.3, "ke": 1, "lambda_s_m": 0, "rolling": "none"},
+            "model": {"sleep": {"enabled": false}},
+            "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * ra, "mass_kg": m,
+                "position_m": [0, 0, rr + ra + 1e-4], "velocity_m_s": [0, 0, -v0]}],
+            "surfaces": [{"name": "roller", "type": "roller", "material": "steel", "radius_m": rr,
+                "length_m": 0.3, "position_m": [0, 0, 0], "axis": [1, 0, 0]}]
+        }));
+        let (res, _) = run(&sc);
+        let e = &res.events[0];
+        let h = elliptic::sphere_on_cylinder(ra, rr);
+        let k = normal::stiffness(e_star(), h.stiffness_radius_m);
+        let cf = theory::elastic_impact(m, v0, k, h.stiffness_radius_m);
+        let what = format!("R_r {rr}");
+        for tol in [0.01, 2.0 * 0.05e-2] {
+            assert_ref(
+                &format!("{what}: peak force"),
+                e.peak_force_n,
+                cf.peak_force_n,
+                tol,
+                "elliptic Hertz",
+            );
+            assert_ref(
+                &format!("{what}: contact time"),
+                e.duration_s.unwrap(),
+                cf.contact_time_s,
+                tol,
+                "elliptic Hertz",
+            );
+        }
+        let re = elliptic::johnson_equivalent_radius(ra, ra * rr / (ra + rr));
+        let bare = theory::elastic_impact(m, v0, normal::stiffness(e_star(), re), re);
+        println!(
+            "{what}: with sqrt(R' R'') bare the peak force would be {:+.3} % off",
+            100.0 * (bare.peak_force_n / cf.peak_force_n - 1.0)
+        );
+    }
+}
+
+/// Item 1: an apple asleep on a fixed floor is woken by a pusher (a box moving by a keyframed
+/// translation) that reaches it at about 1.1 s: without the wake it would pass through it.
+#[test]
+fn a_sleeping_apple_wakes_when_a_part_moves_into_it() {
+    let r = 0.04;
+    let sc = parse(&json!({
+        "duration_s": 1.6, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+        "output": {"sample_interval_s": 1e-2, "force_history": false},
+        "materials": materials(),
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * r, "mass_kg": 0.107,
+            "position_m": [0, 0, r - 1e-4]}],
+        "surfaces": [
+            {"name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1]},
+            {"name": "pusher", "type": "box", "material": "steel", "size_m": [0.02, 0.2, 0.1],
+             "position_m": [-0.2, 0, 0.06],
+             "motion": {"translation": {"keyframes": [[0.8, [0, 0, 0]], [1.5, [0.2, 0, 0]]]}}}]
+    }));
+    let mut sim = applesim::sim::Simulation::new(&sc, &repo("scenarios")).unwrap();
+    let mut series = MemorySeries::default();
+    let mut was_asleep = false;
+    while !sim.done() {
+        sim.step(&mut series).unwrap();
+        let t = sim.time_s();
+        if (0.7..0.8).contains(&t) {
+            was_asleep |= sim.world().layer.is_asleep(applesim::layer::AppleId(0));
+        }
+    }
+    assert!(was_asleep, "the apple fell asleep before the pusher moved");
+    let x = series.of(0).last().unwrap().1.position.x;
+    println!("pushed to x = {x:.4} m");
+    // The pusher's face ends at -0.2 + 0.01 + 0.2 = 0.01 m: the apple's centre is beyond it.
+    assert!(x > 0.01 + r - 2e-3, "pushed: x = {x}");
+}
+
+/// Item 1: mistakes in a motion or a roller are refused with the field named.
+#[test]
+fn bad_motions_are_refused_naming_the_field() {
+    let base = |surface: Value| {
+        json!({
+            "duration_s": 0.1, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+            "materials": materials(),
+            "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+            "surfaces": [surface]
+        })
+    };
+    let tray = |motion: Value| {
+        base(
+            json!({"name": "t", "type": "box", "material": "steel", "size_m": [1, 1, 0.02],
+                    "position_m": [0, 0, 0], "motion": motion}),
+        )
+    };
+    let cases = [
+        (
+            tray(json!({"translation": {"keyframes": [[0, [0, 0, 0]], [0.5, [0.1, 0, 0]], [0.5, [0.2, 0, 0]]]}})),
+            "surfaces[0].motion.translation.keyframes[2][0]: t = 0.5 s is not after the keyframe before it (t = 0.5 s): keyframe times must increase",
+        ),
+        (
+            tray(json!({"translation": {"keyframes": [[0, [0, 0, 0]], [0.001, [0.2, 0, 0]]]}})),
+            "surfaces[0].motion.translation.keyframes[1]: moving 0.2 m in 0.001 s from the keyframe before is 200 m/s, outside the range of fruit handling (|v| <= 100 m/s): the profile jumps",
+        ),
+        (
+            tray(json!({"rotation": {"axis": [0, 0, 0], "point_m": [0, 0, 0], "angular_velocity_rad_s": 1}})),
+            "surfaces[0].motion.rotation.axis: [0, 0, 0]: a rotation axis needs a finite non-zero length",
+        ),
+        (
+            tray(json!({"rotation": {"axis": [0, 0, 1], "point_m": [0, 0, 0], "keyframes": [[0, 0], [1, 30], [0.5, 60]]}})),
+            "surfaces[0].motion.rotation.keyframes[2][0]: t = 0.5 s is not after the keyframe before it (t = 1 s): keyframe times must increase",
+        ),
+        (
+            tray(json!({})),
+            "surfaces[0].motion: empty: give a translation, a rotation or both",
+        ),
+        (
+            base(json!({"name": "r", "type": "roller", "material": "steel", "radius_m": 0.03,
+                        "length_m": 0.5, "position_m": [0, 0, 0], "axis": [0, 0, 0]})),
+            "surfaces[0].axis: [0, 0, 0]: a rotation axis needs a finite non-zero length",
+        ),
+        (
+            base(json!({"name": "r", "type": "roller", "material": "steel", "radius_m": 0.5,
+                        "length_m": 0.5, "position_m": [0, 0, 0], "axis": [1, 0, 0],
+                        "angular_velocity_rad_s": 300})),
+            "surfaces[0].angular_velocity_rad_s: 300 rad/s on a radius of 0.5 m moves the roller's surface at 150 m/s, outside the range of fruit handling (|v| <= 100 m/s)",
+        ),
+    ];
+    for (v, want) in cases {
+        let sc = parse(&v);
+        let e = scenario::validate(&sc).unwrap_err().to_string();
+        assert_eq!(e, want);
+    }
+}
+
+/// Item 4: the shipped roller singulator (scenarios/lines/roller_singulator.json; docs/lines.md
+/// section 4). Each of the four apples crosses the camera station (x 0.45-0.55 m): there its
+/// centre moves with the bed at V = 0.1 m/s (within 0.01 %; measured 0.0018 %) and it spins at
+/// w_r R_r / R = 8.0 rad/s (within 1 %, the issue's tolerance; measured +0.49 to +0.54 %, the
+/// lever R - u), turning at least 1.25 times in view (measured 1.267), so the camera sees every
+/// side.
+#[test]
+fn the_roller_singulator_turns_each_apple_under_the_camera() {
+    let sc = shipped("scenarios/lines/roller_singulator.json");
+    let (res, s) = run(&sc);
+    let (v, w_r, r_r, r_a) = (0.1, 10.0, 0.03, 0.0375);
+    for k in 0..4u32 {
+        let pts: Vec<_> = s
+            .of(k)
+            .into_iter()
+            .filter(|(_, a)| (0.45..=0.55).contains(&a.position.x))
+            .collect();
+        assert!(
+            pts.len() > 80,
+            "apple {k} crosses the station ({} samples)",
+            pts.len()
+        );
+        let worst_v = pts
+            .iter()
+            .map(|(_, a)| (a.velocity.x - v).abs() / v)
+            .fold(0.0, f64::max);
+        let spin = pts.iter().map(|(_, a)| -a.angular_velocity.y).sum::<f64>() / pts.len() as f64;
+        let span = pts.last().unwrap().0 - pts[0].0;
+        let turns = spin * span / (2.0 * std::f64::consts::PI);
+        println!(
+            "{}: in view {:.2}-{:.2} s, |v - V| <= {:.4} % of V, spin {spin:.4} rad/s, {turns:.3} turns",
+            res.apples[k as usize].name,
+            pts[0].0,
+            pts.last().unwrap().0,
+            100.0 * worst_v
+        );
+        assert!(worst_v <= 1e-4, "rides with the bed");
+        assert_ref(
+            "spin under the camera, w_r R_r / R",
+            spin,
+            w_r * r_r / r_a,
+            0.01,
+            "closed form (issue)",
+        );
+        assert!(turns >= 1.25, "turns {turns}");
+    }
+}
