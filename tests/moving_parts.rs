@@ -410,3 +410,38 @@ fn the_roller_singulator_turns_each_apple_under_the_camera() {
         assert!(turns >= 1.25, "turns {turns}");
     }
 }
+
+/// Issue 22: a moving part that would push an apple through another part is refused, naming the
+/// pair and the time, not returned as a result: a pusher closes on a fixed wall with an apple
+/// between them until the gap is 40 % of the apple's diameter; the stability guard (overlap over
+/// half the radius, `model.max_overlap_ratio`) stops the run.
+#[test]
+fn a_part_that_crushes_an_apple_against_another_is_refused_naming_the_pair() {
+    let r = 0.04;
+    let sc = parse(&json!({
+        "duration_s": 1.0, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+        "output": {"sample_interval_s": 1e-2, "force_history": false},
+        "materials": materials(),
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * r, "mass_kg": 0.107,
+            "position_m": [0, 0, r - 1e-4]}],
+        "surfaces": [
+            {"name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1]},
+            {"name": "wall", "type": "box", "material": "steel", "size_m": [0.02, 0.2, 0.1],
+             "position_m": [r + 0.01, 0, 0.06]},
+            {"name": "pusher", "type": "box", "material": "steel", "size_m": [0.02, 0.2, 0.1],
+             "position_m": [-r - 0.02, 0, 0.06],
+             "motion": {"translation": {"keyframes": [[0.1, [0, 0, 0]], [0.9, [0.058, 0, 0]]]}}}]
+    }));
+    scenario::validate(&sc).unwrap();
+    let mut series = MemorySeries::default();
+    let e = applesim::sim::run(&sc, &repo("scenarios"), &mut series)
+        .expect_err("the apple cannot be pushed through the wall")
+        .to_string();
+    println!("{e}");
+    assert!(
+        e.contains("'a1'") && (e.contains("'wall'") || e.contains("'pusher'")),
+        "{e}"
+    );
+    assert!(e.contains("pass through each other"), "{e}");
+}

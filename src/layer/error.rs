@@ -33,7 +33,7 @@ pub enum LayerError {
     },
     /// A registered apple's rigid body is no longer in the body set (the caller removed it
     /// without telling the layer).
-    #[error("apple '{apple}': its rigid body was removed from the body set (at t = {time_s} s); remove apples only between runs")]
+    #[error("apple '{apple}': its rigid body was removed from the body set (at t = {} s); remove apples only between runs", crate::math::secs(*time_s))]
     MissingBody {
         /// Apple name.
         apple: String,
@@ -41,7 +41,7 @@ pub enum LayerError {
         time_s: f64,
     },
     /// A body's state went non-finite.
-    #[error("non-finite state of '{body}' at t = {time_s} s: the run blew up (the time step is too large for the stiffest contact, or a force is unbounded)")]
+    #[error("non-finite state of '{body}' at t = {} s: the run blew up (the time step is too large for the stiffest contact, or a force is unbounded)", crate::math::secs(*time_s))]
     NonFinite {
         /// Body name.
         body: String,
@@ -49,7 +49,7 @@ pub enum LayerError {
         time_s: f64,
     },
     /// The stability guard stopped the run.
-    #[error("unstable at t = {time_s} s, contact '{a}' - '{b}': {what}")]
+    #[error("unstable at t = {} s, contact '{a}' - '{b}': {what}", crate::math::secs(*time_s))]
     Unstable {
         /// First body.
         a: String,

@@ -611,32 +611,7 @@ pub fn never_fed(line: &LineEnd) -> BTreeMap<&str, usize> {
         .collect()
 }
 
-/// A time as a person writes it: 4 significant digits, at least to the millisecond
-/// (0.030000000000000002 -> 0.03, 2.41237 -> 2.412, 1234.5678 -> 1234.568).
-pub fn secs(t: f64) -> String {
-    human(t, 4, 3)
-}
-
-/// `x` rounded to `sig` significant digits, but never coarser than `decimals` decimals, printed
-/// without trailing zeros.
-pub fn human(x: f64, sig: usize, decimals: i32) -> String {
-    if !x.is_finite() || x == 0.0 {
-        return x.to_string();
-    }
-    let magnitude = x.abs().log10().floor() as i32;
-    let d = (sig as i32 - 1 - magnitude).max(decimals).clamp(0, 17);
-    let s = format!("{x:.*}", d as usize);
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    };
-    if s == "-0" {
-        "0".into()
-    } else {
-        s
-    }
-}
+pub use crate::math::{human, secs};
 
 /// A position as `[x, y, z] m` to the millimetre.
 fn place(p: [f64; 3]) -> String {

@@ -46,7 +46,7 @@ pub enum SimError {
     },
     /// rapier quarantined a body whose state went non-finite.
     #[error(
-        "{field}: non-finite state of '{body}' at t = {time_s} s (rapier quarantined it): the run blew up"
+        "{field}: non-finite state of '{body}' at t = {} s (rapier quarantined it): the run blew up", crate::math::secs(*time_s)
     )]
     Quarantine {
         /// The scenario field to change.
@@ -60,7 +60,7 @@ pub enum SimError {
     #[error("writing samples: {0}")]
     Io(#[from] std::io::Error),
     /// The total energy rose in a scene with no energy input: the run is going wrong.
-    #[error("{field}: unstable at t = {time_s} s: the total energy rose by {rise_percent:.2} % above what the scene started with (limit {limit_percent} %), in a scene with no energy input; the fastest apple is '{apple}'. Use a smaller time_step_s (or \"time_step_s\": \"auto\")")]
+    #[error("{field}: unstable at t = {} s: the total energy rose by {rise_percent:.2} % above what the scene started with (limit {limit_percent} %), in a scene with no energy input; the fastest apple is '{apple}'. Use a smaller time_step_s (or \"time_step_s\": \"auto\")", crate::math::secs(*time_s))]
     EnergyRise {
         /// The scenario field to change.
         field: &'static str,
@@ -74,7 +74,7 @@ pub enum SimError {
         apple: String,
     },
     /// The run would take too many steps.
-    #[error("model.max_steps: the run needs more than model.max_steps = {max_steps} steps (at t = {time_s} s of {duration_s} s with steps of {dt_s:e} s): use a larger time_step_s, \"auto\" or \"adaptive\", or raise model.max_steps")]
+    #[error("model.max_steps: the run needs more than model.max_steps = {max_steps} steps (at t = {} s of {} s with steps of {dt_s:e} s): use a larger time_step_s, \"auto\" or \"adaptive\", or raise model.max_steps", crate::math::secs(*time_s), crate::math::secs(*duration_s))]
     TooManySteps {
         /// The limit.
         max_steps: u64,
