@@ -1,0 +1,1271 @@
+//! The browser viewer of a run: one self-contained HTML file (`applesim view RUN_DIR`,
+//! `applesim run ... --view`) that opens offline by double-click.
+//!
+//! The viewer reads a finished run folder from disk, not a run in memory, so that any run
+//! folder can be viewed, however old and however it was made (a batch run, a copy from a
+//! cluster). What it reads:
+//! - `summary.json` (required: it is what makes a folder a run; the run's end time, the final
+//!   positions when no body was sampled);
+//! - `bodies.csv` (required: the apples' positions, speeds and contact state, decimated to
+//!   [`ViewOptions::max_frames`] frames and quantised, see below);
+//! - `contacts.csv` (required: every contact's surface or apple, times, peak force, pressure and
+//!   point);
+//! - `scenario.json` (required: the surfaces, re-built as in the run and tessellated as the
+//!   ParaView output draws them);
+//! - `bruise.csv`, `transitions.csv` (optional: which contacts are over a bruise threshold, and
+//!   when apples slide, roll or fly; without them the page says what it falls back to).
+//!
+//! The page embeds three.js (vendored in `assets/three/`, MIT) and the hand-written template
+//! `assets/view/view.html`. The run's data goes in as JSON with the bulky arrays base64-encoded:
+//! apple centres as u16 per axis over the box of all sampled centres (step = box size / 65535
+//! per axis, written on the page), speeds as u16 over [0, largest speed], motion states as u8.
+//!
+//! Everything is checked before anything is written: a folder that is not a run, a missing file,
+//! a truncated or malformed CSV is a [`ViewError`] naming the file, and no HTML is written
+//! (the file itself is written whole or not at all, [`crate::output::atomic`]). The same run
+//! folder and options give the same bytes.
+
+use crate::math::Vec3;
+use crate::output::atomic;
+use crate::output::vtk::SceneSurfaces;
+use crate::scenario::surfaces::{rotation_of, SurfaceSpec};
+use crate::scenario::Scenario;
+use serde::Serialize;
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+/// three.js core (r184, MIT; `assets/three/LICENSE`).
+const THREE_CORE: &str = include_str!("../../assets/three/three.core.min.js");
+/// three.js renderer module (r184), importing the core.
+const THREE_MODULE: &str = include_str!("../../assets/three/three.module.min.js");
+/// three.js OrbitControls add-on (r184), importing `three`.
+const ORBIT_CONTROLS: &str = include_str!("../../assets/three/OrbitControls.js");
+/// three.js licence, carried inside every page.
+const THREE_LICENSE: &str = include_str!("../../assets/three/LICENSE");
+/// The page template; `/*@DATA@*/`, `/*@THREE_CORE@*/`, ... are replaced.
+const TEMPLATE: &str = include_str!("../../assets/view/view.html");
+
+/// Default frame budget: enough for smooth playback (frames are interpolated) at a few MB for a
+/// thousand apples.
+pub const DEFAULT_MAX_FRAMES: usize = 600;
+
+/// Motion states embedded per apple per frame.
+pub mod motion {
+    /// Not in the run yet (a source feeds it in later).
+    pub const ABSENT: u8 = 0;
+    /// No contact.
+    pub const AIRBORNE: u8 = 1;
+    /// A contact slides.
+    pub const SLIDING: u8 = 2;
+    /// In contact, nothing slides (rolling, resting, riding a belt).
+    pub const ROLLING: u8 = 3;
+    /// In contact; sliding or rolling unknown (no slip column, transitions off).
+    pub const CONTACT: u8 = 4;
+}
+
+/// Options of [`write_view`].
+#[derive(Debug, Clone)]
+pub struct ViewOptions {
+    /// Largest number of frames embedded (>= 2); the samples of `bodies.csv` are thinned
+    /// evenly to this, keeping the first and the last.
+    pub max_frames: usize,
+    /// Folder that the scenario's mesh `file` paths resolve against (the scenario's folder);
+    /// default the run folder.
+    pub asset_dir: Option<PathBuf>,
+    /// The run's name on the page; default the folder's path. (`applesim run --view` writes
+    /// the page while the run's folder still has its temporary name.)
+    pub label: Option<String>,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        Self {
+            max_frames: DEFAULT_MAX_FRAMES,
+            asset_dir: None,
+            label: None,
+        }
+    }
+}
+
+/// Errors of the viewer. Each names the file at fault; nothing is written when one occurs.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewError {
+    /// The folder is not a run folder.
+    #[error("{path}: not a run folder ({reason})")]
+    NotARun {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// A file a view needs is missing.
+    #[error("{path}: missing: {why}")]
+    Missing {
+        /// The file.
+        path: PathBuf,
+        /// What it is needed for.
+        why: &'static str,
+    },
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// OS error.
+        source: std::io::Error,
+    },
+    /// A file's content is malformed or truncated.
+    #[error("{path}: {message}")]
+    Bad {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, with the line where it is known.
+        message: String,
+    },
+    /// A bad option.
+    #[error("{0}")]
+    Option(String),
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ViewError + '_ {
+    move |source| ViewError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+fn bad(path: &Path, message: impl Into<String>) -> ViewError {
+    ViewError::Bad {
+        path: path.to_path_buf(),
+        message: message.into(),
+    }
+}
+
+/// What was written, for the command's report and the tests.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ViewStats {
+    /// Apples in the scene.
+    pub apples: usize,
+    /// Surface parts drawn (a bin counts its floor and four walls).
+    pub surfaces: usize,
+    /// Samples in `bodies.csv`.
+    pub samples: usize,
+    /// Frames embedded.
+    pub frames: usize,
+    /// Contacts listed.
+    pub contacts: usize,
+    /// Size of the page (bytes).
+    pub bytes: usize,
+    /// Position quantisation step per axis (m).
+    pub position_step_m: [f64; 3],
+    /// What the page says is missing or approximated.
+    pub notes: Vec<String>,
+}
+
+/// Writes the viewer page of the run in `run_dir` to `out` (whole or not at all).
+pub fn write_view(run_dir: &Path, out: &Path, opts: &ViewOptions) -> Result<ViewStats, ViewError> {
+    let (html, stats) = build_page(run_dir, opts)?;
+    if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        if !parent.is_dir() {
+            return Err(ViewError::Io {
+                path: parent.to_path_buf(),
+                source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such folder"),
+            });
+        }
+    }
+    atomic::write_file(out, html.as_bytes()).map_err(io(out))?;
+    Ok(stats)
+}
+
+/// The viewer page of the run in `run_dir`, and what it holds.
+pub fn build_page(run_dir: &Path, opts: &ViewOptions) -> Result<(String, ViewStats), ViewError> {
+    if opts.max_frames < 2 {
+        return Err(ViewError::Option(format!(
+            "--max-frames {}: give at least 2",
+            opts.max_frames
+        )));
+    }
+    let data = collect(run_dir, opts)?;
+    let mut json = serde_json::to_string(&data.page).map_err(|e| bad(run_dir, e.to_string()))?;
+    // Inside a <script> element: no `</script>` or `<!--` may appear, whatever a name holds.
+    json = json.replace('<', "\\u003c");
+    let html = TEMPLATE
+        .replace("/*@THREE_LICENSE@*/", &THREE_LICENSE.replace("*/", "* /"))
+        .replace("/*@THREE_CORE@*/", THREE_CORE)
+        .replace("/*@THREE_MODULE@*/", THREE_MODULE)
+        .replace("/*@ORBIT_CONTROLS@*/", ORBIT_CONTROLS)
+        .replace("/*@DATA@*/", &json);
+    let mut stats = data.stats;
+    stats.bytes = html.len();
+    Ok((html, stats))
+}
+
+/// The page's data (serialised into the page as JSON).
+#[derive(Debug, Serialize)]
+struct Page {
+    format: u32,
+    applesim_version: &'static str,
+    run: RunInfo,
+    notes: Vec<String>,
+    /// Quantisation box of the apple centres (m).
+    box_lo_m: [f64; 3],
+    /// Step of the u16 positions per axis (m).
+    position_step_m: [f64; 3],
+    /// Step of the u16 speeds (m/s).
+    speed_step_m_s: f64,
+    /// Frame times (s).
+    times_s: Vec<f64>,
+    /// Samples in bodies.csv (the frames are a thinning of them).
+    samples: usize,
+    apples: Vec<AppleInfo>,
+    /// Per frame, per apple, x y z as u16 little-endian, base64.
+    positions_b64: String,
+    /// Per frame, per apple, speed as u16 little-endian, base64.
+    speeds_b64: String,
+    /// Per frame, per apple, a [`motion`] state, base64.
+    states_b64: String,
+    /// Where the states come from.
+    states_source: &'static str,
+    surfaces: Vec<SurfaceInfo>,
+    contacts: Vec<ContactInfo>,
+    /// The bruise force threshold(s) in use (N), for the legend.
+    bruise_force_n: Vec<f64>,
+    /// Largest impact peak force of the run (N).
+    max_peak_force_n: f64,
+    /// Scene extent for the camera (apples and bounded surfaces), m.
+    scene_lo_m: [f64; 3],
+    /// Scene extent for the camera, m.
+    scene_hi_m: [f64; 3],
+    /// Gravity (m/s^2): the page's "up" is against it.
+    gravity_m_s2: [f64; 3],
+}
+
+#[derive(Debug, Serialize)]
+struct RunInfo {
+    folder: String,
+    description: Option<String>,
+    simulated_time_s: f64,
+    steps: u64,
+}
+
+#[derive(Debug, Serialize)]
+struct AppleInfo {
+    name: String,
+    diameter_m: f64,
+    mass_kg: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct SurfaceInfo {
+    name: String,
+    kind: &'static str,
+    material: String,
+    /// Triangle vertices, f32 little-endian x y z, base64 (three per triangle, unindexed).
+    triangles_b64: String,
+    /// A belt: its direction of travel (world unit vector) and speed (m/s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    belt: Option<Belt>,
+}
+
+#[derive(Debug, Serialize)]
+struct Belt {
+    direction: [f64; 3],
+    speed_m_s: f64,
+    /// Centre of the belt's top face (m), and its half length along the travel.
+    top_centre_m: [f64; 3],
+    half_length_m: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct ContactInfo {
+    /// Apple index.
+    a: u32,
+    /// The other apple's index, or -1.
+    b_apple: i64,
+    /// The other party's name (a surface's, or the apple's).
+    b: String,
+    t_start_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    t_end_s: Option<f64>,
+    t_peak_s: f64,
+    /// Peak force of the impact (N; 0 for a contact that starts at rest).
+    impact_n: f64,
+    /// Peak force of the whole contact (N).
+    peak_force_n: f64,
+    /// Peak mean pressure (Pa).
+    max_pressure_pa: f64,
+    point_m: [f64; 3],
+    /// Over a bruise threshold for apple a / b ("" when not; else which thresholds).
+    risk_a: String,
+    risk_b: String,
+}
+
+struct Collected {
+    page: Page,
+    stats: ViewStats,
+}
+
+fn require(run_dir: &Path, name: &str, why: &'static str) -> Result<PathBuf, ViewError> {
+    let p = run_dir.join(name);
+    if p.is_file() {
+        Ok(p)
+    } else {
+        Err(ViewError::Missing { path: p, why })
+    }
+}
+
+/// Column index of `name` in a header, or an error naming the file.
+fn column(path: &Path, header: &csv::StringRecord, name: &str) -> Result<usize, ViewError> {
+    header.iter().position(|h| h == name).ok_or_else(|| {
+        bad(
+            path,
+            format!("no column '{name}' in the header: not a file of an applesim run"),
+        )
+    })
+}
+
+fn csv_reader(path: &Path) -> Result<csv::Reader<std::fs::File>, ViewError> {
+    let f = std::fs::File::open(path).map_err(io(path))?;
+    Ok(csv::ReaderBuilder::new().has_headers(true).from_reader(f))
+}
+
+fn csv_err(path: &Path, e: csv::Error) -> ViewError {
+    let line = e.position().map(|p| p.line());
+    let msg = match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => format!(
+            "{len} fields where the header has {expected_len}: the file is truncated or damaged"
+        ),
+        _ => e.to_string(),
+    };
+    match line {
+        Some(l) => bad(path, format!("line {l}: {msg}")),
+        None => bad(path, msg),
+    }
+}
+
+fn num(path: &Path, line: u64, col: &str, s: &str) -> Result<f64, ViewError> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| bad(path, format!("line {line}: {col} = '{s}' is not a finite number: the file is truncated or damaged")))
+}
+
+fn opt_num(path: &Path, line: u64, col: &str, s: &str) -> Result<Option<f64>, ViewError> {
+    if s.trim().is_empty() {
+        Ok(None)
+    } else {
+        num(path, line, col, s).map(Some)
+    }
+}
+
+fn point(path: &Path, line: u64, col: &str, s: &str) -> Result<[f64; 3], ViewError> {
+    let v: Vec<&str> = s.split_whitespace().collect();
+    if v.len() != 3 {
+        return Err(bad(
+            path,
+            format!("line {line}: {col} = '{s}' is not three numbers"),
+        ));
+    }
+    Ok([
+        num(path, line, col, v[0])?,
+        num(path, line, col, v[1])?,
+        num(path, line, col, v[2])?,
+    ])
+}
+
+/// summary.json, read for what the viewer needs.
+#[derive(serde::Deserialize)]
+struct SummaryIn {
+    simulated_time_s: f64,
+    #[serde(default)]
+    steps: u64,
+    #[serde(default)]
+    description: Option<String>,
+    #[serde(default)]
+    apples: Vec<SummaryApple>,
+}
+
+#[derive(serde::Deserialize)]
+struct SummaryApple {
+    name: String,
+    diameter_m: f64,
+    mass_kg: f64,
+    final_position_m: [f64; 3],
+}
+
+/// Pass 1 over bodies.csv: sample times, apples, extents.
+struct BodiesScan {
+    times: Vec<f64>,
+    apples: Vec<AppleInfo>,
+    index: HashMap<String, u32>,
+    lo: Vec3,
+    hi: Vec3,
+    max_speed: f64,
+    has_slip: bool,
+}
+
+struct BodyCols {
+    t: usize,
+    apple: usize,
+    p: [usize; 3],
+    v: [usize; 3],
+    f: [usize; 3],
+    slip: usize,
+    d: usize,
+    m: usize,
+}
+
+fn body_cols(path: &Path, h: &csv::StringRecord) -> Result<BodyCols, ViewError> {
+    let c = |n: &str| column(path, h, n);
+    Ok(BodyCols {
+        t: c("time_s")?,
+        apple: c("apple")?,
+        p: [c("x_m")?, c("y_m")?, c("z_m")?],
+        v: [c("vx_m_s")?, c("vy_m_s")?, c("vz_m_s")?],
+        f: [c("fx_n")?, c("fy_n")?, c("fz_n")?],
+        slip: c("slip_m_s")?,
+        d: c("diameter_m")?,
+        m: c("mass_kg")?,
+    })
+}
+
+fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    if h.is_empty() || h.iter().all(|x| x.is_empty()) {
+        return Err(bad(
+            path,
+            "empty file: the run was stopped before it wrote it, or the file was cut",
+        ));
+    }
+    let cols = body_cols(path, &h)?;
+    let mut s = BodiesScan {
+        times: Vec::new(),
+        apples: Vec::new(),
+        index: HashMap::new(),
+        lo: Vec3::splat(f64::INFINITY),
+        hi: Vec3::splat(f64::NEG_INFINITY),
+        max_speed: 0.0,
+        has_slip: false,
+    };
+    let mut rec = csv::StringRecord::new();
+    loop {
+        match r.read_record(&mut rec) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(csv_err(path, e)),
+        }
+        let line = rec.position().map_or(0, |p| p.line());
+        let t = num(path, line, "time_s", &rec[cols.t])?;
+        match s.times.last() {
+            Some(&last) if t == last => {}
+            Some(&last) if t < last => {
+                return Err(bad(
+                    path,
+                    format!("line {line}: time_s = {t} goes back from {last}: not in time order"),
+                ))
+            }
+            _ => s.times.push(t),
+        }
+        let name = &rec[cols.apple];
+        let p = Vec3::new(
+            num(path, line, "x_m", &rec[cols.p[0]])?,
+            num(path, line, "y_m", &rec[cols.p[1]])?,
+            num(path, line, "z_m", &rec[cols.p[2]])?,
+        );
+        let v = Vec3::new(
+            num(path, line, "vx_m_s", &rec[cols.v[0]])?,
+            num(path, line, "vy_m_s", &rec[cols.v[1]])?,
+            num(path, line, "vz_m_s", &rec[cols.v[2]])?,
+        );
+        for k in 0..3 {
+            num(path, line, "f", &rec[cols.f[k]])?;
+        }
+        if !rec[cols.slip].trim().is_empty() {
+            num(path, line, "slip_m_s", &rec[cols.slip])?;
+            s.has_slip = true;
+        }
+        let d = num(path, line, "diameter_m", &rec[cols.d])?;
+        let m = num(path, line, "mass_kg", &rec[cols.m])?;
+        if !s.index.contains_key(name) {
+            s.index.insert(name.to_string(), s.apples.len() as u32);
+            s.apples.push(AppleInfo {
+                name: name.to_string(),
+                diameter_m: d,
+                mass_kg: m,
+            });
+        }
+        s.lo = s.lo.min(p);
+        s.hi = s.hi.max(p);
+        s.max_speed = s.max_speed.max(v.length());
+    }
+    Ok((s, cols))
+}
+
+/// Evenly spaced sample indices, first and last included, at most `max` of them.
+fn pick_frames(samples: usize, max: usize) -> Vec<usize> {
+    if samples <= max {
+        return (0..samples).collect();
+    }
+    let mut v: Vec<usize> = (0..max)
+        .map(|k| ((k as f64) * (samples - 1) as f64 / (max - 1) as f64).round() as usize)
+        .collect();
+    v.dedup();
+    v
+}
+
+fn b64(bytes: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for c in bytes.chunks(3) {
+        let n = (c[0] as u32) << 16
+            | (c.get(1).copied().unwrap_or(0) as u32) << 8
+            | c.get(2).copied().unwrap_or(0) as u32;
+        out.push(A[(n >> 18) as usize & 63] as char);
+        out.push(A[(n >> 12) as usize & 63] as char);
+        out.push(if c.len() > 1 {
+            A[(n >> 6) as usize & 63] as char
+        } else {
+            '='
+        });
+        out.push(if c.len() > 2 {
+            A[n as usize & 63] as char
+        } else {
+            '='
+        });
+    }
+    out
+}
+
+/// Quantises `x` in [lo, lo + 65535 step] to u16 (nearest).
+fn q16(x: f64, lo: f64, step: f64) -> u16 {
+    if step <= 0.0 {
+        return 0;
+    }
+    ((x - lo) / step).round().clamp(0.0, 65535.0) as u16
+}
+
+/// Transitions of one apple: (time, from, to), in time order.
+type Track = Vec<(f64, u8, u8)>;
+
+fn motion_code(path: &Path, line: u64, s: &str) -> Result<u8, ViewError> {
+    Ok(match s {
+        "airborne" => motion::AIRBORNE,
+        "sliding" => motion::SLIDING,
+        "rolling" => motion::ROLLING,
+        _ => {
+            return Err(bad(
+                path,
+                format!("line {line}: unknown motion state '{s}'"),
+            ))
+        }
+    })
+}
+
+fn read_transitions(
+    path: &Path,
+    index: &HashMap<String, u32>,
+) -> Result<HashMap<u32, Track>, ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (ca, cf, ct, cti) = (
+        column(path, &h, "apple")?,
+        column(path, &h, "from")?,
+        column(path, &h, "to")?,
+        column(path, &h, "time_s")?,
+    );
+    let mut out: HashMap<u32, Track> = HashMap::new();
+    for rec in r.records() {
+        let rec = rec.map_err(|e| csv_err(path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let Some(&i) = index.get(&rec[ca]) else {
+            continue;
+        };
+        let t = num(path, line, "time_s", &rec[cti])?;
+        out.entry(i).or_default().push((
+            t,
+            motion_code(path, line, &rec[cf])?,
+            motion_code(path, line, &rec[ct])?,
+        ));
+    }
+    for v in out.values_mut() {
+        v.sort_by(|x, y| x.0.total_cmp(&y.0));
+    }
+    Ok(out)
+}
+
+fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
+    if !run_dir.is_dir() {
+        return Err(ViewError::NotARun {
+            path: run_dir.to_path_buf(),
+            reason: if run_dir.exists() {
+                "a file, not a folder".into()
+            } else {
+                "no such folder".into()
+            },
+        });
+    }
+    let summary_path = run_dir.join("summary.json");
+    if !summary_path.is_file() {
+        return Err(ViewError::NotARun {
+            path: run_dir.to_path_buf(),
+            reason: "no summary.json: give the folder `applesim run --out` wrote".into(),
+        });
+    }
+    let text = std::fs::read_to_string(&summary_path).map_err(io(&summary_path))?;
+    let summary: SummaryIn = serde_json::from_str(&text).map_err(|e| {
+        bad(
+            &summary_path,
+            format!("{e}: not an applesim summary, or the file is truncated"),
+        )
+    })?;
+    let bodies_path = require(run_dir, "bodies.csv", "the apples' positions over time")?;
+    let contacts_path = require(run_dir, "contacts.csv", "the contacts")?;
+    let scenario_path = require(run_dir, "scenario.json", "the surfaces of the scene")?;
+    let sc_text = std::fs::read_to_string(&scenario_path).map_err(io(&scenario_path))?;
+    let sc: Scenario = crate::scenario::from_json(&sc_text, &scenario_path.display().to_string())
+        .map_err(|e| bad(&scenario_path, e.to_string()))?;
+
+    let mut notes = Vec::new();
+
+    // Pass 1: times, apples, extents.
+    let (scan, cols) = scan_bodies(&bodies_path)?;
+    if let Some(&last) = scan.times.last() {
+        let end = summary.simulated_time_s;
+        if (last - end).abs() > 1e-9 * end.abs().max(1e-9) {
+            return Err(bad(
+                &bodies_path,
+                format!(
+                    "the last sample is at t = {last} s but the run ended at t = {end} s (summary.json): the file is truncated"
+                ),
+            ));
+        }
+    }
+    let mut apples = scan.apples;
+    let mut index = scan.index;
+    let sampled = !scan.times.is_empty();
+    let (mut lo, mut hi) = (scan.lo, scan.hi);
+    // No sample: the apples stand at their final positions (summary.json), one frame.
+    let mut finals: Vec<[f64; 3]> = Vec::new();
+    if !sampled {
+        notes.push(if summary.apples.is_empty() {
+            "bodies.csv holds no sample and the run has no apple: only the surfaces are shown".to_string()
+        } else {
+            format!(
+                "bodies.csv holds no sample: the {} apples are shown at their final positions (summary.json), without motion, speeds or states",
+                summary.apples.len()
+            )
+        });
+        for a in &summary.apples {
+            index.insert(a.name.clone(), apples.len() as u32);
+            apples.push(AppleInfo {
+                name: a.name.clone(),
+                diameter_m: a.diameter_m,
+                mass_kg: a.mass_kg,
+            });
+            let p = crate::math::vec3(a.final_position_m);
+            lo = lo.min(p);
+            hi = hi.max(p);
+            finals.push(a.final_position_m);
+        }
+    }
+    let n = apples.len();
+    if n == 0 {
+        lo = Vec3::ZERO;
+        hi = Vec3::ZERO;
+    }
+    let step = {
+        let s = (hi - lo) / 65535.0;
+        [s.x, s.y, s.z]
+    };
+    let speed_step = scan.max_speed / 65535.0;
+
+    // Motion states from transitions.csv when the run wrote it.
+    let transitions_path = run_dir.join("transitions.csv");
+    let tracks = if transitions_path.is_file() && sampled {
+        Some(read_transitions(&transitions_path, &index)?)
+    } else {
+        None
+    };
+    let states_source = match (&tracks, scan.has_slip, sampled) {
+        (_, _, false) => "none",
+        (Some(_), _, _) => "transitions.csv",
+        (None, true, _) => "bodies.csv slip speed",
+        (None, false, _) => "bodies.csv contact force",
+    };
+    match states_source {
+        "none" => {}
+        "transitions.csv" => {}
+        "bodies.csv slip speed" => notes.push(
+            "no transitions.csv: sliding and rolling are told from each sample's slip speed (max(5 mm/s, 1 % of the speed)), without the detector's hysteresis".into(),
+        ),
+        _ => notes.push(
+            "slip/roll detection was off in this run (output.transitions.enabled: false): apples are shown airborne or in contact, not sliding or rolling".into(),
+        ),
+    }
+
+    // Pass 2: the picked frames.
+    let frames_idx: Vec<usize> = if sampled {
+        pick_frames(scan.times.len(), opts.max_frames)
+    } else {
+        vec![0]
+    };
+    let nf = frames_idx.len();
+    let mut frame_of = vec![u32::MAX; scan.times.len()];
+    if sampled {
+        for (f, &s) in frames_idx.iter().enumerate() {
+            frame_of[s] = f as u32;
+        }
+    }
+    let mut pos = vec![0u16; nf * n * 3];
+    let mut spd = vec![0u16; nf * n];
+    let mut st = vec![motion::ABSENT; nf * n];
+    let times: Vec<f64> = if sampled {
+        frames_idx.iter().map(|&s| scan.times[s]).collect()
+    } else {
+        vec![summary.simulated_time_s]
+    };
+    if sampled {
+        let mut r = csv_reader(&bodies_path)?;
+        let mut rec = csv::StringRecord::new();
+        let mut sample = 0usize;
+        let mut last_t = f64::NAN;
+        let mut first = true;
+        while r
+            .read_record(&mut rec)
+            .map_err(|e| csv_err(&bodies_path, e))?
+        {
+            let line = rec.position().map_or(0, |p| p.line());
+            let t = num(&bodies_path, line, "time_s", &rec[cols.t])?;
+            if !first && t != last_t {
+                sample += 1;
+            }
+            first = false;
+            last_t = t;
+            let f = frame_of[sample];
+            if f == u32::MAX {
+                continue;
+            }
+            let i = index[&rec[cols.apple]] as usize;
+            let k = f as usize * n + i;
+            let g = |c: usize, name: &str| num(&bodies_path, line, name, &rec[c]);
+            let p = [
+                g(cols.p[0], "x_m")?,
+                g(cols.p[1], "y_m")?,
+                g(cols.p[2], "z_m")?,
+            ];
+            for a in 0..3 {
+                pos[3 * k + a] = q16(p[a], lo[a], step[a]);
+            }
+            let v = Vec3::new(
+                g(cols.v[0], "vx_m_s")?,
+                g(cols.v[1], "vy_m_s")?,
+                g(cols.v[2], "vz_m_s")?,
+            );
+            spd[k] = q16(v.length(), 0.0, speed_step);
+            let force = Vec3::new(
+                g(cols.f[0], "fx_n")?,
+                g(cols.f[1], "fy_n")?,
+                g(cols.f[2], "fz_n")?,
+            );
+            let slip = opt_num(&bodies_path, line, "slip_m_s", &rec[cols.slip])?;
+            st[k] = if let Some(track) = tracks.as_ref().map(|tr| tr.get(&(i as u32))) {
+                match track {
+                    Some(tr) => {
+                        // The state entered by the last transition at or before t, else the
+                        // state the first one left.
+                        match tr.iter().rev().find(|x| x.0 <= t) {
+                            Some(x) => x.2,
+                            None => tr[0].1,
+                        }
+                    }
+                    None => {
+                        if force.length() == 0.0 {
+                            motion::AIRBORNE
+                        } else {
+                            motion::ROLLING
+                        }
+                    }
+                }
+            } else if force.length() == 0.0 {
+                motion::AIRBORNE
+            } else {
+                match slip {
+                    Some(s) if s > (0.005f64).max(0.01 * v.length()) => motion::SLIDING,
+                    Some(_) => motion::ROLLING,
+                    None => motion::CONTACT,
+                }
+            };
+        }
+    } else {
+        for (i, p) in finals.iter().enumerate() {
+            for a in 0..3 {
+                pos[3 * i + a] = q16(p[a], lo[a], step[a]);
+            }
+            st[i] = motion::CONTACT;
+        }
+    }
+    let mut le = Vec::with_capacity(pos.len() * 2);
+    for x in &pos {
+        le.extend_from_slice(&x.to_le_bytes());
+    }
+    let positions_b64 = b64(&le);
+    le.clear();
+    for x in &spd {
+        le.extend_from_slice(&x.to_le_bytes());
+    }
+    let speeds_b64 = b64(&le);
+    let states_b64 = b64(&st);
+
+    // Contacts, with their bruise verdicts.
+    let bruise_path = run_dir.join("bruise.csv");
+    let risks = if bruise_path.is_file() {
+        Some(read_bruise(&bruise_path)?)
+    } else {
+        None
+    };
+    let default_threshold = crate::analysis::bruise::DEFAULT_PEAK_FORCE_N;
+    let mut thresholds: Vec<f64> = match &risks {
+        Some(r) => r.1.clone(),
+        None => {
+            notes.push(format!(
+                "no bruise.csv: contacts are marked over the bruise threshold by their impact peak force over {default_threshold} N only"
+            ));
+            vec![default_threshold]
+        }
+    };
+    thresholds.sort_by(f64::total_cmp);
+    thresholds.dedup();
+    if thresholds.is_empty() {
+        thresholds.push(default_threshold);
+    }
+    let contacts = read_contacts(
+        &contacts_path,
+        &index,
+        risks.as_ref().map(|r| &r.0),
+        default_threshold,
+    )?;
+    let max_peak = contacts.iter().map(|c| c.impact_n).fold(0.0, f64::max);
+    if !sc.output.force_history {
+        notes.push(
+            "force histories were not kept (output.force_history: false): contacts show their peak figures, not force curves".into(),
+        );
+    }
+    if contacts.is_empty() {
+        notes.push("no contact in contacts.csv: nothing to colour by force".into());
+    }
+
+    // Surfaces, rebuilt from the scenario as run.
+    let base = opts
+        .asset_dir
+        .clone()
+        .unwrap_or_else(|| run_dir.to_path_buf());
+    let (surfaces, bounded_lo, bounded_hi) = surfaces_of(&sc, &base, lo, hi, n > 0, &mut notes);
+    let mut scene_lo = lo;
+    let mut scene_hi = hi;
+    if n > 0 {
+        let rmax = apples
+            .iter()
+            .map(|a| a.diameter_m / 2.0)
+            .fold(0.0, f64::max);
+        scene_lo -= Vec3::splat(rmax);
+        scene_hi += Vec3::splat(rmax);
+    }
+    if let (Some(a), Some(b)) = (bounded_lo, bounded_hi) {
+        if n > 0 {
+            scene_lo = scene_lo.min(a);
+            scene_hi = scene_hi.max(b);
+        } else {
+            scene_lo = a;
+            scene_hi = b;
+        }
+    }
+    notes.push(format!(
+        "positions quantised to {} x {} x {} mm (1/65535 of the box of the apples' centres), speeds to {} mm/s; {} of {} samples of bodies.csv shown, interpolated between frames",
+        fmt_mm(step[0]),
+        fmt_mm(step[1]),
+        fmt_mm(step[2]),
+        fmt_mm(speed_step),
+        nf.min(scan.times.len()),
+        scan.times.len()
+    ));
+
+    let stats = ViewStats {
+        apples: n,
+        surfaces: surfaces.len(),
+        samples: scan.times.len(),
+        frames: nf,
+        contacts: contacts.len(),
+        bytes: 0,
+        position_step_m: step,
+        notes: notes.clone(),
+    };
+    let page = Page {
+        format: 1,
+        applesim_version: env!("CARGO_PKG_VERSION"),
+        run: RunInfo {
+            folder: opts
+                .label
+                .clone()
+                .unwrap_or_else(|| run_dir.display().to_string()),
+            description: summary.description,
+            simulated_time_s: summary.simulated_time_s,
+            steps: summary.steps,
+        },
+        notes,
+        box_lo_m: [lo.x, lo.y, lo.z],
+        position_step_m: step,
+        speed_step_m_s: speed_step,
+        times_s: times,
+        samples: scan.times.len(),
+        apples,
+        positions_b64,
+        speeds_b64,
+        states_b64,
+        states_source,
+        surfaces,
+        contacts,
+        bruise_force_n: thresholds,
+        max_peak_force_n: max_peak,
+        scene_lo_m: [scene_lo.x, scene_lo.y, scene_lo.z],
+        scene_hi_m: [scene_hi.x, scene_hi.y, scene_hi.z],
+        gravity_m_s2: sc.gravity_m_s2,
+    };
+    Ok(Collected { page, stats })
+}
+
+fn fmt_mm(m: f64) -> String {
+    let mm = m * 1e3;
+    if mm == 0.0 {
+        "0".into()
+    } else {
+        format!("{mm:.3}")
+    }
+}
+
+/// bruise.csv: (contact index, apple) -> exceeded thresholds ("" when none), and the force
+/// thresholds in use.
+type Risks = (BTreeMap<(usize, String), String>, Vec<f64>);
+
+fn read_bruise(path: &Path) -> Result<Risks, ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (cc, ca, cr, ce, cf) = (
+        column(path, &h, "contact")?,
+        column(path, &h, "apple")?,
+        column(path, &h, "at_risk")?,
+        column(path, &h, "exceeded")?,
+        column(path, &h, "force_threshold_n")?,
+    );
+    let mut map = BTreeMap::new();
+    let mut thr = Vec::new();
+    for rec in r.records() {
+        let rec = rec.map_err(|e| csv_err(path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let k: usize = rec[cc].parse().map_err(|_| {
+            bad(
+                path,
+                format!("line {line}: contact = '{}' is not an index", &rec[cc]),
+            )
+        })?;
+        let f = num(path, line, "force_threshold_n", &rec[cf])?;
+        if !thr.contains(&f) {
+            thr.push(f);
+        }
+        let risk = match &rec[cr] {
+            "true" => {
+                let e = rec[ce].to_string();
+                if e.is_empty() {
+                    "risk".to_string()
+                } else {
+                    e
+                }
+            }
+            "false" => String::new(),
+            other => {
+                return Err(bad(
+                    path,
+                    format!("line {line}: at_risk = '{other}' is not true or false"),
+                ))
+            }
+        };
+        map.insert((k, rec[ca].to_string()), risk);
+    }
+    Ok((map, thr))
+}
+
+fn read_contacts(
+    path: &Path,
+    index: &HashMap<String, u32>,
+    risks: Option<&BTreeMap<(usize, String), String>>,
+    default_threshold: f64,
+) -> Result<Vec<ContactInfo>, ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    if h.is_empty() || h.iter().all(|x| x.is_empty()) {
+        return Err(bad(
+            path,
+            "empty file: the run was stopped before it wrote it, or the file was cut",
+        ));
+    }
+    let c = |n: &str| column(path, &h, n);
+    let (ca, cb, cs, ce, cp, ctp, cpr, cpt, ci) = (
+        c("a")?,
+        c("b")?,
+        c("t_start_s")?,
+        c("t_end_s")?,
+        c("peak_force_n")?,
+        c("t_peak_s")?,
+        c("max_pressure_pa")?,
+        c("contact_point_m")?,
+        c("impact_peak_force_n")?,
+    );
+    let mut out = Vec::new();
+    for (k, rec) in r.records().enumerate() {
+        let rec = rec.map_err(|e| csv_err(path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let Some(&a) = index.get(&rec[ca]) else {
+            return Err(bad(
+                path,
+                format!(
+                    "line {line}: apple '{}' is not in bodies.csv: the files are of different runs",
+                    &rec[ca]
+                ),
+            ));
+        };
+        let b_apple = index.get(&rec[cb]).map_or(-1, |&i| i as i64);
+        let impact = opt_num(path, line, "impact_peak_force_n", &rec[ci])?.unwrap_or(0.0);
+        let risk = |who: &str| -> String {
+            match risks {
+                Some(m) => m.get(&(k, who.to_string())).cloned().unwrap_or_default(),
+                None if impact > default_threshold => "force".into(),
+                None => String::new(),
+            }
+        };
+        out.push(ContactInfo {
+            a,
+            b_apple,
+            b: rec[cb].to_string(),
+            t_start_s: num(path, line, "t_start_s", &rec[cs])?,
+            t_end_s: opt_num(path, line, "t_end_s", &rec[ce])?,
+            t_peak_s: num(path, line, "t_peak_s", &rec[ctp])?,
+            impact_n: impact,
+            peak_force_n: num(path, line, "peak_force_n", &rec[cp])?,
+            max_pressure_pa: num(path, line, "max_pressure_pa", &rec[cpr])?,
+            point_m: point(path, line, "contact_point_m", &rec[cpt])?,
+            risk_a: risk(&rec[ca]),
+            risk_b: if b_apple >= 0 {
+                risk(&rec[cb])
+            } else {
+                String::new()
+            },
+        });
+    }
+    Ok(out)
+}
+
+/// The surfaces of the scenario, tessellated; the extent of the bounded ones. A surface that
+/// cannot be rebuilt (a mesh file not found from `base`) is left out with a note.
+#[allow(clippy::type_complexity)]
+fn surfaces_of(
+    sc: &Scenario,
+    base: &Path,
+    lo: Vec3,
+    hi: Vec3,
+    have_apples: bool,
+    notes: &mut Vec<String>,
+) -> (Vec<SurfaceInfo>, Option<Vec3>, Option<Vec3>) {
+    let mut items = Vec::new();
+    // (name, kind, material, belt, the plane's point and normal).
+    let mut meta: Vec<(
+        String,
+        &'static str,
+        String,
+        Option<Belt>,
+        Option<(Vec3, Vec3)>,
+    )> = Vec::new();
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        let field = format!("surfaces[{k}]");
+        let parts = match crate::world::surfaces::parts(s, &field, base) {
+            Ok(p) => p,
+            Err(e) => {
+                notes.push(format!(
+                    "surface '{}' is not drawn: {e}{}",
+                    s.name(),
+                    if matches!(s, SurfaceSpec::Mesh(_)) {
+                        " (mesh files resolve against the scenario's folder: pass --assets DIR)"
+                    } else {
+                        ""
+                    }
+                ));
+                continue;
+            }
+        };
+        let kind = match s {
+            SurfaceSpec::Plane(_) => "plane",
+            SurfaceSpec::Box(_) => "box",
+            SurfaceSpec::Conveyor(_) => "conveyor",
+            SurfaceSpec::Chute(c) => match c.profile {
+                crate::scenario::surfaces::ChuteProfile::Flat => "chute",
+                crate::scenario::surfaces::ChuteProfile::Trough => "trough",
+            },
+            SurfaceSpec::Bin(_) => "bin",
+            SurfaceSpec::Mesh(_) => "mesh",
+        };
+        let belt = match s {
+            SurfaceSpec::Conveyor(c) => rotation_of(&c.rotation, &field).ok().map(|rot| {
+                let sign = if c.belt_velocity_m_s < 0.0 { -1.0 } else { 1.0 };
+                let d = rot * Vec3::new(sign, 0.0, 0.0);
+                let top =
+                    crate::math::vec3(c.position_m) + rot * Vec3::new(0.0, 0.0, c.size_m[2] / 2.0);
+                Belt {
+                    direction: [d.x, d.y, d.z],
+                    speed_m_s: c.belt_velocity_m_s.abs(),
+                    top_centre_m: [top.x, top.y, top.z],
+                    half_length_m: c.size_m[0] / 2.0,
+                }
+            }),
+            _ => None,
+        };
+        let plane = match s {
+            SurfaceSpec::Plane(p) => Some((
+                crate::math::vec3(p.point_m),
+                crate::math::vec3(p.normal).normalize(),
+            )),
+            _ => None,
+        };
+        let mut belt = belt;
+        for p in parts {
+            let material = p.material.clone();
+            let name = p.name.clone();
+            items.push((
+                name.clone(),
+                p.collider.shape.clone(),
+                p.collider.position,
+                p.shape.clone(),
+            ));
+            meta.push((name, kind, material, belt.take(), plane));
+        }
+    }
+    let scene = SceneSurfaces::from_parts(items);
+    // Bounded surfaces' extent first, so that a plane is cut to the whole scene.
+    let (mut blo, mut bhi) = (None::<Vec3>, None::<Vec3>);
+    let (probe, _) = scene.tessellate(lo, hi);
+    for (m, info) in probe.iter().zip(&meta) {
+        if info.4.is_some() {
+            continue;
+        }
+        for &p in &m.points {
+            blo = Some(blo.map_or(p, |x| x.min(p)));
+            bhi = Some(bhi.map_or(p, |x| x.max(p)));
+        }
+    }
+    let (clo, chi) = match (have_apples, blo, bhi) {
+        (true, Some(a), Some(b)) => (lo.min(a), hi.max(b)),
+        (true, _, _) => (lo, hi),
+        (false, Some(a), Some(b)) => (a, b),
+        (false, _, _) => (Vec3::splat(-0.5), Vec3::splat(0.5)),
+    };
+    // A plane is cut to the scene: the rectangle its box (padded by a tenth) covers when
+    // projected onto it (tessellate() draws a square twice the box's diagonal, for ParaView).
+    let pad = (chi - clo) * 0.1 + Vec3::splat(0.02);
+    let (clo, chi) = (clo - pad, chi + pad);
+    let (meshes, warnings) = scene.tessellate(clo, chi);
+    notes.extend(warnings);
+    let surfaces = meshes
+        .into_iter()
+        .zip(meta)
+        .map(|(m, (name, kind, material, belt, plane))| {
+            let m = match plane {
+                Some((p0, n)) => plane_patch(p0, n, clo, chi),
+                None => m,
+            };
+            let mut bytes = Vec::with_capacity(m.triangles.len() * 36);
+            for t in &m.triangles {
+                for &v in t {
+                    let p = m.points[v as usize];
+                    for x in [p.x, p.y, p.z] {
+                        bytes.extend_from_slice(&(x as f32).to_le_bytes());
+                    }
+                }
+            }
+            SurfaceInfo {
+                name,
+                kind,
+                material,
+                triangles_b64: b64(&bytes),
+                belt,
+            }
+        })
+        .collect();
+    (surfaces, blo, bhi)
+}
+
+/// The rectangle of the plane through `p0` with unit normal `n` that the box [lo, hi] covers
+/// when projected onto it, as two triangles.
+fn plane_patch(p0: Vec3, n: Vec3, lo: Vec3, hi: Vec3) -> crate::output::vtk::Mesh {
+    let u = n.any_orthonormal_vector();
+    let v = n.cross(u);
+    let (mut a0, mut a1, mut b0, mut b1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for k in 0..8 {
+        let c = Vec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        );
+        let d = c - p0;
+        a0 = a0.min(d.dot(u));
+        a1 = a1.max(d.dot(u));
+        b0 = b0.min(d.dot(v));
+        b1 = b1.max(d.dot(v));
+    }
+    crate::output::vtk::Mesh {
+        points: vec![
+            p0 + a0 * u + b0 * v,
+            p0 + a1 * u + b0 * v,
+            p0 + a1 * u + b1 * v,
+            p0 + a0 * u + b1 * v,
+        ],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_matches_rfc4648() {
+        assert_eq!(b64(b""), "");
+        assert_eq!(b64(b"f"), "Zg==");
+        assert_eq!(b64(b"fo"), "Zm8=");
+        assert_eq!(b64(b"foo"), "Zm9v");
+        assert_eq!(b64(b"foobar"), "Zm9vYmFy");
+    }
+
+    #[test]
+    fn frames_keep_first_and_last() {
+        assert_eq!(pick_frames(3, 10), vec![0, 1, 2]);
+        let f = pick_frames(1001, 11);
+        assert_eq!(f.len(), 11);
+        assert_eq!(f[0], 0);
+        assert_eq!(*f.last().unwrap(), 1000);
+        assert_eq!(f[5], 500);
+    }
+
+    #[test]
+    fn quantisation_is_nearest() {
+        assert_eq!(q16(0.0, 0.0, 1e-3), 0);
+        assert_eq!(q16(65.535, 0.0, 1e-3), 65535);
+        assert_eq!(q16(1.0004, 0.0, 1e-3), 1000);
+        assert_eq!(q16(5.0, 5.0, 0.0), 0);
+    }
+}
