@@ -496,6 +496,19 @@ fn handling_line_in_chromium() {
         at[1].as_f64().unwrap(),
         at[2].as_f64().unwrap(),
     );
+    // Hovering shows a tip with its name, size and mass.
+    s.tab.move_mouse_to_point(Point { x, y }).unwrap();
+    let tip = s.eval(
+        "JSON.stringify([document.getElementById('tip').style.display, document.getElementById('tip').textContent])",
+    );
+    assert_eq!(tip[0], "block", "no tip over apple {}", names[i]);
+    let tip = tip[1].as_str().unwrap();
+    assert!(
+        tip.starts_with(&format!("{} (", names[i]))
+            && tip.contains(" mm, ")
+            && tip.contains(" g, "),
+        "{tip}"
+    );
     s.click(x, y);
     let info = s.eval(
         "JSON.stringify({ shown: document.getElementById('info').style.display, text: document.getElementById('info').textContent, rows: document.querySelectorAll('#info tr').length })",
@@ -516,8 +529,9 @@ fn handling_line_in_chromium() {
     );
     let clicked = names
         .iter()
-        .find(|n| text.starts_with(n.as_str()))
+        .find(|n| text.starts_with(&format!("{n}:")))
         .expect("the panel names an apple");
+    assert_eq!(clicked, &names[i], "clicked at apple {}'s centre", names[i]);
     eprintln!("clicked {clicked}: {}", &text[..text.len().min(160)]);
 
     let errors = s.errors();
