@@ -488,7 +488,7 @@ fn handling_line_in_chromium() {
            let best = null; for (let i = 0; i < V.apples.count; i++) { V.apples.getMatrixAt(i, m); \
            p.setFromMatrixPosition(m).project(V.camera); \
            const x = c.left + (p.x + 1) / 2 * c.width, y = c.top + (1 - p.y) / 2 * c.height; \
-           if (x > 460 && x < c.width - 280 && y > 260 && y < c.height - 20 && (!best || p.z < best[3])) best = [i, x, y, p.z]; } \
+           if (document.elementFromPoint(x, y) === V.renderer.domElement && (!best || p.z < best[3])) best = [i, x, y, p.z]; } \
            return JSON.stringify(best); })()",
     );
     let (i, x, y) = (
