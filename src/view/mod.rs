@@ -227,7 +227,11 @@ struct Page {
     /// Where the states come from.
     states_source: &'static str,
     surfaces: Vec<SurfaceInfo>,
-    contacts: Vec<ContactInfo>,
+    /// The names of [`ContactInfo`]'s fields, in the order of each row of `contacts`.
+    contact_fields: &'static [&'static str],
+    /// One array per contact (rows rather than objects: a tenth of the size for a big run),
+    /// numbers to 6 significant digits.
+    contacts: Vec<serde_json::Value>,
     /// The bruise force threshold(s) in use (N), for the legend.
     bruise_force_n: Vec<f64>,
     /// Largest impact peak force of the run (N).
@@ -276,7 +280,48 @@ struct Belt {
     half_length_m: f64,
 }
 
-#[derive(Debug, Serialize)]
+/// The order of a contact row's fields in the page.
+const CONTACT_FIELDS: [&str; 12] = [
+    "a",
+    "b_apple",
+    "b",
+    "t_start_s",
+    "t_end_s",
+    "t_peak_s",
+    "impact_n",
+    "peak_force_n",
+    "max_pressure_pa",
+    "point_m",
+    "risk_a",
+    "risk_b",
+];
+
+/// `x` to 6 significant digits (what the page shows, at a third of the text).
+fn sig6(x: f64) -> serde_json::Value {
+    let r: f64 = format!("{x:.5e}").parse().unwrap_or(x);
+    serde_json::json!(r)
+}
+
+impl ContactInfo {
+    fn row(&self) -> serde_json::Value {
+        serde_json::json!([
+            self.a,
+            self.b_apple,
+            self.b,
+            sig6(self.t_start_s),
+            self.t_end_s.map(sig6),
+            sig6(self.t_peak_s),
+            sig6(self.impact_n),
+            sig6(self.peak_force_n),
+            sig6(self.max_pressure_pa),
+            self.point_m.map(sig6),
+            self.risk_a,
+            self.risk_b,
+        ])
+    }
+}
+
+#[derive(Debug)]
 struct ContactInfo {
     /// Apple index.
     a: u32,
@@ -285,7 +330,7 @@ struct ContactInfo {
     /// The other party's name (a surface's, or the apple's).
     b: String,
     t_start_s: f64,
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// Separation (s); `None` while still in contact at the end.
     t_end_s: Option<f64>,
     t_peak_s: f64,
     /// Peak force of the impact (N; 0 for a contact that starts at rest).
@@ -927,7 +972,8 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         states_b64,
         states_source,
         surfaces,
-        contacts,
+        contact_fields: &CONTACT_FIELDS,
+        contacts: contacts.iter().map(ContactInfo::row).collect(),
         bruise_force_n: thresholds,
         max_peak_force_n: max_peak,
         scene_lo_m: [scene_lo.x, scene_lo.y, scene_lo.z],
