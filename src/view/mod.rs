@@ -34,11 +34,11 @@ use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
-/// three.js core (r184, MIT; `assets/three/LICENSE`).
+/// three.js core (r185, MIT; `assets/three/LICENSE`).
 const THREE_CORE: &str = include_str!("../../assets/three/three.core.min.js");
-/// three.js renderer module (r184), importing the core.
+/// three.js renderer module (r185), importing the core.
 const THREE_MODULE: &str = include_str!("../../assets/three/three.module.min.js");
-/// three.js OrbitControls add-on (r184), importing `three`.
+/// three.js OrbitControls add-on (r185), importing `three`.
 const ORBIT_CONTROLS: &str = include_str!("../../assets/three/OrbitControls.js");
 /// three.js licence, carried inside every page.
 const THREE_LICENSE: &str = include_str!("../../assets/three/LICENSE");
