@@ -790,11 +790,19 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
             }
             first = false;
             last_t = t;
-            let f = frame_of[sample];
+            // The file is read twice; one that changed in between (a run writing it again) is
+            // refused rather than misread.
+            let changed = || {
+                bad(
+                    &bodies_path,
+                    format!("line {line}: the file changed while it was read: view it again"),
+                )
+            };
+            let f = *frame_of.get(sample).ok_or_else(changed)?;
             if f == u32::MAX {
                 continue;
             }
-            let i = index[&rec[cols.apple]] as usize;
+            let i = *index.get(&rec[cols.apple]).ok_or_else(changed)? as usize;
             let k = f as usize * n + i;
             let g = |c: usize, name: &str| num(&bodies_path, line, name, &rec[c]);
             let p = [
