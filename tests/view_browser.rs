@@ -648,6 +648,34 @@ fn every_surface_kind_and_a_run_without_apples() {
     let (px, _, _) = s.screenshot();
     assert!(changed_pixels(&px, &vec![px[0]; px.len()]) > 0);
 
+    // With force histories, a contact over a bruise threshold has its force curve: click the
+    // apple, then the contact's row.
+    let target = s.eval(
+        "(() => { const V = applesimView, m = new V.THREE.Matrix4(), p = new V.THREE.Vector3(); \
+           const c = V.renderer.domElement.getBoundingClientRect(); \
+           const ks = Object.keys(V.data.curves).map(Number); \
+           for (const k of ks) { const i = V.data.contacts[k].a; V.apples.getMatrixAt(i, m); \
+             p.setFromMatrixPosition(m).project(V.camera); \
+             const x = c.left + (p.x + 1) / 2 * c.width, y = c.top + (1 - p.y) / 2 * c.height; \
+             if (document.elementFromPoint(x, y) === V.renderer.domElement) return JSON.stringify([k, i, x, y, ks.length]); } \
+           return JSON.stringify(null); })()",
+    );
+    assert!(!target.is_null(), "no contact with a force curve on screen");
+    assert!(target[4].as_u64().unwrap() >= 1);
+    let k = target[0].as_u64().unwrap();
+    s.click(target[2].as_f64().unwrap(), target[3].as_f64().unwrap());
+    let row = s.eval(&format!(
+        "JSON.stringify((r => r ? [r.getBoundingClientRect().left + 20, r.getBoundingClientRect().top + 5] : null)(document.querySelector('#info tr[data-contact=\"{k}\"]')))"
+    ));
+    assert!(
+        !row.is_null(),
+        "the clicked apple's panel has no row for contact {k}"
+    );
+    s.click(row[0].as_f64().unwrap(), row[1].as_f64().unwrap());
+    let svg =
+        s.eval("JSON.stringify(document.querySelectorAll('#info svg.curve polyline').length)");
+    assert_eq!(svg, 1, "no force curve after clicking contact {k}'s row");
+
     s.open(&empty_dir.join("view.html"), "");
     let v = s.eval(
         "JSON.stringify({ apples: applesimView.apples.count, surfaces: applesimView.surfaces.length, \

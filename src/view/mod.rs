@@ -232,6 +232,10 @@ struct Page {
     /// One array per contact (rows rather than objects: a tenth of the size for a big run),
     /// numbers to 6 significant digits.
     contacts: Vec<serde_json::Value>,
+    /// Force curves of the contacts over a bruise threshold (from forces.csv when the run kept
+    /// force histories): contact row index -> [times (s), forces (N)], at most
+    /// [`CURVE_POINTS`] points each, 5 significant digits.
+    curves: BTreeMap<usize, [Vec<serde_json::Value>; 2]>,
     /// The bruise force threshold(s) in use (N), for the legend.
     bruise_force_n: Vec<f64>,
     /// Largest impact peak force of the run (N).
@@ -902,10 +906,36 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         default_threshold,
     )?;
     let max_peak = contacts.iter().map(|c| c.impact_n).fold(0.0, f64::max);
-    if !sc.output.force_history {
-        notes.push(
-            "force histories were not kept (output.force_history: false): contacts show their peak figures, not force curves".into(),
-        );
+    let forces_path = run_dir.join("forces.csv");
+    let mut curves = BTreeMap::new();
+    if forces_path.is_file() {
+        let mut risky: Vec<usize> = (0..contacts.len())
+            .filter(|&k| !contacts[k].risk_a.is_empty() || !contacts[k].risk_b.is_empty())
+            .collect();
+        risky.sort_by(|&x, &y| {
+            contacts[y]
+                .impact_n
+                .total_cmp(&contacts[x].impact_n)
+                .then(x.cmp(&y))
+        });
+        let left_out = risky.len().saturating_sub(MAX_CURVES);
+        risky.truncate(MAX_CURVES);
+        curves = read_curves(&forces_path, &risky.into_iter().collect())?;
+        notes.push(format!(
+            "force curves (forces.csv, at most {CURVE_POINTS} points each) are shown for the {} contact(s) over a bruise threshold{}: click an apple, then a red row",
+            curves.len(),
+            if left_out > 0 {
+                format!(" with the largest impacts ({left_out} more left out)")
+            } else {
+                String::new()
+            }
+        ));
+    } else {
+        notes.push(if sc.output.force_history {
+            "no forces.csv: contacts show their peak figures, not force curves".to_string()
+        } else {
+            "force histories were not kept (output.force_history: false): contacts show their peak figures, not force curves".to_string()
+        });
     }
     if contacts.is_empty() {
         notes.push("no contact in contacts.csv: nothing to colour by force".into());
@@ -982,6 +1012,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         surfaces,
         contact_fields: &CONTACT_FIELDS,
         contacts: contacts.iter().map(ContactInfo::row).collect(),
+        curves,
         bruise_force_n: thresholds,
         max_peak_force_n: max_peak,
         scene_lo_m: [scene_lo.x, scene_lo.y, scene_lo.z],
@@ -998,6 +1029,68 @@ fn fmt_mm(m: f64) -> String {
     } else {
         format!("{mm:.3}")
     }
+}
+
+/// Most points of an embedded force curve (the peak always among them).
+pub const CURVE_POINTS: usize = 64;
+/// Most force curves embedded (the contacts over a threshold with the largest impacts first).
+pub const MAX_CURVES: usize = 2000;
+
+/// `x` to 5 significant digits.
+fn sig5(x: f64) -> serde_json::Value {
+    let r: f64 = format!("{x:.4e}").parse().unwrap_or(x);
+    serde_json::json!(r)
+}
+
+/// The force curves of `wanted` contacts from forces.csv, thinned to [`CURVE_POINTS`] (evenly
+/// spaced samples plus the largest force).
+fn read_curves(
+    path: &Path,
+    wanted: &std::collections::BTreeSet<usize>,
+) -> Result<BTreeMap<usize, [Vec<serde_json::Value>; 2]>, ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (cc, ct, cf) = (
+        column(path, &h, "contact")?,
+        column(path, &h, "time_s")?,
+        column(path, &h, "force_n")?,
+    );
+    let mut raw: BTreeMap<usize, Vec<(f64, f64)>> = BTreeMap::new();
+    let mut rec = csv::StringRecord::new();
+    while r.read_record(&mut rec).map_err(|e| csv_err(path, e))? {
+        let line = rec.position().map_or(0, |p| p.line());
+        let k: usize = rec[cc].parse().map_err(|_| {
+            bad(
+                path,
+                format!("line {line}: contact = '{}' is not an index", &rec[cc]),
+            )
+        })?;
+        if !wanted.contains(&k) {
+            continue;
+        }
+        let t = num(path, line, "time_s", &rec[ct])?;
+        let f = num(path, line, "force_n", &rec[cf])?;
+        raw.entry(k).or_default().push((t, f));
+    }
+    Ok(raw
+        .into_iter()
+        .map(|(k, v)| {
+            let mut idx = pick_frames(v.len(), CURVE_POINTS - 1);
+            if let Some(peak) = (0..v.len()).max_by(|&a, &b| v[a].1.total_cmp(&v[b].1)) {
+                if !idx.contains(&peak) {
+                    idx.push(peak);
+                    idx.sort_unstable();
+                }
+            }
+            (
+                k,
+                [
+                    idx.iter().map(|&i| sig5(v[i].0)).collect(),
+                    idx.iter().map(|&i| sig5(v[i].1)).collect(),
+                ],
+            )
+        })
+        .collect())
 }
 
 /// bruise.csv: (contact index, apple) -> exceeded thresholds ("" when none), and the force
