@@ -675,6 +675,14 @@ fn every_surface_kind_and_a_run_without_apples() {
     let svg =
         s.eval("JSON.stringify(document.querySelectorAll('#info svg.curve polyline').length)");
     assert_eq!(svg, 1, "no force curve after clicking contact {k}'s row");
+    // APPLESIM_VIEW_SHOTS=DIR keeps a picture of this state (to look at, not checked).
+    if let Some(dir) = std::env::var_os("APPLESIM_VIEW_SHOTS") {
+        let png_bytes = s
+            .tab
+            .capture_screenshot(CaptureScreenshotFormatOption::Png, None, None, true)
+            .unwrap();
+        std::fs::write(Path::new(&dir).join("kinds_curve.png"), png_bytes).unwrap();
+    }
 
     s.open(&empty_dir.join("view.html"), "");
     let v = s.eval(

@@ -339,6 +339,8 @@ struct ContactInfo {
     t_peak_s: f64,
     /// Peak force of the impact (N; 0 for a contact that starts at rest).
     impact_n: f64,
+    /// Duration of the impact (s), if the contact had one.
+    impact_duration_s: Option<f64>,
     /// Peak force of the whole contact (N).
     peak_force_n: f64,
     /// Peak mean pressure (Pa).
@@ -920,7 +922,19 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         });
         let left_out = risky.len().saturating_sub(MAX_CURVES);
         risky.truncate(MAX_CURVES);
-        curves = read_curves(&forces_path, &risky.into_iter().collect())?;
+        // The impact pulse (and as much again), not the resting time after it: a long resting
+        // contact thinned to 64 points would hide the pulse.
+        let until = |c: &ContactInfo| match c.impact_duration_s {
+            Some(d) => c.t_start_s + 2.0 * d,
+            None => f64::INFINITY,
+        };
+        curves = read_curves(
+            &forces_path,
+            &risky
+                .into_iter()
+                .map(|k| (k, until(&contacts[k])))
+                .collect(),
+        )?;
         notes.push(format!(
             "force curves (forces.csv, at most {CURVE_POINTS} points each) are shown for the {} contact(s) over a bruise threshold{}: click an apple, then a red row",
             curves.len(),
@@ -1042,11 +1056,11 @@ fn sig5(x: f64) -> serde_json::Value {
     serde_json::json!(r)
 }
 
-/// The force curves of `wanted` contacts from forces.csv, thinned to [`CURVE_POINTS`] (evenly
-/// spaced samples plus the largest force).
+/// The force curves of `wanted` contacts (index -> last time kept) from forces.csv, thinned to
+/// [`CURVE_POINTS`] (evenly spaced samples plus the largest force).
 fn read_curves(
     path: &Path,
-    wanted: &std::collections::BTreeSet<usize>,
+    wanted: &BTreeMap<usize, f64>,
 ) -> Result<BTreeMap<usize, [Vec<serde_json::Value>; 2]>, ViewError> {
     let mut r = csv_reader(path)?;
     let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
@@ -1065,10 +1079,13 @@ fn read_curves(
                 format!("line {line}: contact = '{}' is not an index", &rec[cc]),
             )
         })?;
-        if !wanted.contains(&k) {
+        let Some(&until) = wanted.get(&k) else {
+            continue;
+        };
+        let t = num(path, line, "time_s", &rec[ct])?;
+        if t > until {
             continue;
         }
-        let t = num(path, line, "time_s", &rec[ct])?;
         let f = num(path, line, "force_n", &rec[cf])?;
         raw.entry(k).or_default().push((t, f));
     }
@@ -1159,6 +1176,7 @@ fn read_contacts(
         ));
     }
     let c = |n: &str| column(path, &h, n);
+    let cid = c("impact_duration_s")?;
     let (ca, cb, cs, ce, cp, ctp, cpr, cpt, ci) = (
         c("a")?,
         c("b")?,
@@ -1200,6 +1218,7 @@ fn read_contacts(
             t_end_s: opt_num(path, line, "t_end_s", &rec[ce])?,
             t_peak_s: num(path, line, "t_peak_s", &rec[ctp])?,
             impact_n: impact,
+            impact_duration_s: opt_num(path, line, "impact_duration_s", &rec[cid])?,
             peak_force_n: num(path, line, "peak_force_n", &rec[cp])?,
             max_pressure_pa: num(path, line, "max_pressure_pa", &rec[cpr])?,
             point_m: point(path, line, "contact_point_m", &rec[cpt])?,
