@@ -14,7 +14,7 @@
 //! time series, transitions); [`analysis`] says what it means for the fruit (pulse fit, bruise
 //! assessment) and [`output`] writes the run folder (summary, CSV, ParaView, charts). On top:
 //! [`batch`] (sweeps, shards, merge), [`validate`] (the paper's figures), [`bench`](mod@bench) (the cost of
-//! a run) and the command line (a thin shell in `src/cli`).
+//! a run), [`view`] (a run folder as one HTML page) and the command line (a thin shell in `src/cli`).
 //!
 //! Code dependencies run one way, each module using only those listed before it: [`math`],
 //! [`contact`] (pure functions), [`scenario`], [`record`] (plain data), [`layer`], [`world`],
@@ -34,6 +34,7 @@ pub mod record;
 pub mod scenario;
 pub mod sim;
 pub mod validate;
+pub mod view;
 pub mod world;
 
 /// The README's code blocks, compiled and run as doctests.

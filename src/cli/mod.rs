@@ -10,6 +10,7 @@ mod report;
 mod run;
 mod tradeoff;
 mod validate;
+mod view;
 
 use applesim::scenario::{self, Scenario};
 use clap::{Parser, Subcommand};
@@ -48,6 +49,9 @@ enum Command {
     /// Run the paper's Figs. 1-7, check them against its numbers and closed forms, and write a
     /// Markdown report with SVG charts.
     Validate(validate::Args),
+    /// Write one self-contained HTML file showing a run folder in 3-D (opens offline in any
+    /// current browser): play, colour apples by force, bruise, speed or motion, inspect contacts.
+    View(view::Args),
 }
 
 /// Parses the arguments, runs the command, returns the exit code.
@@ -65,6 +69,7 @@ pub fn main() -> i32 {
         Command::Merge(a) => merge::main(a),
         Command::Validate(a) => validate::main(a),
         Command::Bench(a) => bench::main(a),
+        Command::View(a) => view::main(a),
     };
     match result {
         Ok(()) => 0,

@@ -34,13 +34,20 @@ pub struct Args {
     /// speed), in s of simulated time; default: the whole run.
     #[arg(long, value_name = "FROM:TO", requires = "plots")]
     time_window: Option<String>,
+    /// Also write the viewer's page, view.html, into the output folder (one HTML file that
+    /// opens offline in a browser; see `applesim view`).
+    #[arg(long)]
+    view: bool,
+    /// With --view: the largest number of frames in the page.
+    #[arg(long, default_value_t = applesim::view::DEFAULT_MAX_FRAMES, requires = "view")]
+    max_frames: usize,
     /// Threads for the contact force pass (default: every core). The outputs do not depend on
     /// it, byte for byte.
     #[arg(long)]
     threads: Option<usize>,
     /// A batch run's child process: reads its job (JSON) on standard input, answers on
     /// standard output (applesim batch starts it; see batch::isolate).
-    #[arg(long = "batch-job", hide = true, conflicts_with_all = ["scenario", "plots"])]
+    #[arg(long = "batch-job", hide = true, conflicts_with_all = ["scenario", "plots", "view"])]
     batch_job: bool,
 }
 
@@ -73,10 +80,28 @@ pub fn main(a: Args) -> Result<(), String> {
     // The charts are drawn into the set before it is switched in, so they belong to it; their
     // notes and paths name the temporary folder, shown under the folder's own name.
     let mut plots: Option<(plot::PlotSummary, PathBuf)> = None;
+    let mut viewed: Option<applesim::view::ViewStats> = None;
     let mut draw = |dir: &Path, _: &RunResult| -> Result<(), output::RunError> {
         if a.plots {
             let p = plot::plot_runs(&[dir.to_path_buf()], dir, &plot_options)?;
             plots = Some((p, dir.to_path_buf()));
+        }
+        if a.view {
+            // Into the set before it is switched in, like the charts: a failed page fails
+            // the run's set as a whole.
+            let opts = applesim::view::ViewOptions {
+                max_frames: a.max_frames,
+                asset_dir: Some(base.clone()),
+                label: Some(a.out.display().to_string()),
+            };
+            let page = dir.join(super::view::VIEW_FILE);
+            let stats = applesim::view::write_view(dir, &page, &opts).map_err(|e| {
+                output::RunError::Io {
+                    path: page.clone(),
+                    source: std::io::Error::other(format!("the viewer's page: {e}")),
+                }
+            })?;
+            viewed = Some(stats);
         }
         Ok(())
     };
@@ -159,6 +184,9 @@ pub fn main(a: Args) -> Result<(), String> {
                 ""
             }
         );
+        if let Some(s) = &viewed {
+            super::view::report(&a.out.join(super::view::VIEW_FILE), s);
+        }
         if let Some(p) = &plots {
             for n in &p.notes {
                 println!("note: {n}");

@@ -397,8 +397,9 @@ fn remove_any(p: &Path) -> std::io::Result<()> {
 }
 
 /// Whether `name`, an entry of a result folder, is something an applesim run writes: its
-/// JSON, CSV, SVG and ParaView files, `audit.md`, the `vtk/` folder, and the hidden temporaries
-/// of earlier versions' killed writers (a user's own notes, say `notes.md`, are not).
+/// JSON, CSV, SVG and ParaView files, `audit.md`, the `vtk/` folder, the viewer's page
+/// (`view.html`, from `applesim run --view` or `applesim view`), and the hidden temporaries of
+/// earlier versions' killed writers (a user's own notes, say `notes.md`, are not).
 fn written_by_a_run(name: &str, is_dir: bool) -> bool {
     if is_dir {
         return name == super::vtk::VTK_DIR;
@@ -414,7 +415,7 @@ fn written_by_a_run(name: &str, is_dir: bool) -> bool {
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     matches!(
         ext.as_deref(),
-        Some("json" | "csv" | "svg" | "pvd" | "vtp" | "vtu")
+        Some("json" | "csv" | "svg" | "pvd" | "vtp" | "vtu" | "html")
     )
 }
 

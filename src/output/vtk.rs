@@ -123,6 +123,25 @@ impl SceneSurfaces {
         Self { items }
     }
 
+    /// Surfaces from their parts without a world: (name, collider shape, pose, contact shape)
+    /// each. The viewer (`crate::view`) draws a finished run folder this way, from its
+    /// `scenario.json`, long after the world is gone.
+    pub fn from_parts(
+        parts: impl IntoIterator<Item = (String, SharedShape, Pose, SurfaceShape)>,
+    ) -> Self {
+        Self {
+            items: parts
+                .into_iter()
+                .map(|(name, shape, pose, layer_shape)| SurfaceItem {
+                    name,
+                    shape,
+                    pose,
+                    layer_shape,
+                })
+                .collect(),
+        }
+    }
+
     /// Number of surfaces.
     pub fn len(&self) -> usize {
         self.items.len()

@@ -1,0 +1,161 @@
+//! Load time and playback rate of viewer pages in headless Chromium (docs/viewer.md).
+//!
+//! ```sh
+//! cargo run --release --example view_timing -- out/view_pile/view.html out/view_line/view.html
+//! ```
+//!
+//! For each page: its size, the time from the start of navigation to the first frame drawn
+//! (`performance.now()` when the page is ready, measured by the browser itself; median of three
+//! fresh loads), the cost of moving and colouring the apples for one frame (update) and of drawing
+//! it (draw), then the frames drawn per second over 5 s of playback at 1x after a click on Play. Chromium renders WebGL on the CPU here
+//! (SwiftShader, no GPU): a desktop browser with a GPU draws at least as fast.
+
+use headless_chrome::browser::tab::point::Point;
+use headless_chrome::{Browser, LaunchOptions};
+use std::ffi::OsStr;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+fn main() {
+    let pages: Vec<PathBuf> = std::env::args().skip(1).map(PathBuf::from).collect();
+    if pages.is_empty() {
+        eprintln!("usage: view_timing PAGE.html ...");
+        std::process::exit(2);
+    }
+    let chromium = std::env::var_os("APPLESIM_CHROMIUM")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
+    let profile = std::env::temp_dir().join(format!("applesim-view-timing-{}", std::process::id()));
+    let args: Vec<&OsStr> = [
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+    ]
+    .iter()
+    .map(OsStr::new)
+    .collect();
+    let browser = Browser::new(
+        LaunchOptions::default_builder()
+            .path(Some(chromium))
+            .headless(true)
+            .sandbox(false)
+            .window_size(Some((1280, 800)))
+            .user_data_dir(Some(profile.clone()))
+            .args(args)
+            .idle_browser_timeout(Duration::from_secs(300))
+            .build()
+            .unwrap(),
+    )
+    .expect("start chromium");
+    println!("| page | size (MB) | apples | frames | load to first frame (ms, median of 3) | playback (frames/s) | update (ms) | draw (ms) | triangles |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for page in &pages {
+        let url = format!("file://{}", page.canonicalize().unwrap().display());
+        let size = std::fs::metadata(page).unwrap().len() as f64 / 1e6;
+        let mut loads = Vec::new();
+        let tab = browser.new_tab().unwrap();
+        for _ in 0..3 {
+            tab.navigate_to("about:blank").unwrap();
+            std::thread::sleep(Duration::from_millis(300));
+            tab.navigate_to(&url).unwrap();
+            let t0 = Instant::now();
+            let ms = loop {
+                let v = tab
+                    .evaluate(
+                        "window.applesimView && window.applesimView.ready ? applesimView.readyAtMs : -1",
+                        false,
+                    )
+                    .ok()
+                    .and_then(|r| r.value)
+                    .and_then(|v| v.as_f64())
+                    .unwrap_or(-1.0);
+                if v >= 0.0 {
+                    break v;
+                }
+                assert!(
+                    t0.elapsed() < Duration::from_secs(120),
+                    "{} did not start",
+                    page.display()
+                );
+                std::thread::sleep(Duration::from_millis(20));
+            };
+            loads.push(ms);
+        }
+        loads.sort_by(f64::total_cmp);
+        let info = tab
+            .evaluate(
+                "JSON.stringify([applesimView.apples.count, applesimView.frameTimes.length, \
+                 (r => [r.left + r.width / 2, r.top + r.height / 2])(document.getElementById('play').getBoundingClientRect())])",
+                false,
+            )
+            .unwrap()
+            .value
+            .unwrap();
+        let info: serde_json::Value = serde_json::from_str(info.as_str().unwrap()).unwrap();
+        // The cost of one frame's two parts: moving and colouring the apples (the slider's input
+        // handler: update()) and drawing (renderer.render, finished with gl.finish()).
+        let prof = tab
+            .evaluate(
+                "(() => { const V = applesimView, s = document.getElementById('slider'); \
+                 const n = V.frameTimes.length; let t0 = performance.now(); \
+                 for (let i = 0; i < 10; i++) { s.value = String(Math.floor(n * (i + 1) / 12)); s.dispatchEvent(new Event('input')); } \
+                 const u = (performance.now() - t0) / 10; const gl = V.renderer.getContext(); \
+                 V.renderer.render(V.scene, V.camera); gl.finish(); t0 = performance.now(); \
+                 for (let i = 0; i < 5; i++) V.renderer.render(V.scene, V.camera); gl.finish(); \
+                 const r = (performance.now() - t0) / 5; s.value = '0'; s.dispatchEvent(new Event('input')); \
+                 return JSON.stringify([u, r, V.renderer.info.render.triangles]); })()",
+                false,
+            )
+            .unwrap()
+            .value
+            .unwrap();
+        let prof: serde_json::Value = serde_json::from_str(prof.as_str().unwrap()).unwrap();
+        // Count the frames the page draws while it plays (a counter beside the page's own
+        // requestAnimationFrame loop).
+        tab.evaluate(
+            "window.__frames = 0; (function tick() { window.__frames++; requestAnimationFrame(tick); })(); 'ok'",
+            false,
+        )
+        .unwrap();
+        let (x, y) = (info[2][0].as_f64().unwrap(), info[2][1].as_f64().unwrap());
+        tab.click_point(Point { x, y }).unwrap();
+        let t0 = Instant::now();
+        let f0 = tab
+            .evaluate("window.__frames", false)
+            .unwrap()
+            .value
+            .unwrap()
+            .as_f64()
+            .unwrap();
+        std::thread::sleep(Duration::from_secs(5));
+        let f1 = tab
+            .evaluate("window.__frames", false)
+            .unwrap()
+            .value
+            .unwrap()
+            .as_f64()
+            .unwrap();
+        let fps = (f1 - f0) / t0.elapsed().as_secs_f64();
+        println!(
+            "| {} | {:.1} | {} | {} | {:.0} ({:.0}-{:.0}) | {:.1} | {:.1} | {:.1} | {} |",
+            page.display(),
+            size,
+            info[0],
+            info[1],
+            loads[1],
+            loads[0],
+            loads[2],
+            fps,
+            prof[0].as_f64().unwrap(),
+            prof[1].as_f64().unwrap(),
+            prof[2]
+        );
+        tab.close(false).ok();
+    }
+    let _ = std::fs::remove_dir_all(profile);
+}

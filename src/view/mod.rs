@@ -1,0 +1,842 @@
+//! The browser viewer of a run: one self-contained HTML file (`applesim view RUN_DIR`,
+//! `applesim run ... --view`) that opens offline by double-click.
+//!
+//! The viewer reads a finished run folder from disk, not a run in memory, so that any run
+//! folder can be viewed, however old and however it was made (a batch run, a copy from a
+//! cluster). What it reads:
+//! - `summary.json` (required: it is what makes a folder a run; the run's end time, the final
+//!   positions when no body was sampled);
+//! - `bodies.csv` (required: the apples' positions, speeds and contact state, decimated to
+//!   [`ViewOptions::max_frames`] frames and quantised, see below);
+//! - `contacts.csv` (required: every contact's surface or apple, times, peak force, pressure and
+//!   point);
+//! - `scenario.json` (required: the surfaces, re-built as in the run and tessellated as the
+//!   ParaView output draws them);
+//! - `bruise.csv`, `transitions.csv` (optional: which contacts are over a bruise threshold, and
+//!   when apples slide, roll or fly; without them the page says what it falls back to).
+//!
+//! The page embeds three.js (vendored in `assets/three/`, MIT) and the hand-written template
+//! `assets/view/view.html`. The run's data goes in as JSON with the bulky arrays base64-encoded:
+//! apple centres as u16 per axis over the box of all sampled centres (step = box size / 65535
+//! per axis, written on the page), speeds as u16 over [0, largest speed], motion states as u8.
+//!
+//! Everything is checked before anything is written: a folder that is not a run, a missing file,
+//! a truncated or malformed CSV is a [`ViewError`] naming the file, and no HTML is written
+//! (the file itself is written whole or not at all, [`crate::output::atomic`]). The same run
+//! folder and options give the same bytes.
+
+use crate::math::Vec3;
+use crate::output::atomic;
+use crate::output::vtk::SceneSurfaces;
+use crate::scenario::surfaces::{rotation_of, SurfaceSpec};
+use crate::scenario::Scenario;
+use serde::Serialize;
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+mod read;
+mod scene;
+
+use read::*;
+pub use read::{CURVE_POINTS, MAX_CURVES};
+use scene::*;
+
+/// three.js core (r185, MIT; `assets/three/LICENSE`).
+const THREE_CORE: &str = include_str!("../../assets/three/three.core.min.js");
+/// three.js renderer module (r185), importing the core.
+const THREE_MODULE: &str = include_str!("../../assets/three/three.module.min.js");
+/// three.js OrbitControls add-on (r185), importing `three`.
+const ORBIT_CONTROLS: &str = include_str!("../../assets/three/OrbitControls.js");
+/// three.js licence, carried inside every page.
+const THREE_LICENSE: &str = include_str!("../../assets/three/LICENSE");
+/// The page template; `/*@DATA@*/`, `/*@THREE_CORE@*/`, ... are replaced.
+const TEMPLATE: &str = include_str!("../../assets/view/view.html");
+
+/// Default frame budget: enough for smooth playback (frames are interpolated) at a few MB for a
+/// thousand apples.
+pub const DEFAULT_MAX_FRAMES: usize = 600;
+
+/// Motion states embedded per apple per frame.
+pub mod motion {
+    /// Not in the run yet (a source feeds it in later).
+    pub const ABSENT: u8 = 0;
+    /// No contact.
+    pub const AIRBORNE: u8 = 1;
+    /// A contact slides.
+    pub const SLIDING: u8 = 2;
+    /// In contact, nothing slides (rolling, resting, riding a belt).
+    pub const ROLLING: u8 = 3;
+    /// In contact; sliding or rolling unknown (no slip column, transitions off).
+    pub const CONTACT: u8 = 4;
+}
+
+/// Options of [`write_view`].
+#[derive(Debug, Clone)]
+pub struct ViewOptions {
+    /// Largest number of frames embedded (>= 2); the samples of `bodies.csv` are thinned
+    /// evenly to this, keeping the first and the last.
+    pub max_frames: usize,
+    /// Folder that the scenario's mesh `file` paths resolve against (the scenario's folder);
+    /// default the run folder.
+    pub asset_dir: Option<PathBuf>,
+    /// The run's name on the page; default the folder's path. (`applesim run --view` writes
+    /// the page while the run's folder still has its temporary name.)
+    pub label: Option<String>,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        Self {
+            max_frames: DEFAULT_MAX_FRAMES,
+            asset_dir: None,
+            label: None,
+        }
+    }
+}
+
+/// Errors of the viewer. Each names the file at fault; nothing is written when one occurs.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewError {
+    /// The folder is not a run folder.
+    #[error("{path}: not a run folder ({reason})")]
+    NotARun {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// A file a view needs is missing.
+    #[error("{path}: missing: {why}")]
+    Missing {
+        /// The file.
+        path: PathBuf,
+        /// What it is needed for.
+        why: &'static str,
+    },
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// OS error.
+        source: std::io::Error,
+    },
+    /// A file's content is malformed or truncated.
+    #[error("{path}: {message}")]
+    Bad {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, with the line where it is known.
+        message: String,
+    },
+    /// A bad option.
+    #[error("{0}")]
+    Option(String),
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ViewError + '_ {
+    move |source| ViewError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+fn bad(path: &Path, message: impl Into<String>) -> ViewError {
+    ViewError::Bad {
+        path: path.to_path_buf(),
+        message: message.into(),
+    }
+}
+
+/// What was written, for the command's report and the tests.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ViewStats {
+    /// Apples in the scene.
+    pub apples: usize,
+    /// Surface parts drawn (a bin counts its floor and four walls).
+    pub surfaces: usize,
+    /// Samples in `bodies.csv`.
+    pub samples: usize,
+    /// Frames embedded.
+    pub frames: usize,
+    /// Contacts listed.
+    pub contacts: usize,
+    /// Size of the page (bytes).
+    pub bytes: usize,
+    /// Position quantisation step per axis (m).
+    pub position_step_m: [f64; 3],
+    /// What the page says is missing or approximated.
+    pub notes: Vec<String>,
+}
+
+/// Writes the viewer page of the run in `run_dir` to `out` (whole or not at all).
+pub fn write_view(run_dir: &Path, out: &Path, opts: &ViewOptions) -> Result<ViewStats, ViewError> {
+    let (html, stats) = build_page(run_dir, opts)?;
+    if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        if !parent.is_dir() {
+            return Err(ViewError::Io {
+                path: parent.to_path_buf(),
+                source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such folder"),
+            });
+        }
+    }
+    atomic::write_file(out, html.as_bytes()).map_err(io(out))?;
+    Ok(stats)
+}
+
+/// The viewer page of the run in `run_dir`, and what it holds.
+pub fn build_page(run_dir: &Path, opts: &ViewOptions) -> Result<(String, ViewStats), ViewError> {
+    if opts.max_frames < 2 {
+        return Err(ViewError::Option(format!(
+            "--max-frames {}: give at least 2",
+            opts.max_frames
+        )));
+    }
+    let data = collect(run_dir, opts)?;
+    let mut json = serde_json::to_string(&data.page).map_err(|e| bad(run_dir, e.to_string()))?;
+    // Inside a <script> element: no `</script>` or `<!--` may appear, whatever a name holds.
+    json = json.replace('<', "\\u003c");
+    let html = TEMPLATE
+        .replace("/*@THREE_LICENSE@*/", &THREE_LICENSE.replace("*/", "* /"))
+        .replace("/*@THREE_CORE@*/", THREE_CORE)
+        .replace("/*@THREE_MODULE@*/", THREE_MODULE)
+        .replace("/*@ORBIT_CONTROLS@*/", ORBIT_CONTROLS)
+        .replace("/*@DATA@*/", &json);
+    let mut stats = data.stats;
+    stats.bytes = html.len();
+    Ok((html, stats))
+}
+
+/// The page's data (serialised into the page as JSON).
+#[derive(Debug, Serialize)]
+struct Page {
+    format: u32,
+    applesim_version: &'static str,
+    run: RunInfo,
+    notes: Vec<String>,
+    /// Quantisation box of the apple centres (m).
+    box_lo_m: [f64; 3],
+    /// Step of the u16 positions per axis (m).
+    position_step_m: [f64; 3],
+    /// Step of the u16 speeds (m/s).
+    speed_step_m_s: f64,
+    /// Frame times (s).
+    times_s: Vec<f64>,
+    /// Samples in bodies.csv (the frames are a thinning of them).
+    samples: usize,
+    apples: Vec<AppleInfo>,
+    /// Per frame, per apple, x y z as u16 little-endian, base64.
+    positions_b64: String,
+    /// Per frame, per apple, speed as u16 little-endian, base64.
+    speeds_b64: String,
+    /// Per frame, per apple, a [`motion`] state, base64.
+    states_b64: String,
+    /// Where the states come from.
+    states_source: &'static str,
+    surfaces: Vec<SurfaceInfo>,
+    /// The names of [`ContactInfo`]'s fields, in the order of each row of `contacts`.
+    contact_fields: &'static [&'static str],
+    /// One array per contact (rows rather than objects: a tenth of the size for a big run),
+    /// numbers to 6 significant digits.
+    contacts: Vec<serde_json::Value>,
+    /// Force curves of the contacts over a bruise threshold (from forces.csv when the run kept
+    /// force histories): contact row index -> [times (s), forces (N)], at most
+    /// [`CURVE_POINTS`] points each, 5 significant digits.
+    curves: BTreeMap<usize, [Vec<serde_json::Value>; 2]>,
+    /// The bruise force threshold(s) in use (N), for the legend.
+    bruise_force_n: Vec<f64>,
+    /// Largest impact peak force of the run (N).
+    max_peak_force_n: f64,
+    /// Scene extent for the camera (apples and bounded surfaces), m.
+    scene_lo_m: [f64; 3],
+    /// Scene extent for the camera, m.
+    scene_hi_m: [f64; 3],
+    /// Gravity (m/s^2): the page's "up" is against it.
+    gravity_m_s2: [f64; 3],
+}
+
+#[derive(Debug, Serialize)]
+struct RunInfo {
+    folder: String,
+    description: Option<String>,
+    simulated_time_s: f64,
+    steps: u64,
+}
+
+#[derive(Debug, Serialize)]
+struct AppleInfo {
+    name: String,
+    diameter_m: f64,
+    mass_kg: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct SurfaceInfo {
+    name: String,
+    kind: &'static str,
+    material: String,
+    /// Triangle vertices, f32 little-endian x y z, base64 (three per triangle, unindexed).
+    triangles_b64: String,
+    /// A belt: its direction of travel (world unit vector) and speed (m/s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    belt: Option<Belt>,
+}
+
+#[derive(Debug, Serialize)]
+struct Belt {
+    direction: [f64; 3],
+    speed_m_s: f64,
+    /// Centre of the belt's top face (m), and its half length along the travel.
+    top_centre_m: [f64; 3],
+    half_length_m: f64,
+}
+
+/// The order of a contact row's fields in the page.
+const CONTACT_FIELDS: [&str; 12] = [
+    "a",
+    "b_apple",
+    "b",
+    "t_start_s",
+    "t_end_s",
+    "t_peak_s",
+    "impact_n",
+    "peak_force_n",
+    "max_pressure_pa",
+    "point_m",
+    "risk_a",
+    "risk_b",
+];
+
+/// `x` to 6 significant digits (what the page shows, at a third of the text).
+fn sig6(x: f64) -> serde_json::Value {
+    let r: f64 = format!("{x:.5e}").parse().unwrap_or(x);
+    serde_json::json!(r)
+}
+
+impl ContactInfo {
+    fn row(&self) -> serde_json::Value {
+        serde_json::json!([
+            self.a,
+            self.b_apple,
+            self.b,
+            sig6(self.t_start_s),
+            self.t_end_s.map(sig6),
+            sig6(self.t_peak_s),
+            sig6(self.impact_n),
+            sig6(self.peak_force_n),
+            sig6(self.max_pressure_pa),
+            self.point_m.map(sig6),
+            self.risk_a,
+            self.risk_b,
+        ])
+    }
+}
+
+#[derive(Debug)]
+struct ContactInfo {
+    /// Apple index.
+    a: u32,
+    /// The other apple's index, or -1.
+    b_apple: i64,
+    /// The other party's name (a surface's, or the apple's).
+    b: String,
+    t_start_s: f64,
+    /// Separation (s); `None` while still in contact at the end.
+    t_end_s: Option<f64>,
+    t_peak_s: f64,
+    /// Peak force of the impact (N; 0 for a contact that starts at rest).
+    impact_n: f64,
+    /// Duration of the impact (s), if the contact had one.
+    impact_duration_s: Option<f64>,
+    /// Peak force of the whole contact (N).
+    peak_force_n: f64,
+    /// Peak mean pressure (Pa).
+    max_pressure_pa: f64,
+    point_m: [f64; 3],
+    /// Over a bruise threshold for apple a / b ("" when not; else which thresholds).
+    risk_a: String,
+    risk_b: String,
+}
+
+struct Collected {
+    page: Page,
+    stats: ViewStats,
+}
+
+/// summary.json, read for what the viewer needs.
+#[derive(serde::Deserialize)]
+struct SummaryIn {
+    simulated_time_s: f64,
+    #[serde(default)]
+    steps: u64,
+    #[serde(default)]
+    description: Option<String>,
+    #[serde(default)]
+    apples: Vec<SummaryApple>,
+}
+
+#[derive(serde::Deserialize)]
+struct SummaryApple {
+    name: String,
+    diameter_m: f64,
+    mass_kg: f64,
+    final_position_m: [f64; 3],
+}
+
+/// Pass 1 over bodies.csv: sample times, apples, extents.
+struct BodiesScan {
+    times: Vec<f64>,
+    apples: Vec<AppleInfo>,
+    index: HashMap<String, u32>,
+    lo: Vec3,
+    hi: Vec3,
+    max_speed: f64,
+    has_slip: bool,
+}
+
+struct BodyCols {
+    t: usize,
+    apple: usize,
+    p: [usize; 3],
+    v: [usize; 3],
+    f: [usize; 3],
+    slip: usize,
+    d: usize,
+    m: usize,
+}
+
+/// Transitions of one apple: (time, from, to), in time order.
+type Track = Vec<(f64, u8, u8)>;
+
+fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
+    if !run_dir.is_dir() {
+        return Err(ViewError::NotARun {
+            path: run_dir.to_path_buf(),
+            reason: if run_dir.exists() {
+                "a file, not a folder".into()
+            } else {
+                "no such folder".into()
+            },
+        });
+    }
+    let summary_path = run_dir.join("summary.json");
+    if !summary_path.is_file() {
+        return Err(ViewError::NotARun {
+            path: run_dir.to_path_buf(),
+            reason: "no summary.json: give the folder `applesim run --out` wrote".into(),
+        });
+    }
+    let text = std::fs::read_to_string(&summary_path).map_err(io(&summary_path))?;
+    let summary: SummaryIn = serde_json::from_str(&text).map_err(|e| {
+        bad(
+            &summary_path,
+            format!("{e}: not an applesim summary, or the file is truncated"),
+        )
+    })?;
+    let bodies_path = require(run_dir, "bodies.csv", "the apples' positions over time")?;
+    let contacts_path = require(run_dir, "contacts.csv", "the contacts")?;
+    let scenario_path = require(run_dir, "scenario.json", "the surfaces of the scene")?;
+    let sc_text = std::fs::read_to_string(&scenario_path).map_err(io(&scenario_path))?;
+    let sc: Scenario = crate::scenario::from_json(&sc_text, &scenario_path.display().to_string())
+        .map_err(|e| bad(&scenario_path, e.to_string()))?;
+
+    let mut notes = Vec::new();
+
+    // Pass 1: times, apples, extents.
+    let (scan, cols) = scan_bodies(&bodies_path)?;
+    if let Some(&last) = scan.times.last() {
+        let end = summary.simulated_time_s;
+        if (last - end).abs() > 1e-9 * end.abs().max(1e-9) {
+            return Err(bad(
+                &bodies_path,
+                format!(
+                    "the last sample is at t = {last} s but the run ended at t = {end} s (summary.json): the file is truncated"
+                ),
+            ));
+        }
+    }
+    let mut apples = scan.apples;
+    let mut index = scan.index;
+    let sampled = !scan.times.is_empty();
+    let (mut lo, mut hi) = (scan.lo, scan.hi);
+    // No sample: the apples stand at their final positions (summary.json), one frame.
+    let mut finals: Vec<[f64; 3]> = Vec::new();
+    if !sampled {
+        notes.push(if summary.apples.is_empty() {
+            "bodies.csv holds no sample and the run has no apple: only the surfaces are shown".to_string()
+        } else {
+            format!(
+                "bodies.csv holds no sample: the {} apples are shown at their final positions (summary.json), without motion, speeds or states",
+                summary.apples.len()
+            )
+        });
+        for a in &summary.apples {
+            index.insert(a.name.clone(), apples.len() as u32);
+            apples.push(AppleInfo {
+                name: a.name.clone(),
+                diameter_m: a.diameter_m,
+                mass_kg: a.mass_kg,
+            });
+            let p = crate::math::vec3(a.final_position_m);
+            lo = lo.min(p);
+            hi = hi.max(p);
+            finals.push(a.final_position_m);
+        }
+    }
+    let n = apples.len();
+    if n == 0 {
+        lo = Vec3::ZERO;
+        hi = Vec3::ZERO;
+    }
+    let step = {
+        let s = (hi - lo) / 65535.0;
+        [s.x, s.y, s.z]
+    };
+    let speed_step = scan.max_speed / 65535.0;
+
+    // Motion states from transitions.csv when the run wrote it.
+    let transitions_path = run_dir.join("transitions.csv");
+    let tracks = if transitions_path.is_file() && sampled {
+        Some(read_transitions(&transitions_path, &index)?)
+    } else {
+        None
+    };
+    let states_source = match (&tracks, scan.has_slip, sampled) {
+        (_, _, false) => "none",
+        (Some(_), _, _) => "transitions.csv",
+        (None, true, _) => "bodies.csv slip speed",
+        (None, false, _) => "bodies.csv contact force",
+    };
+    match states_source {
+        "none" => {}
+        "transitions.csv" => {}
+        "bodies.csv slip speed" => notes.push(
+            "no transitions.csv: sliding and rolling are told from each sample's slip speed (max(5 mm/s, 1 % of the speed)), without the detector's hysteresis".into(),
+        ),
+        _ => notes.push(
+            "slip/roll detection was off in this run (output.transitions.enabled: false): apples are shown airborne or in contact, not sliding or rolling".into(),
+        ),
+    }
+
+    // Pass 2: the picked frames.
+    let frames_idx: Vec<usize> = if sampled {
+        pick_frames(scan.times.len(), opts.max_frames)
+    } else {
+        vec![0]
+    };
+    let nf = frames_idx.len();
+    let mut frame_of = vec![u32::MAX; scan.times.len()];
+    if sampled {
+        for (f, &s) in frames_idx.iter().enumerate() {
+            frame_of[s] = f as u32;
+        }
+    }
+    let mut pos = vec![0u16; nf * n * 3];
+    let mut spd = vec![0u16; nf * n];
+    let mut st = vec![motion::ABSENT; nf * n];
+    let times: Vec<f64> = if sampled {
+        frames_idx.iter().map(|&s| scan.times[s]).collect()
+    } else {
+        vec![summary.simulated_time_s]
+    };
+    if sampled {
+        let mut r = csv_reader(&bodies_path)?;
+        let mut rec = csv::StringRecord::new();
+        let mut sample = 0usize;
+        let mut last_t = f64::NAN;
+        let mut first = true;
+        while r
+            .read_record(&mut rec)
+            .map_err(|e| csv_err(&bodies_path, e))?
+        {
+            let line = rec.position().map_or(0, |p| p.line());
+            let t = num(&bodies_path, line, "time_s", &rec[cols.t])?;
+            if !first && t != last_t {
+                sample += 1;
+            }
+            first = false;
+            last_t = t;
+            // The file is read twice; one that changed in between (a run writing it again) is
+            // refused rather than misread.
+            let changed = || {
+                bad(
+                    &bodies_path,
+                    format!("line {line}: the file changed while it was read: view it again"),
+                )
+            };
+            let f = *frame_of.get(sample).ok_or_else(changed)?;
+            if f == u32::MAX {
+                continue;
+            }
+            let i = *index.get(&rec[cols.apple]).ok_or_else(changed)? as usize;
+            let k = f as usize * n + i;
+            let g = |c: usize, name: &str| num(&bodies_path, line, name, &rec[c]);
+            let p = [
+                g(cols.p[0], "x_m")?,
+                g(cols.p[1], "y_m")?,
+                g(cols.p[2], "z_m")?,
+            ];
+            for a in 0..3 {
+                pos[3 * k + a] = q16(p[a], lo[a], step[a]);
+            }
+            let v = Vec3::new(
+                g(cols.v[0], "vx_m_s")?,
+                g(cols.v[1], "vy_m_s")?,
+                g(cols.v[2], "vz_m_s")?,
+            );
+            spd[k] = q16(v.length(), 0.0, speed_step);
+            let force = Vec3::new(
+                g(cols.f[0], "fx_n")?,
+                g(cols.f[1], "fy_n")?,
+                g(cols.f[2], "fz_n")?,
+            );
+            let slip = opt_num(&bodies_path, line, "slip_m_s", &rec[cols.slip])?;
+            st[k] = if let Some(track) = tracks.as_ref().map(|tr| tr.get(&(i as u32))) {
+                match track {
+                    Some(tr) => {
+                        // The state entered by the last transition at or before t, else the
+                        // state the first one left.
+                        match tr.iter().rev().find(|x| x.0 <= t) {
+                            Some(x) => x.2,
+                            None => tr[0].1,
+                        }
+                    }
+                    None => {
+                        if force.length() == 0.0 {
+                            motion::AIRBORNE
+                        } else {
+                            motion::ROLLING
+                        }
+                    }
+                }
+            } else if force.length() == 0.0 {
+                motion::AIRBORNE
+            } else {
+                match slip {
+                    Some(s) if s > (0.005f64).max(0.01 * v.length()) => motion::SLIDING,
+                    Some(_) => motion::ROLLING,
+                    None => motion::CONTACT,
+                }
+            };
+        }
+    } else {
+        for (i, p) in finals.iter().enumerate() {
+            for a in 0..3 {
+                pos[3 * i + a] = q16(p[a], lo[a], step[a]);
+            }
+            st[i] = motion::CONTACT;
+        }
+    }
+    let mut le = Vec::with_capacity(pos.len() * 2);
+    for x in &pos {
+        le.extend_from_slice(&x.to_le_bytes());
+    }
+    let positions_b64 = b64(&le);
+    le.clear();
+    for x in &spd {
+        le.extend_from_slice(&x.to_le_bytes());
+    }
+    let speeds_b64 = b64(&le);
+    let states_b64 = b64(&st);
+
+    // Contacts, with their bruise verdicts.
+    let bruise_path = run_dir.join("bruise.csv");
+    let risks = if bruise_path.is_file() {
+        Some(read_bruise(&bruise_path)?)
+    } else {
+        None
+    };
+    let default_threshold = crate::analysis::bruise::DEFAULT_PEAK_FORCE_N;
+    let mut thresholds: Vec<f64> = match &risks {
+        Some(r) => r.1.clone(),
+        None => {
+            notes.push(format!(
+                "no bruise.csv: contacts are marked over the bruise threshold by their impact peak force over {default_threshold} N only"
+            ));
+            vec![default_threshold]
+        }
+    };
+    thresholds.sort_by(f64::total_cmp);
+    thresholds.dedup();
+    if thresholds.is_empty() {
+        thresholds.push(default_threshold);
+    }
+    let contacts = read_contacts(
+        &contacts_path,
+        &index,
+        risks.as_ref().map(|r| &r.0),
+        default_threshold,
+    )?;
+    let max_peak = contacts.iter().map(|c| c.impact_n).fold(0.0, f64::max);
+    let forces_path = run_dir.join("forces.csv");
+    let mut curves = BTreeMap::new();
+    if forces_path.is_file() {
+        let mut risky: Vec<usize> = (0..contacts.len())
+            .filter(|&k| !contacts[k].risk_a.is_empty() || !contacts[k].risk_b.is_empty())
+            .collect();
+        risky.sort_by(|&x, &y| {
+            contacts[y]
+                .impact_n
+                .total_cmp(&contacts[x].impact_n)
+                .then(x.cmp(&y))
+        });
+        let left_out = risky.len().saturating_sub(MAX_CURVES);
+        risky.truncate(MAX_CURVES);
+        // The impact pulse (and as much again), not the resting time after it: a long resting
+        // contact thinned to 64 points would hide the pulse.
+        let until = |c: &ContactInfo| match c.impact_duration_s {
+            Some(d) => c.t_start_s + 2.0 * d,
+            None => f64::INFINITY,
+        };
+        curves = read_curves(
+            &forces_path,
+            &risky
+                .into_iter()
+                .map(|k| (k, until(&contacts[k])))
+                .collect(),
+        )?;
+        notes.push(format!(
+            "force curves (forces.csv, at most {CURVE_POINTS} points each) are shown for the {} contact(s) over a bruise threshold{}: click an apple, then a red row",
+            curves.len(),
+            if left_out > 0 {
+                format!(" with the largest impacts ({left_out} more left out)")
+            } else {
+                String::new()
+            }
+        ));
+    } else {
+        notes.push(if sc.output.force_history {
+            "no forces.csv: contacts show their peak figures, not force curves".to_string()
+        } else {
+            "force histories were not kept (output.force_history: false): contacts show their peak figures, not force curves".to_string()
+        });
+    }
+    if contacts.is_empty() {
+        notes.push("no contact in contacts.csv: nothing to colour by force".into());
+    }
+
+    // Surfaces, rebuilt from the scenario as run.
+    let base = opts
+        .asset_dir
+        .clone()
+        .unwrap_or_else(|| run_dir.to_path_buf());
+    let (surfaces, bounded_lo, bounded_hi) = surfaces_of(&sc, &base, lo, hi, n > 0, &mut notes);
+    let mut scene_lo = lo;
+    let mut scene_hi = hi;
+    if n > 0 {
+        let rmax = apples
+            .iter()
+            .map(|a| a.diameter_m / 2.0)
+            .fold(0.0, f64::max);
+        scene_lo -= Vec3::splat(rmax);
+        scene_hi += Vec3::splat(rmax);
+    }
+    if let (Some(a), Some(b)) = (bounded_lo, bounded_hi) {
+        if n > 0 {
+            scene_lo = scene_lo.min(a);
+            scene_hi = scene_hi.max(b);
+        } else {
+            scene_lo = a;
+            scene_hi = b;
+        }
+    }
+    notes.push(format!(
+        "positions quantised to {} x {} x {} mm (1/65535 of the box of the apples' centres), speeds to {} mm/s; {} of {} samples of bodies.csv shown, interpolated between frames",
+        fmt_mm(step[0]),
+        fmt_mm(step[1]),
+        fmt_mm(step[2]),
+        fmt_mm(speed_step),
+        nf.min(scan.times.len()),
+        scan.times.len()
+    ));
+
+    let stats = ViewStats {
+        apples: n,
+        surfaces: surfaces.len(),
+        samples: scan.times.len(),
+        frames: nf,
+        contacts: contacts.len(),
+        bytes: 0,
+        position_step_m: step,
+        notes: notes.clone(),
+    };
+    let page = Page {
+        format: 1,
+        applesim_version: env!("CARGO_PKG_VERSION"),
+        run: RunInfo {
+            folder: opts
+                .label
+                .clone()
+                .unwrap_or_else(|| run_dir.display().to_string()),
+            description: summary.description,
+            simulated_time_s: summary.simulated_time_s,
+            steps: summary.steps,
+        },
+        notes,
+        box_lo_m: [lo.x, lo.y, lo.z],
+        position_step_m: step,
+        speed_step_m_s: speed_step,
+        times_s: times,
+        samples: scan.times.len(),
+        apples,
+        positions_b64,
+        speeds_b64,
+        states_b64,
+        states_source,
+        surfaces,
+        contact_fields: &CONTACT_FIELDS,
+        contacts: contacts.iter().map(ContactInfo::row).collect(),
+        curves,
+        bruise_force_n: thresholds,
+        max_peak_force_n: max_peak,
+        scene_lo_m: [scene_lo.x, scene_lo.y, scene_lo.z],
+        scene_hi_m: [scene_hi.x, scene_hi.y, scene_hi.z],
+        gravity_m_s2: sc.gravity_m_s2,
+    };
+    Ok(Collected { page, stats })
+}
+
+fn fmt_mm(m: f64) -> String {
+    let mm = m * 1e3;
+    if mm == 0.0 {
+        "0".into()
+    } else {
+        format!("{mm:.3}")
+    }
+}
+
+/// bruise.csv: (contact index, apple) -> exceeded thresholds ("" when none), and the force
+/// thresholds in use.
+type Risks = (BTreeMap<(usize, String), String>, Vec<f64>);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_matches_rfc4648() {
+        assert_eq!(b64(b""), "");
+        assert_eq!(b64(b"f"), "Zg==");
+        assert_eq!(b64(b"fo"), "Zm8=");
+        assert_eq!(b64(b"foo"), "Zm9v");
+        assert_eq!(b64(b"foobar"), "Zm9vYmFy");
+    }
+
+    #[test]
+    fn frames_keep_first_and_last() {
+        assert_eq!(pick_frames(3, 10), vec![0, 1, 2]);
+        let f = pick_frames(1001, 11);
+        assert_eq!(f.len(), 11);
+        assert_eq!(f[0], 0);
+        assert_eq!(*f.last().unwrap(), 1000);
+        assert_eq!(f[5], 500);
+    }
+
+    #[test]
+    fn quantisation_is_nearest() {
+        assert_eq!(q16(0.0, 0.0, 1e-3), 0);
+        assert_eq!(q16(65.535, 0.0, 1e-3), 65535);
+        assert_eq!(q16(1.0004, 0.0, 1e-3), 1000);
+        assert_eq!(q16(5.0, 5.0, 0.0), 0);
+    }
+}

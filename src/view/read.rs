@@ -1,0 +1,445 @@
+//! Reading a run folder's files for the viewer: every malformed or truncated file is a
+//! [`ViewError`] naming it.
+
+use super::*;
+
+pub(super) fn require(run_dir: &Path, name: &str, why: &'static str) -> Result<PathBuf, ViewError> {
+    let p = run_dir.join(name);
+    if p.is_file() {
+        Ok(p)
+    } else {
+        Err(ViewError::Missing { path: p, why })
+    }
+}
+
+/// Column index of `name` in a header, or an error naming the file.
+pub(super) fn column(
+    path: &Path,
+    header: &csv::StringRecord,
+    name: &str,
+) -> Result<usize, ViewError> {
+    header.iter().position(|h| h == name).ok_or_else(|| {
+        bad(
+            path,
+            format!("no column '{name}' in the header: not a file of an applesim run"),
+        )
+    })
+}
+
+pub(super) fn csv_reader(path: &Path) -> Result<csv::Reader<std::fs::File>, ViewError> {
+    let f = std::fs::File::open(path).map_err(io(path))?;
+    Ok(csv::ReaderBuilder::new().has_headers(true).from_reader(f))
+}
+
+pub(super) fn csv_err(path: &Path, e: csv::Error) -> ViewError {
+    let line = e.position().map(|p| p.line());
+    let msg = match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => format!(
+            "{len} fields where the header has {expected_len}: the file is truncated or damaged"
+        ),
+        _ => e.to_string(),
+    };
+    match line {
+        Some(l) => bad(path, format!("line {l}: {msg}")),
+        None => bad(path, msg),
+    }
+}
+
+pub(super) fn num(path: &Path, line: u64, col: &str, s: &str) -> Result<f64, ViewError> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| bad(path, format!("line {line}: {col} = '{s}' is not a finite number: the file is truncated or damaged")))
+}
+
+pub(super) fn opt_num(
+    path: &Path,
+    line: u64,
+    col: &str,
+    s: &str,
+) -> Result<Option<f64>, ViewError> {
+    if s.trim().is_empty() {
+        Ok(None)
+    } else {
+        num(path, line, col, s).map(Some)
+    }
+}
+
+pub(super) fn point(path: &Path, line: u64, col: &str, s: &str) -> Result<[f64; 3], ViewError> {
+    let v: Vec<&str> = s.split_whitespace().collect();
+    if v.len() != 3 {
+        return Err(bad(
+            path,
+            format!("line {line}: {col} = '{s}' is not three numbers"),
+        ));
+    }
+    Ok([
+        num(path, line, col, v[0])?,
+        num(path, line, col, v[1])?,
+        num(path, line, col, v[2])?,
+    ])
+}
+
+pub(super) fn body_cols(path: &Path, h: &csv::StringRecord) -> Result<BodyCols, ViewError> {
+    let c = |n: &str| column(path, h, n);
+    Ok(BodyCols {
+        t: c("time_s")?,
+        apple: c("apple")?,
+        p: [c("x_m")?, c("y_m")?, c("z_m")?],
+        v: [c("vx_m_s")?, c("vy_m_s")?, c("vz_m_s")?],
+        f: [c("fx_n")?, c("fy_n")?, c("fz_n")?],
+        slip: c("slip_m_s")?,
+        d: c("diameter_m")?,
+        m: c("mass_kg")?,
+    })
+}
+
+pub(super) fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    if h.is_empty() || h.iter().all(|x| x.is_empty()) {
+        return Err(bad(
+            path,
+            "empty file: the run was stopped before it wrote it, or the file was cut",
+        ));
+    }
+    let cols = body_cols(path, &h)?;
+    let mut s = BodiesScan {
+        times: Vec::new(),
+        apples: Vec::new(),
+        index: HashMap::new(),
+        lo: Vec3::splat(f64::INFINITY),
+        hi: Vec3::splat(f64::NEG_INFINITY),
+        max_speed: 0.0,
+        has_slip: false,
+    };
+    let mut rec = csv::StringRecord::new();
+    loop {
+        match r.read_record(&mut rec) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(csv_err(path, e)),
+        }
+        let line = rec.position().map_or(0, |p| p.line());
+        let t = num(path, line, "time_s", &rec[cols.t])?;
+        match s.times.last() {
+            Some(&last) if t == last => {}
+            Some(&last) if t < last => {
+                return Err(bad(
+                    path,
+                    format!("line {line}: time_s = {t} goes back from {last}: not in time order"),
+                ))
+            }
+            _ => s.times.push(t),
+        }
+        let name = &rec[cols.apple];
+        let p = Vec3::new(
+            num(path, line, "x_m", &rec[cols.p[0]])?,
+            num(path, line, "y_m", &rec[cols.p[1]])?,
+            num(path, line, "z_m", &rec[cols.p[2]])?,
+        );
+        let v = Vec3::new(
+            num(path, line, "vx_m_s", &rec[cols.v[0]])?,
+            num(path, line, "vy_m_s", &rec[cols.v[1]])?,
+            num(path, line, "vz_m_s", &rec[cols.v[2]])?,
+        );
+        for k in 0..3 {
+            num(path, line, "f", &rec[cols.f[k]])?;
+        }
+        if !rec[cols.slip].trim().is_empty() {
+            num(path, line, "slip_m_s", &rec[cols.slip])?;
+            s.has_slip = true;
+        }
+        let d = num(path, line, "diameter_m", &rec[cols.d])?;
+        let m = num(path, line, "mass_kg", &rec[cols.m])?;
+        if !s.index.contains_key(name) {
+            s.index.insert(name.to_string(), s.apples.len() as u32);
+            s.apples.push(AppleInfo {
+                name: name.to_string(),
+                diameter_m: d,
+                mass_kg: m,
+            });
+        }
+        s.lo = s.lo.min(p);
+        s.hi = s.hi.max(p);
+        s.max_speed = s.max_speed.max(v.length());
+    }
+    Ok((s, cols))
+}
+
+/// Evenly spaced sample indices, first and last included, at most `max` of them.
+pub(super) fn pick_frames(samples: usize, max: usize) -> Vec<usize> {
+    if samples <= max {
+        return (0..samples).collect();
+    }
+    let mut v: Vec<usize> = (0..max)
+        .map(|k| ((k as f64) * (samples - 1) as f64 / (max - 1) as f64).round() as usize)
+        .collect();
+    v.dedup();
+    v
+}
+
+pub(super) fn b64(bytes: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for c in bytes.chunks(3) {
+        let n = (c[0] as u32) << 16
+            | (c.get(1).copied().unwrap_or(0) as u32) << 8
+            | c.get(2).copied().unwrap_or(0) as u32;
+        out.push(A[(n >> 18) as usize & 63] as char);
+        out.push(A[(n >> 12) as usize & 63] as char);
+        out.push(if c.len() > 1 {
+            A[(n >> 6) as usize & 63] as char
+        } else {
+            '='
+        });
+        out.push(if c.len() > 2 {
+            A[n as usize & 63] as char
+        } else {
+            '='
+        });
+    }
+    out
+}
+
+/// Quantises `x` in [lo, lo + 65535 step] to u16 (nearest).
+pub(super) fn q16(x: f64, lo: f64, step: f64) -> u16 {
+    if step <= 0.0 {
+        return 0;
+    }
+    ((x - lo) / step).round().clamp(0.0, 65535.0) as u16
+}
+
+pub(super) fn motion_code(path: &Path, line: u64, s: &str) -> Result<u8, ViewError> {
+    Ok(match s {
+        "airborne" => motion::AIRBORNE,
+        "sliding" => motion::SLIDING,
+        "rolling" => motion::ROLLING,
+        _ => {
+            return Err(bad(
+                path,
+                format!("line {line}: unknown motion state '{s}'"),
+            ))
+        }
+    })
+}
+
+pub(super) fn read_transitions(
+    path: &Path,
+    index: &HashMap<String, u32>,
+) -> Result<HashMap<u32, Track>, ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (ca, cf, ct, cti) = (
+        column(path, &h, "apple")?,
+        column(path, &h, "from")?,
+        column(path, &h, "to")?,
+        column(path, &h, "time_s")?,
+    );
+    let mut out: HashMap<u32, Track> = HashMap::new();
+    for rec in r.records() {
+        let rec = rec.map_err(|e| csv_err(path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let Some(&i) = index.get(&rec[ca]) else {
+            continue;
+        };
+        let t = num(path, line, "time_s", &rec[cti])?;
+        out.entry(i).or_default().push((
+            t,
+            motion_code(path, line, &rec[cf])?,
+            motion_code(path, line, &rec[ct])?,
+        ));
+    }
+    for v in out.values_mut() {
+        v.sort_by(|x, y| x.0.total_cmp(&y.0));
+    }
+    Ok(out)
+}
+
+/// Most points of an embedded force curve (the peak always among them).
+pub const CURVE_POINTS: usize = 64;
+
+/// Most force curves embedded (the contacts over a threshold with the largest impacts first).
+pub const MAX_CURVES: usize = 2000;
+
+/// `x` to 5 significant digits.
+pub(super) fn sig5(x: f64) -> serde_json::Value {
+    let r: f64 = format!("{x:.4e}").parse().unwrap_or(x);
+    serde_json::json!(r)
+}
+
+/// The force curves of `wanted` contacts (index -> last time kept) from forces.csv, thinned to
+/// [`CURVE_POINTS`] (evenly spaced samples plus the largest force).
+pub(super) fn read_curves(
+    path: &Path,
+    wanted: &BTreeMap<usize, f64>,
+) -> Result<BTreeMap<usize, [Vec<serde_json::Value>; 2]>, ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (cc, ct, cf) = (
+        column(path, &h, "contact")?,
+        column(path, &h, "time_s")?,
+        column(path, &h, "force_n")?,
+    );
+    let mut raw: BTreeMap<usize, Vec<(f64, f64)>> = BTreeMap::new();
+    let mut rec = csv::StringRecord::new();
+    while r.read_record(&mut rec).map_err(|e| csv_err(path, e))? {
+        let line = rec.position().map_or(0, |p| p.line());
+        let k: usize = rec[cc].parse().map_err(|_| {
+            bad(
+                path,
+                format!("line {line}: contact = '{}' is not an index", &rec[cc]),
+            )
+        })?;
+        let Some(&until) = wanted.get(&k) else {
+            continue;
+        };
+        let t = num(path, line, "time_s", &rec[ct])?;
+        if t > until {
+            continue;
+        }
+        let f = num(path, line, "force_n", &rec[cf])?;
+        raw.entry(k).or_default().push((t, f));
+    }
+    Ok(raw
+        .into_iter()
+        .map(|(k, v)| {
+            let mut idx = pick_frames(v.len(), CURVE_POINTS - 1);
+            if let Some(peak) = (0..v.len()).max_by(|&a, &b| v[a].1.total_cmp(&v[b].1)) {
+                if !idx.contains(&peak) {
+                    idx.push(peak);
+                    idx.sort_unstable();
+                }
+            }
+            (
+                k,
+                [
+                    idx.iter().map(|&i| sig5(v[i].0)).collect(),
+                    idx.iter().map(|&i| sig5(v[i].1)).collect(),
+                ],
+            )
+        })
+        .collect())
+}
+
+pub(super) fn read_bruise(path: &Path) -> Result<Risks, ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (cc, ca, cr, ce, cf) = (
+        column(path, &h, "contact")?,
+        column(path, &h, "apple")?,
+        column(path, &h, "at_risk")?,
+        column(path, &h, "exceeded")?,
+        column(path, &h, "force_threshold_n")?,
+    );
+    let mut map = BTreeMap::new();
+    let mut thr = Vec::new();
+    for rec in r.records() {
+        let rec = rec.map_err(|e| csv_err(path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let k: usize = rec[cc].parse().map_err(|_| {
+            bad(
+                path,
+                format!("line {line}: contact = '{}' is not an index", &rec[cc]),
+            )
+        })?;
+        let f = num(path, line, "force_threshold_n", &rec[cf])?;
+        if !thr.contains(&f) {
+            thr.push(f);
+        }
+        let risk = match &rec[cr] {
+            "true" => {
+                let e = rec[ce].to_string();
+                if e.is_empty() {
+                    "risk".to_string()
+                } else {
+                    e
+                }
+            }
+            "false" => String::new(),
+            other => {
+                return Err(bad(
+                    path,
+                    format!("line {line}: at_risk = '{other}' is not true or false"),
+                ))
+            }
+        };
+        map.insert((k, rec[ca].to_string()), risk);
+    }
+    Ok((map, thr))
+}
+
+pub(super) fn read_contacts(
+    path: &Path,
+    index: &HashMap<String, u32>,
+    risks: Option<&BTreeMap<(usize, String), String>>,
+    default_threshold: f64,
+) -> Result<Vec<ContactInfo>, ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    if h.is_empty() || h.iter().all(|x| x.is_empty()) {
+        return Err(bad(
+            path,
+            "empty file: the run was stopped before it wrote it, or the file was cut",
+        ));
+    }
+    let c = |n: &str| column(path, &h, n);
+    let cid = c("impact_duration_s")?;
+    let (ca, cb, cs, ce, cp, ctp, cpr, cpt, ci) = (
+        c("a")?,
+        c("b")?,
+        c("t_start_s")?,
+        c("t_end_s")?,
+        c("peak_force_n")?,
+        c("t_peak_s")?,
+        c("max_pressure_pa")?,
+        c("contact_point_m")?,
+        c("impact_peak_force_n")?,
+    );
+    let mut out = Vec::new();
+    for (k, rec) in r.records().enumerate() {
+        let rec = rec.map_err(|e| csv_err(path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let Some(&a) = index.get(&rec[ca]) else {
+            return Err(bad(
+                path,
+                format!(
+                    "line {line}: apple '{}' is not in bodies.csv: the files are of different runs",
+                    &rec[ca]
+                ),
+            ));
+        };
+        let b_apple = index.get(&rec[cb]).map_or(-1, |&i| i as i64);
+        let impact = opt_num(path, line, "impact_peak_force_n", &rec[ci])?.unwrap_or(0.0);
+        let risk = |who: &str| -> String {
+            match risks {
+                Some(m) => m.get(&(k, who.to_string())).cloned().unwrap_or_default(),
+                None if impact > default_threshold => "force".into(),
+                None => String::new(),
+            }
+        };
+        out.push(ContactInfo {
+            a,
+            b_apple,
+            b: rec[cb].to_string(),
+            t_start_s: num(path, line, "t_start_s", &rec[cs])?,
+            t_end_s: opt_num(path, line, "t_end_s", &rec[ce])?,
+            t_peak_s: num(path, line, "t_peak_s", &rec[ctp])?,
+            impact_n: impact,
+            impact_duration_s: opt_num(path, line, "impact_duration_s", &rec[cid])?,
+            peak_force_n: num(path, line, "peak_force_n", &rec[cp])?,
+            max_pressure_pa: num(path, line, "max_pressure_pa", &rec[cpr])?,
+            point_m: point(path, line, "contact_point_m", &rec[cpt])?,
+            risk_a: risk(&rec[ca]),
+            risk_b: if b_apple >= 0 {
+                risk(&rec[cb])
+            } else {
+                String::new()
+            },
+        });
+    }
+    Ok(out)
+}

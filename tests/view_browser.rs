@@ -1,0 +1,720 @@
+//! The viewer's page (issue 21) in a real browser: Debian's Chromium, headless, driven over the
+//! DevTools protocol by `headless_chrome`, as a person's browser would show it. The page loads
+//! from disk with no console error, its scene holds the run's apples and surface parts, moving
+//! the time slider (a real mouse click on it, the End key) puts the apples where bodies.csv has
+//! them (within the quantisation step), clicking an apple shows its contacts, switching the
+//! colour changes the rendered pixels, and a screenshot is not blank.
+//!
+//! Chromium is required, never skipped: without it the test fails and says how to install it
+//! (`.ci/run` installs it when missing). `APPLESIM_CHROMIUM` names another binary.
+
+use headless_chrome::browser::tab::point::Point;
+use headless_chrome::protocol::cdp::types::Event;
+use headless_chrome::protocol::cdp::Page::CaptureScreenshotFormatOption;
+use headless_chrome::protocol::cdp::{Log, Runtime};
+use headless_chrome::{Browser, LaunchOptions, Tab};
+use std::collections::BTreeMap;
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+const WIDTH: u32 = 1280;
+const HEIGHT: u32 = 800;
+
+fn exe() -> &'static str {
+    env!("CARGO_BIN_EXE_applesim")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("view_browser")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The Chromium binary, or a failure that says how to get it.
+fn chromium() -> PathBuf {
+    if let Some(p) = std::env::var_os("APPLESIM_CHROMIUM") {
+        return PathBuf::from(p);
+    }
+    for p in [
+        "/usr/bin/chromium",
+        "/usr/bin/chromium-browser",
+        "/usr/bin/google-chrome",
+    ] {
+        if Path::new(p).is_file() {
+            return PathBuf::from(p);
+        }
+    }
+    panic!(
+        "Chromium is needed for the viewer's browser test and was not found (/usr/bin/chromium). \
+         Install it with `apt-get update && apt-get install -y chromium` (as root; .ci/run does \
+         this), or set APPLESIM_CHROMIUM to a Chromium or Chrome binary."
+    );
+}
+
+/// A headless Chromium with a fresh profile, and the errors its pages report.
+struct Session {
+    _browser: Browser,
+    tab: Arc<Tab>,
+    errors: Arc<Mutex<Vec<String>>>,
+    _profile: PathBuf,
+}
+
+fn launch(name: &str) -> Session {
+    let profile = tmp(&format!("profile-{name}"));
+    let path = chromium();
+    // The flags that work on this machine (no GPU, no sandbox as root, nothing from the
+    // network); WebGL runs on SwiftShader, the CPU renderer Chromium ships.
+    let args: Vec<&OsStr> = [
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+        "--hide-scrollbars",
+    ]
+    .iter()
+    .map(OsStr::new)
+    .collect();
+    let opts = LaunchOptions::default_builder()
+        .path(Some(path.clone()))
+        .headless(true)
+        .sandbox(false)
+        .window_size(Some((WIDTH, HEIGHT)))
+        .user_data_dir(Some(profile.clone()))
+        .args(args)
+        .idle_browser_timeout(Duration::from_secs(120))
+        .build()
+        .unwrap();
+    let browser = Browser::new(opts)
+        .unwrap_or_else(|e| panic!("could not start {} headless: {e}", path.display()));
+    let tab = browser.new_tab().unwrap();
+    tab.set_default_timeout(Duration::from_secs(60));
+    let errors = Arc::new(Mutex::new(Vec::new()));
+    let sink = errors.clone();
+    tab.add_event_listener(Arc::new(move |event: &Event| {
+        let msg = match event {
+            Event::RuntimeConsoleAPICalled(e)
+                if e.params.Type == Runtime::ConsoleAPICalledEventTypeOption::Error =>
+            {
+                Some(format!(
+                    "console.error: {}",
+                    e.params
+                        .args
+                        .iter()
+                        .map(|a| a
+                            .value
+                            .as_ref()
+                            .map(|v| v.to_string())
+                            .or(a.description.clone())
+                            .unwrap_or_default())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                ))
+            }
+            Event::RuntimeExceptionThrown(e) => Some(format!(
+                "exception: {} {}",
+                e.params.exception_details.text,
+                e.params
+                    .exception_details
+                    .exception
+                    .as_ref()
+                    .and_then(|x| x.description.clone())
+                    .unwrap_or_default()
+            )),
+            Event::LogEntryAdded(e) if e.params.entry.level == Log::LogEntryLevel::Error => {
+                Some(format!("log error: {}", e.params.entry.text))
+            }
+            _ => None,
+        };
+        if let Some(m) = msg {
+            sink.lock().unwrap().push(m);
+        }
+    }))
+    .unwrap();
+    tab.enable_runtime().unwrap();
+    tab.enable_log().unwrap();
+    Session {
+        _browser: browser,
+        tab,
+        errors,
+        _profile: profile,
+    }
+}
+
+impl Session {
+    /// Opens `page` (a file on disk) and waits until the viewer has drawn its first frame.
+    fn open(&self, page: &Path, hash: &str) -> Duration {
+        let url = format!("file://{}{hash}", page.canonicalize().unwrap().display());
+        let t0 = Instant::now();
+        let marker = format!("{}{hash}", page.canonicalize().unwrap().display());
+        self.tab.navigate_to(&url).unwrap();
+        // Polled rather than waiting for the load event: the page is ready when its scene is
+        // drawn (or it says why not), which comes after the load anyway.
+        loop {
+            let ready = self
+                .tab
+                .evaluate(
+                    &format!(
+                        "JSON.stringify(decodeURIComponent(location.href) !== 'file://' + {marker:?} ? false : \
+                         !!(window.applesimView && window.applesimView.ready) || \
+                         (document.getElementById('fatal') && document.getElementById('fatal').style.display === 'block' ? \
+                         document.getElementById('fatal').textContent : false))"
+                    ),
+                    false,
+                )
+                .ok()
+                .and_then(|r| r.value)
+                .and_then(|v| v.as_str().map(|s| serde_json::from_str(s).unwrap()))
+                .unwrap_or(serde_json::Value::Bool(false));
+            match ready {
+                serde_json::Value::Bool(true) => break,
+                serde_json::Value::String(s) => panic!("the page failed: {s}"),
+                _ => {}
+            }
+            assert!(
+                t0.elapsed() < Duration::from_secs(60),
+                "the page did not start in 60 s; errors: {:?}",
+                self.errors()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        t0.elapsed()
+    }
+
+    /// Evaluates `js`, which must yield a JSON string.
+    fn eval(&self, js: &str) -> serde_json::Value {
+        let r = self.tab.evaluate(js, true).unwrap();
+        let s = r
+            .value
+            .unwrap_or_else(|| panic!("no value from {js}: {:?}", r.description));
+        serde_json::from_str(s.as_str().expect("a JSON string")).unwrap()
+    }
+
+    fn errors(&self) -> Vec<String> {
+        self.errors.lock().unwrap().clone()
+    }
+
+    /// A screenshot after two more animation frames (the page draws on requestAnimationFrame).
+    fn screenshot(&self) -> (Vec<u8>, u32, u32) {
+        self.eval(
+            "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r('true'))))",
+        );
+        let png_bytes = self
+            .tab
+            .capture_screenshot(CaptureScreenshotFormatOption::Png, None, None, true)
+            .unwrap();
+        decode(&png_bytes)
+    }
+
+    fn click(&self, x: f64, y: f64) {
+        self.tab.click_point(Point { x, y }).unwrap();
+    }
+}
+
+/// RGBA pixels of a PNG.
+fn decode(bytes: &[u8]) -> (Vec<u8>, u32, u32) {
+    let mut d = png::Decoder::new(bytes);
+    d.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut r = d.read_info().unwrap();
+    let mut buf = vec![0; r.output_buffer_size()];
+    let info = r.next_frame(&mut buf).unwrap();
+    buf.truncate(info.buffer_size());
+    let rgba: Vec<u8> = match info.color_type {
+        png::ColorType::Rgba => buf,
+        png::ColorType::Rgb => buf
+            .chunks(3)
+            .flat_map(|c| [c[0], c[1], c[2], 255])
+            .collect(),
+        other => panic!("unexpected PNG colour type {other:?}"),
+    };
+    (rgba, info.width, info.height)
+}
+
+/// Pixels whose colour differs by more than 24 (sum over channels) between two screenshots.
+fn changed_pixels(a: &[u8], b: &[u8]) -> usize {
+    a.chunks(4)
+        .zip(b.chunks(4))
+        .filter(|(p, q)| {
+            (0..3)
+                .map(|k| (p[k] as i32 - q[k] as i32).abs())
+                .sum::<i32>()
+                > 24
+        })
+        .count()
+}
+
+fn run(args: &[&str]) -> std::process::Output {
+    let o = Command::new(exe()).args(args).output().unwrap();
+    assert!(
+        o.status.success(),
+        "applesim {args:?} failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
+/// bodies.csv as the test reads it: per sample time, per apple name, the centre.
+type Samples = BTreeMap<u64, BTreeMap<String, [f64; 3]>>;
+
+fn bodies(run_dir: &Path) -> (Samples, Vec<String>) {
+    let mut r = csv::Reader::from_path(run_dir.join("bodies.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let col = |n: &str| h.iter().position(|x| x == n).unwrap();
+    let (ct, ca, cx, cy, cz) = (
+        col("time_s"),
+        col("apple"),
+        col("x_m"),
+        col("y_m"),
+        col("z_m"),
+    );
+    let mut out = Samples::new();
+    let mut names = Vec::new();
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        let t: f64 = rec[ct].parse().unwrap();
+        if !names.iter().any(|n| n == &rec[ca]) {
+            names.push(rec[ca].to_string());
+        }
+        let p = [cx, cy, cz].map(|c| rec[c].parse::<f64>().unwrap());
+        out.entry(t.to_bits())
+            .or_default()
+            .insert(rec[ca].to_string(), p);
+    }
+    (out, names)
+}
+
+/// Surface parts of a run's scenario: a bin is its floor and four walls.
+fn surface_parts(run_dir: &Path) -> usize {
+    let sc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run_dir.join("scenario.json")).unwrap())
+            .unwrap();
+    sc["surfaces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| if s["type"] == "bin" { 5 } else { 1 })
+        .sum()
+}
+
+/// Checks that every apple drawn at the slider's current frame stands where bodies.csv has it
+/// at that frame's time, within the page's quantisation step (plus f32 rounding); returns the
+/// frame's time.
+fn check_positions(s: &Session, samples: &Samples, names: &[String]) -> f64 {
+    let v = s.eval(
+        "(() => { const V = window.applesimView, m = new V.THREE.Matrix4(); \
+           const k = parseInt(document.getElementById('slider').value, 10); \
+           const out = []; for (let i = 0; i < V.apples.count; i++) { V.apples.getMatrixAt(i, m); \
+           const e = m.elements; out.push([V.data.apples[i].name, e[12], e[13], e[14], Math.hypot(e[0], e[1], e[2])]); } \
+           return JSON.stringify({ frame: k, t: String(V.frameTimes[k]), step: V.data.position_step_m, apples: out }); })()",
+    );
+    // As text: serde_json's default float parsing may be one unit in the last place off, Rust's
+    // own is exact (and JavaScript prints the shortest text that reads back exactly).
+    let t: f64 = v["t"].as_str().unwrap().parse().unwrap();
+    let at = samples
+        .get(&t.to_bits())
+        .unwrap_or_else(|| panic!("the slider's time {t} s is not a sample time of bodies.csv"));
+    let step: Vec<f64> = v["step"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let drawn = v["apples"].as_array().unwrap();
+    assert_eq!(drawn.len(), names.len());
+    let mut checked = 0;
+    for a in drawn {
+        let name = a[0].as_str().unwrap();
+        let scale = a[4].as_f64().unwrap();
+        match at.get(name) {
+            Some(p) => {
+                assert!(
+                    scale > 0.0,
+                    "{name} is in bodies.csv at t = {t} s but hidden"
+                );
+                for k in 0..3 {
+                    let got = a[k + 1].as_f64().unwrap();
+                    let tol = step[k] / 2.0 + 1e-6 * (1.0 + p[k].abs());
+                    assert!(
+                        (got - p[k]).abs() <= tol,
+                        "{name} at t = {t} s, axis {k}: page {got}, bodies.csv {} (step {})",
+                        p[k],
+                        step[k]
+                    );
+                }
+                checked += 1;
+            }
+            None => assert_eq!(
+                scale, 0.0,
+                "{name} is not in bodies.csv at t = {t} s but drawn"
+            ),
+        }
+    }
+    assert_eq!(checked, at.len());
+    t
+}
+
+#[test]
+fn handling_line_in_chromium() {
+    let dir = tmp("handling_line");
+    let run_dir = dir.join("run");
+    let o = run(&[
+        "run",
+        "scenarios/handling_line.json",
+        "--out",
+        run_dir.to_str().unwrap(),
+        "--view",
+    ]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("view.html"));
+    let page = run_dir.join("view.html");
+    let (samples, names) = bodies(&run_dir);
+    let parts = surface_parts(&run_dir);
+    assert_eq!(parts, 7); // belt, chute, bin floor and four walls
+
+    let s = launch("handling_line");
+    let load = s.open(&page, "");
+    eprintln!("handling line page loaded in {:.2} s", load.as_secs_f64());
+
+    // The scene holds the run's apples and surfaces.
+    let counts = s.eval(
+        "JSON.stringify({ apples: applesimView.apples.count, surfaces: applesimView.surfaces.length, \
+           names: applesimView.data.apples.map(a => a.name), \
+           kinds: applesimView.surfaces.map(m => m.userData.kind), \
+           frames: applesimView.frameTimes.length, \
+           canvas: !!document.querySelector('canvas'), \
+           gl: !!applesimView.renderer.getContext() })",
+    );
+    assert_eq!(counts["apples"], names.len());
+    assert_eq!(counts["surfaces"], parts);
+    assert_eq!(counts["names"], serde_json::json!(names));
+    assert_eq!(counts["frames"], 600);
+    assert_eq!(counts["gl"], true);
+    let kinds: Vec<&str> = counts["kinds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        kinds,
+        ["conveyor", "chute", "bin", "bin", "bin", "bin", "bin"]
+    );
+
+    // At t = 0 one apple has been fed in; the first frame is the first sample.
+    let t0 = check_positions(&s, &samples, &names);
+    assert_eq!(t0, 0.0);
+
+    // A click on the slider at 40 % of its width moves the apples to that frame's sample.
+    let rect = s.eval(
+        "JSON.stringify((r => [r.left, r.top, r.width, r.height])(document.getElementById('slider').getBoundingClientRect()))",
+    );
+    let r: Vec<f64> = rect
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    s.click(r[0] + 0.4 * r[2], r[1] + r[3] / 2.0);
+    let t_mid = check_positions(&s, &samples, &names);
+    assert!(
+        t_mid > 3.0 && t_mid < 5.0,
+        "the click at 40 % of the slider gave t = {t_mid} s"
+    );
+
+    // The End key on the focused slider: the last sample, every apple in the bin.
+    s.tab.press_key("End").unwrap();
+    let t_end = check_positions(&s, &samples, &names);
+    assert_eq!(t_end, 10.0);
+    let shown = s.eval("JSON.stringify(document.getElementById('counts').textContent)");
+    assert!(
+        shown.as_str().unwrap().starts_with("20 of 20 apples"),
+        "{shown}"
+    );
+
+    // Colour switches change the rendered pixels; no screenshot is blank.
+    let mut shots = Vec::new();
+    for c in ["force", "bruise", "speed", "motion"] {
+        s.eval(&format!(
+            "(() => {{ const e = document.getElementById('colour'); e.value = '{c}'; \
+               e.dispatchEvent(new Event('change')); return JSON.stringify(e.value); }})()"
+        ));
+        let (px, w, h) = s.screenshot();
+        assert!(w >= 800 && h >= 500, "a {w} x {h} viewport");
+        let bg = [px[0], px[1], px[2]];
+        let non_bg = px
+            .chunks(4)
+            .filter(|p| {
+                (0..3)
+                    .map(|k| (p[k] as i32 - bg[k] as i32).abs())
+                    .sum::<i32>()
+                    > 24
+            })
+            .count();
+        let distinct: std::collections::BTreeSet<[u8; 3]> = px
+            .chunks(4)
+            .map(|p| [p[0] / 8, p[1] / 8, p[2] / 8])
+            .collect();
+        assert!(
+            non_bg > (w * h / 20) as usize,
+            "{c}: nearly blank ({non_bg} pixels off the background)"
+        );
+        assert!(distinct.len() > 50, "{c}: only {} colours", distinct.len());
+        shots.push((c, px));
+    }
+    for i in 0..shots.len() {
+        for j in i + 1..shots.len() {
+            let n = changed_pixels(&shots[i].1, &shots[j].1);
+            assert!(
+                n > 200,
+                "colour by {} and by {} differ in only {n} pixels",
+                shots[i].0,
+                shots[j].0
+            );
+        }
+    }
+
+    // A click on an apple shows its name, size, mass and contacts so far.
+    let at = s.eval(
+        "(() => { const V = applesimView, m = new V.THREE.Matrix4(), p = new V.THREE.Vector3(); \
+           const c = V.renderer.domElement.getBoundingClientRect(); \
+           let best = null; for (let i = 0; i < V.apples.count; i++) { V.apples.getMatrixAt(i, m); \
+           p.setFromMatrixPosition(m).project(V.camera); \
+           const x = c.left + (p.x + 1) / 2 * c.width, y = c.top + (1 - p.y) / 2 * c.height; \
+           if (document.elementFromPoint(x, y) === V.renderer.domElement && (!best || p.z < best[3])) best = [i, x, y, p.z]; } \
+           return JSON.stringify(best); })()",
+    );
+    let (i, x, y) = (
+        at[0].as_u64().unwrap() as usize,
+        at[1].as_f64().unwrap(),
+        at[2].as_f64().unwrap(),
+    );
+    // Hovering shows a tip with its name, size and mass.
+    s.tab.move_mouse_to_point(Point { x, y }).unwrap();
+    let tip = s.eval(
+        "JSON.stringify([document.getElementById('tip').style.display, document.getElementById('tip').textContent])",
+    );
+    assert_eq!(tip[0], "block", "no tip over apple {}", names[i]);
+    let tip = tip[1].as_str().unwrap();
+    assert!(
+        tip.starts_with(&format!("{} (", names[i]))
+            && tip.contains(" mm, ")
+            && tip.contains(" g, "),
+        "{tip}"
+    );
+    s.click(x, y);
+    let info = s.eval(
+        "JSON.stringify({ shown: document.getElementById('info').style.display, text: document.getElementById('info').textContent, rows: document.querySelectorAll('#info tr').length })",
+    );
+    assert_eq!(
+        info["shown"], "block",
+        "clicking apple {} at ({x}, {y}) showed nothing",
+        names[i]
+    );
+    let text = info["text"].as_str().unwrap();
+    assert!(
+        text.contains("diameter") && text.contains("mass") && text.contains("contact(s) so far"),
+        "{text}"
+    );
+    assert!(
+        info["rows"].as_u64().unwrap() > 1,
+        "no contact listed: {text}"
+    );
+    let clicked = names
+        .iter()
+        .find(|n| text.starts_with(&format!("{n}:")))
+        .expect("the panel names an apple");
+    assert_eq!(clicked, &names[i], "clicked at apple {}'s centre", names[i]);
+    eprintln!("clicked {clicked}: {}", &text[..text.len().min(160)]);
+
+    let errors = s.errors();
+    assert!(errors.is_empty(), "the page reported errors: {errors:?}");
+}
+
+/// Every kind of surface is drawn (plane, box, conveyor, flat chute, trough, bin, mesh), with
+/// force histories on, and a run without any apple (bodies.csv with its header only) still
+/// views, saying so on the page.
+#[test]
+fn every_surface_kind_and_a_run_without_apples() {
+    let dir = tmp("kinds");
+    let scenario = serde_json::json!({
+        "duration_s": 0.25,
+        "time_step_s": 2e-5,
+        "gravity_m_s2": [0, 0, -9.81],
+        "output": { "sample_interval_s": 0.005, "force_history": true },
+        "materials": {
+            "apple": { "shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800 },
+            "steel": { "youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.28 }
+        },
+        "contact": { "friction": 0.3, "ke": 0.09, "lambda_s_m": 1000 },
+        "apples": [
+            { "name": "on-box", "material": "apple", "diameter_m": 0.08, "position_m": [0, 0, 0.3], "velocity_m_s": [0, 0, -2.5] },
+            { "name": "on-belt", "material": "apple", "diameter_m": 0.07, "position_m": [0.6, 0, 0.2], "velocity_m_s": [0, 0, -1] },
+            { "name": "in-trough", "material": "apple", "diameter_m": 0.075, "position_m": [1.2, 0, 0.2], "velocity_m_s": [0, 0, -1] },
+            { "name": "in-bin", "material": "apple", "diameter_m": 0.08, "position_m": [1.8, 0, 0.2], "velocity_m_s": [0, 0, -3] },
+            { "name": "on-mesh", "material": "apple", "diameter_m": 0.08, "position_m": [0, 0.8, 0.2], "velocity_m_s": [0, 0, -1] }
+        ],
+        "surfaces": [
+            { "name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, -0.2], "normal": [0, 0, 1] },
+            { "name": "table", "type": "box", "material": "steel", "size_m": [0.3, 0.3, 0.05], "position_m": [0, 0, 0.1] },
+            { "name": "belt", "type": "conveyor", "material": "steel", "size_m": [0.4, 0.2, 0.04], "position_m": [0.6, 0, 0.1], "belt_velocity_m_s": -0.3,
+              "rotation": { "axis": [0, 0, 1], "angle_deg": 30 } },
+            { "name": "slide", "type": "chute", "profile": "flat", "material": "steel", "length_m": 0.4, "width_m": 0.2, "incline_deg": 15, "position_m": [0.6, 0.5, 0.05] },
+            { "name": "gutter", "type": "chute", "profile": "trough", "material": "steel", "length_m": 0.4, "radius_m": 0.1, "position_m": [1.2, 0, 0.05] },
+            { "name": "crate", "type": "bin", "material": "steel", "inner_size_m": [0.3, 0.3, 0.15], "position_m": [1.8, 0, 0.05] },
+            { "name": "plate", "type": "mesh", "material": "steel", "file": "floor_two_triangles.obj", "scale": 0.3, "position_m": [0, 0.8, 0.05] }
+        ]
+    });
+    std::fs::copy(
+        "assets/floor_two_triangles.obj",
+        dir.join("floor_two_triangles.obj"),
+    )
+    .unwrap();
+    let sc_path = dir.join("kinds.json");
+    std::fs::write(&sc_path, serde_json::to_string_pretty(&scenario).unwrap()).unwrap();
+    let run_dir = dir.join("run");
+    run(&[
+        "run",
+        sc_path.to_str().unwrap(),
+        "--out",
+        run_dir.to_str().unwrap(),
+        "--view",
+        "--max-frames",
+        "20",
+    ]);
+    let (samples, names) = bodies(&run_dir);
+    assert_eq!(names.len(), 5);
+
+    // The same run without apples: a source that starts after the end.
+    let mut empty = scenario.clone();
+    empty["apples"] = serde_json::json!([]);
+    empty["sources"] = serde_json::json!([{ "name": "late", "material": "apple", "diameter_m": 0.08,
+        "position_m": [0, 0, 0.5], "rate_per_s": 1, "start_s": 10, "count": 1 }]);
+    let empty_path = dir.join("empty.json");
+    std::fs::write(&empty_path, serde_json::to_string_pretty(&empty).unwrap()).unwrap();
+    let empty_dir = dir.join("empty");
+    run(&[
+        "run",
+        empty_path.to_str().unwrap(),
+        "--out",
+        empty_dir.to_str().unwrap(),
+        "--view",
+    ]);
+    let text = std::fs::read_to_string(empty_dir.join("bodies.csv")).unwrap();
+    assert_eq!(
+        text.lines().count(),
+        1,
+        "bodies.csv should be its header only"
+    );
+
+    let s = launch("kinds");
+    s.open(&run_dir.join("view.html"), "");
+    let v = s.eval(
+        "JSON.stringify({ apples: applesimView.apples.count, kinds: applesimView.surfaces.map(m => m.userData.kind), \
+           frames: applesimView.frameTimes.length, arrows: applesimView.scene.children.filter(c => c.type === 'ArrowHelper').length, \
+           notes: [...document.querySelectorAll('#notes-list li')].map(l => l.textContent) })",
+    );
+    assert_eq!(v["apples"], 5);
+    assert_eq!(v["frames"], 20);
+    assert_eq!(v["arrows"], 3);
+    let kinds: Vec<&str> = v["kinds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            "plane", "box", "conveyor", "chute", "trough", "bin", "bin", "bin", "bin", "bin",
+            "mesh"
+        ]
+    );
+    assert!(
+        !v["notes"].to_string().contains("not drawn"),
+        "{}",
+        v["notes"]
+    );
+    s.eval("(() => { const e = document.getElementById('slider'); e.focus(); return 'true'; })()");
+    s.tab.press_key("End").unwrap();
+    check_positions(&s, &samples, &names);
+    let (px, _, _) = s.screenshot();
+    assert!(changed_pixels(&px, &vec![px[0]; px.len()]) > 0);
+
+    // With force histories, a contact over a bruise threshold has its force curve: click the
+    // apple, then the contact's row.
+    let target = s.eval(
+        "(() => { const V = applesimView, m = new V.THREE.Matrix4(), p = new V.THREE.Vector3(); \
+           const c = V.renderer.domElement.getBoundingClientRect(); \
+           const ks = Object.keys(V.data.curves).map(Number); \
+           for (const k of ks) { const i = V.data.contacts[k].a; V.apples.getMatrixAt(i, m); \
+             p.setFromMatrixPosition(m).project(V.camera); \
+             const x = c.left + (p.x + 1) / 2 * c.width, y = c.top + (1 - p.y) / 2 * c.height; \
+             if (document.elementFromPoint(x, y) === V.renderer.domElement) return JSON.stringify([k, i, x, y, ks.length]); } \
+           return JSON.stringify(null); })()",
+    );
+    assert!(!target.is_null(), "no contact with a force curve on screen");
+    assert!(target[4].as_u64().unwrap() >= 1);
+    let k = target[0].as_u64().unwrap();
+    s.click(target[2].as_f64().unwrap(), target[3].as_f64().unwrap());
+    let row = s.eval(&format!(
+        "JSON.stringify((r => r ? [r.getBoundingClientRect().left + 20, r.getBoundingClientRect().top + 5] : null)(document.querySelector('#info tr[data-contact=\"{k}\"]')))"
+    ));
+    assert!(
+        !row.is_null(),
+        "the clicked apple's panel has no row for contact {k}"
+    );
+    s.click(row[0].as_f64().unwrap(), row[1].as_f64().unwrap());
+    let svg =
+        s.eval("JSON.stringify(document.querySelectorAll('#info svg.curve polyline').length)");
+    assert_eq!(svg, 1, "no force curve after clicking contact {k}'s row");
+    // APPLESIM_VIEW_SHOTS=DIR keeps a picture of this state (to look at, not checked).
+    if let Some(dir) = std::env::var_os("APPLESIM_VIEW_SHOTS") {
+        let png_bytes = s
+            .tab
+            .capture_screenshot(CaptureScreenshotFormatOption::Png, None, None, true)
+            .unwrap();
+        std::fs::write(Path::new(&dir).join("kinds_curve.png"), png_bytes).unwrap();
+    }
+
+    s.open(&empty_dir.join("view.html"), "");
+    let v = s.eval(
+        "JSON.stringify({ apples: applesimView.apples.count, surfaces: applesimView.surfaces.length, \
+           notes: document.getElementById('notes-list').textContent })",
+    );
+    assert_eq!(v["apples"], 0);
+    assert_eq!(v["surfaces"], 11);
+    assert!(
+        v["notes"]
+            .as_str()
+            .unwrap()
+            .contains("bodies.csv holds no sample"),
+        "{}",
+        v["notes"]
+    );
+    let (px, w, h) = s.screenshot();
+    let bg = [px[0], px[1], px[2]];
+    let drawn = px
+        .chunks(4)
+        .filter(|p| {
+            (0..3)
+                .map(|k| (p[k] as i32 - bg[k] as i32).abs())
+                .sum::<i32>()
+                > 24
+        })
+        .count();
+    assert!(
+        drawn > (w * h / 50) as usize,
+        "the empty run's page is blank"
+    );
+
+    let errors = s.errors();
+    assert!(errors.is_empty(), "the pages reported errors: {errors:?}");
+}
