@@ -16,14 +16,15 @@
 //! Half-space Hertz while chi -> 0, stiffer as the layer is squeezed thin. The series holds for
 //! chi up to about 1; applesim does not extrapolate it: once chi reaches [`CHI_LIMIT`] (or the
 //! pad's share of the overlap reaches [`BOTTOM_COMPRESSION`] of its thickness) the pad has
-//! *bottomed out* and, beyond that overlap u_b, the apple also presses on the substrate through
-//! the crushed layer: the Hertz contact of the apple with the substrate's material at overlap
-//! u - u_b is added, while the pad's own factor stays at its value at u_b.
+//! *bottomed out* and, beyond that overlap u_b, the apple presses on the substrate through the
+//! crushed layer: the pad carries the force it carried at u_b, and the Hertz contact of the apple
+//! with the substrate's material at overlap u - u_b is added.
 //!
 //! A deformable apple on the pad: the overlap u is shared between the two bodies by their
-//! compliances c = (1 - nu^2)/E (as the contact point is, section 5), and the thin-layer factor
-//! stiffens the pad's part: 1/E*_pad = c_apple + c_pad / f(chi), with chi = sqrt(R* u)/h from the
-//! pair's Hertz contact radius. For a rigid sphere (c_apple = 0) this is the paper's law exactly.
+//! compliances c = (1 - nu^2)/E (as the contact point is, section 5): the pad's part is
+//! delta = s u, s = c_pad/(c_apple + c_pad), chi = sqrt(R* delta)/h, and the thin-layer factor
+//! stiffens the pad's compliance: 1/E* = c_apple + c_pad / f(chi). For a rigid sphere
+//! (c_apple = 0) this is the paper's law exactly.
 
 use super::material::Material;
 
@@ -64,9 +65,10 @@ pub fn thin_layer_factor(c: &[f64; 4], chi: f64) -> f64 {
 
 /// The overlap at which a pad of thickness `h` bottoms out under a contact of effective radius
 /// `r_star`, the pad taking the share `pad_share` of the overlap: the smaller of the overlap at
-/// chi = [`CHI_LIMIT`] and the one at which the pad's share reaches [`BOTTOM_COMPRESSION`] h.
+/// which chi = sqrt(R* pad_share u)/h reaches [`CHI_LIMIT`] and the one at which the pad's share
+/// reaches [`BOTTOM_COMPRESSION`] h.
 pub fn bottom_overlap(h: f64, r_star: f64, pad_share: f64) -> f64 {
-    let at_chi = CHI_LIMIT * CHI_LIMIT * h * h / r_star;
+    let at_chi = CHI_LIMIT * CHI_LIMIT * h * h / (r_star * pad_share);
     let at_compression = BOTTOM_COMPRESSION * h / pad_share;
     at_chi.min(at_compression)
 }
@@ -76,7 +78,8 @@ pub fn bottom_overlap(h: f64, r_star: f64, pad_share: f64) -> f64 {
 pub struct PadConstants {
     /// f(chi)'s coefficients (the pad's Poisson ratio).
     pub coefficients: [f64; 4],
-    /// sqrt(R*) / h: chi = sqrt(u) times this.
+    /// sqrt(R* s_pad) / h, s_pad = c_pad / (c_apple + c_pad) the pad's share of the overlap:
+    /// chi = sqrt(u) times this.
     pub chi_per_root_u: f64,
     /// The apple's compliance (1 - nu^2)/E (1/Pa).
     pub c_apple: f64,
@@ -106,14 +109,15 @@ impl PadConstants {
     ) -> Self {
         let (c_apple, c_pad) = (compliance(apple), compliance(pad));
         let four_thirds_root_r = 4.0 / 3.0 * r_star_m.sqrt();
+        let share = c_pad / (c_apple + c_pad);
         Self {
             coefficients: series_coefficients(pad.poisson_ratio),
-            chi_per_root_u: r_star_m.sqrt() / thickness_m,
+            chi_per_root_u: (r_star_m * share).sqrt() / thickness_m,
             c_apple,
             c_pad,
             four_thirds_root_r,
             substrate_stiffness: four_thirds_root_r / (c_apple + compliance(substrate)),
-            bottom_overlap_m: bottom_overlap(thickness_m, r_star_m, c_pad / (c_apple + c_pad)),
+            bottom_overlap_m: bottom_overlap(thickness_m, r_star_m, share),
         }
     }
 
@@ -123,10 +127,12 @@ impl PadConstants {
     pub fn elastic_force(&self, u: f64) -> (f64, bool) {
         let u = u.max(0.0);
         let ub = self.bottom_overlap_m;
-        let chi = self.chi_per_root_u * u.min(ub).sqrt();
+        // Bottomed out: the crushed pad carries what it carried at u_b, the substrate the rest.
+        let up = u.min(ub);
+        let chi = self.chi_per_root_u * up.sqrt();
         let f = thin_layer_factor(&self.coefficients, chi);
         let e_star = 1.0 / (self.c_apple + self.c_pad / f);
-        let pad = self.four_thirds_root_r * e_star * u * u.sqrt();
+        let pad = self.four_thirds_root_r * e_star * up * up.sqrt();
         if u > ub {
             let d = u - ub;
             (pad + self.substrate_stiffness * d * d.sqrt(), true)
@@ -166,11 +172,12 @@ mod tests {
         let thin = PadConstants::new(&apple, &foam, &steel, 0.012, r);
         assert!(thin.elastic_force(u).0 > 1.05 * hertz(u));
         assert!(!thin.elastic_force(u).1);
-        // h^2/R* = 3.89 mm: bottomed beyond, and the substrate's Hertz added.
-        assert!((thin.bottom_overlap_m - 0.012 * 0.012 / r).abs() < 1e-15);
-        let (f, bottomed) = thin.elastic_force(5e-3);
+        // h^2/(R* s) = 3.89 mm / s: bottomed beyond, and the substrate's Hertz added.
+        let s = compliance(&foam) / (compliance(&apple) + compliance(&foam));
+        assert!((thin.bottom_overlap_m / (0.012 * 0.012 / (r * s)) - 1.0).abs() < 1e-12);
+        let (f, bottomed) = thin.elastic_force(6e-3);
         assert!(bottomed);
-        let d: f64 = 5e-3 - thin.bottom_overlap_m;
+        let d: f64 = 6e-3 - thin.bottom_overlap_m;
         assert!(f > thin.substrate_stiffness * d.powf(1.5));
         // Continuous at the bottoming overlap.
         let ub = thin.bottom_overlap_m;
