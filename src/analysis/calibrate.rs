@@ -321,6 +321,7 @@ impl ImpactSetup {
                 normal: [0.0, 0.0, 1.0],
                 contact_model: Default::default(),
                 motion: None,
+                padding: None,
             })],
         }
     }

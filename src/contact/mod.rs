@@ -14,6 +14,7 @@ pub mod friction;
 pub mod geometry;
 pub mod material;
 pub mod normal;
+pub mod padding;
 pub mod rolling;
 pub mod theory;
 
@@ -157,6 +158,8 @@ pub struct ContactConstants {
     /// Effective moment of inertia of the relative spin about the centres, 1 / (1/I1 + 1/I2)
     /// (kg m^2; 0 until set), for the stopping bound of the constant rolling torque.
     pub spin_inertia_kg_m2: f64,
+    /// The pad of a padded surface ([`padding`]); `None`: half-space Hertz.
+    pub pad: Option<padding::PadConstants>,
 }
 
 impl ContactConstants {
@@ -172,6 +175,7 @@ impl ContactConstants {
             tangential_mass_kg,
             rolling_inertia_kg_m2: 0.0,
             spin_inertia_kg_m2: 0.0,
+            pad: None,
         }
     }
 }
@@ -221,8 +225,11 @@ pub struct ContactResponse {
     pub sliding: bool,
     /// Elastic energy 2/5 k u^(5/2) of the overlap (J).
     pub elastic_energy_j: f64,
-    /// The elastic (Hertz) part k u^(3/2) of the normal force (N).
+    /// The elastic (Hertz) part k u^(3/2) of the normal force (N); on a pad, the pad law's
+    /// elastic force ([`padding`]).
     pub hertz_force_n: f64,
+    /// On a pad: it has bottomed out ([`padding::PadConstants::elastic_force`]).
+    pub pad_bottomed: bool,
 }
 
 /// Evaluates the full law for one contact. `xi` is the contact's stored tangential displacement;
@@ -245,7 +252,12 @@ pub fn evaluate(
     let v_n = kin.rel_velocity.dot(n);
     let du_dt = -v_n;
     // sqrt(u) serves the Hertz force k u^(3/2), the contact radius sqrt(R*) sqrt(u) and the energy.
-    let (elastic, sqrt_u) = normal::hertz_force_and_root(k.stiffness, u);
+    let (mut elastic, sqrt_u) = normal::hertz_force_and_root(k.stiffness, u);
+    let mut pad_bottomed = false;
+    if let Some(pad) = &k.pad {
+        // The pad law's elastic force; the damping models multiply it as they do Hertz's.
+        (elastic, pad_bottomed) = pad.elastic_force(u);
+    }
     let a = k.sqrt_r_star * sqrt_u;
     let p = if parts.energy_loss {
         // The normal bound uses twice the tangential share: it stops the relative normal motion
@@ -337,6 +349,7 @@ pub fn evaluate(
         sliding,
         elastic_energy_j: 0.4 * elastic * u,
         hertz_force_n: elastic,
+        pad_bottomed,
     }
 }
 

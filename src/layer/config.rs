@@ -153,6 +153,18 @@ pub struct SurfaceOptions {
     pub belt_velocity_local: Vec3,
     /// Whether rapier's own contact handles this surface (no forces recorded).
     pub rigid: bool,
+    /// A pad bonded on the surface (docs/physics.md section 13); `material` is then the
+    /// substrate's.
+    pub padding: Option<Padding>,
+}
+
+/// A pad of finite thickness bonded on a surface (see [`crate::contact::padding`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Padding {
+    /// The pad's material.
+    pub material: MaterialId,
+    /// Its thickness (m).
+    pub thickness_m: f64,
 }
 
 impl SurfaceOptions {
@@ -164,6 +176,7 @@ impl SurfaceOptions {
             shape: SurfaceShape::FromCollider,
             belt_velocity_local: Vec3::ZERO,
             rigid: false,
+            padding: None,
         }
     }
 }

@@ -55,6 +55,8 @@ pub struct Contact {
     pub law: u32,
     /// 1 / the smaller radius (set with `consts`), for the overlap guard.
     pub inv_r_min: f64,
+    /// On a padded surface: the pad has bottomed out during this contact (warned once).
+    pub pad_bottomed: bool,
 }
 
 impl Contact {
@@ -81,7 +83,9 @@ impl Contact {
                 tangential_mass_kg: 0.0,
                 rolling_inertia_kg_m2: 0.0,
                 spin_inertia_kg_m2: 0.0,
+                pad: None,
             },
+            pad_bottomed: false,
             consts_curvature: f64::NAN,
             resting_from_s: f64::NAN,
             prev_rate: f64::NAN,

@@ -11,7 +11,7 @@ use super::clock::StepClock;
 use super::config::LayerConfig;
 use super::contacts::{Contact, ContactStore};
 use super::frame::{Frame, Loads};
-use super::outputs::{Outputs, SlipSample};
+use super::outputs::{Outputs, PadBottom, SlipSample};
 use super::registry::Registry;
 use super::scene::SurfaceNow;
 use super::LayerError;
@@ -43,6 +43,8 @@ pub(super) struct ContactOut {
     overlap_ratio: f64,
     /// Rolling-resistance torque on apple `i` (N m); the other body gets the opposite.
     torque: Vec3,
+    /// A pad bottomed out under this contact for the first time this step.
+    pad_bottomed: bool,
 }
 
 /// Everything one contact's evaluation reads (all of it shared, none of it written): the
@@ -208,6 +210,9 @@ impl Ctx<'_> {
         if c.record.is_none() {
             c.record = Some(self.begin(c, &k, &resp)?);
         }
+        // Warned once per contact.
+        let pad_bottomed = resp.pad_bottomed && !c.pad_bottomed;
+        c.pad_bottomed |= resp.pad_bottomed;
         // The backward span of this force's kick (see the leapfrog kick below).
         let kick_back = match (self.config.step_control, c.record.as_ref()) {
             (Some(_), Some(o)) => self.dt_back.min((time_s - o.start_time_s()).max(0.0)),
@@ -266,6 +271,7 @@ impl Ctx<'_> {
             elastic_energy_j: resp.elastic_energy_j,
             overlap_ratio: ratio,
             torque,
+            pad_bottomed,
         })
     }
 
@@ -274,6 +280,7 @@ impl Ctx<'_> {
         let i = c.i as usize;
         let ai = &self.registry.apples[i];
         let ri = self.frame.radius[i];
+        let mut pad = None;
         let (m2, inv_t2, inv_n2, r_min, inv_i2, inv_spin2) = match c.other {
             Party::Apple(j) => {
                 let aj = &self.registry.apples[j as usize];
@@ -288,8 +295,12 @@ impl Ctx<'_> {
             }
             Party::Surface(s) => {
                 let inv = self.surf_now[s as usize].inv_mass;
+                let surf = &self.registry.surfaces[s as usize];
+                // A padded surface: the apple touches the pad (its law: friction, damping), the
+                // substrate below.
+                pad = surf.padding.map(|p| (p, surf.material));
                 (
-                    self.registry.surfaces[s as usize].material,
+                    surf.padding.map_or(surf.material, |p| p.material),
                     inv,
                     inv,
                     ri,
@@ -320,6 +331,15 @@ impl Ctx<'_> {
         // Moments about the contact point, I + m R^2 (LIGGGHTS epsd).
         c.consts.rolling_inertia_kg_m2 = 1.0 / (1.0 / (ai.inertia + ai.mass * ri * ri) + inv_i2);
         c.consts.spin_inertia_kg_m2 = 1.0 / (1.0 / ai.inertia + inv_spin2);
+        c.consts.pad = pad.map(|(p, substrate)| {
+            contact::padding::PadConstants::new(
+                self.registry.material(ai.material),
+                self.registry.material(p.material),
+                self.registry.material(substrate),
+                p.thickness_m,
+                r_star,
+            )
+        });
         c.consts_curvature = c.curvature2;
         c.inv_r_min = 1.0 / r_min;
         Ok(())
@@ -425,6 +445,13 @@ impl Ctx<'_> {
                 if now.moving {
                     // On a belt or a moving part: the apple stays awake.
                     loads.busy[ii] = true;
+                }
+                if o.pad_bottomed {
+                    sums.out.pad_bottoms.push(PadBottom {
+                        apple: i,
+                        surface: s,
+                        time_s: self.time_s,
+                    });
                 }
                 if let Some(b) = now.dynamic_body {
                     loads.body_loads.push((b, -fk, point));

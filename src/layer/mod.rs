@@ -92,7 +92,9 @@ mod sleep;
 pub mod surface;
 
 pub use clock::{growth_cap, land, StepLimit, StepRequest};
-pub use config::{Coefficients, Guard, LayerConfig, SleepConfig, StepControl, SurfaceOptions};
+pub use config::{
+    Coefficients, Guard, LayerConfig, Padding, SleepConfig, StepControl, SurfaceOptions,
+};
 pub use error::LayerError;
 pub use hooks::{ContactHooks, Role};
 pub use outputs::{SlipSample, StepStats};

@@ -61,9 +61,22 @@ impl StepStats {
     }
 }
 
+/// A pad that bottomed out under an apple (docs/physics.md section 13): once per contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PadBottom {
+    /// The apple.
+    pub apple: u32,
+    /// The padded surface.
+    pub surface: u32,
+    /// When (s).
+    pub time_s: f64,
+}
+
 /// The layer's outputs.
 #[derive(Debug, Default)]
 pub(super) struct Outputs {
+    /// Pads that bottomed out, in the order they did (taken by the driver).
+    pub pad_bottoms: Vec<PadBottom>,
     /// Contacts that ended, in the order they ended.
     pub finished: Vec<ContactEvent>,
     /// The slip of every contact evaluated at the last force pass (with `record_slips`).

@@ -64,6 +64,28 @@ impl ContactLayer {
         &self.out.finished
     }
 
+    /// Takes out the warnings of pads that bottomed out since the last call: "pad of surface 'S'
+    /// bottomed out under apple 'A' at t = T s ..." (docs/physics.md section 13), once per contact.
+    pub fn take_pad_warnings(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.out.pad_bottoms)
+            .into_iter()
+            .map(|b| {
+                let surface = &self.registry.surfaces[b.surface as usize];
+                let (h, pad) = surface.padding.map_or((0.0, ""), |p| {
+                    (p.thickness_m, self.registry.material_name(p.material))
+                });
+                format!(
+                    "pad of surface '{}' ({} mm of {pad}) bottomed out under apple '{}' at t = {} s: beyond the thin-layer law's range (docs/physics.md section 13), the apple presses on the substrate ({}) and its force is the substrate's",
+                    surface.name,
+                    crate::math::human(h * 1e3, 3, 1),
+                    self.registry.apples[b.apple as usize].name,
+                    crate::math::secs(b.time_s),
+                    self.registry.material_name(surface.material),
+                )
+            })
+            .collect()
+    }
+
     /// Takes the finished events out of the layer.
     pub fn take_finished_events(&mut self) -> Vec<ContactEvent> {
         std::mem::take(&mut self.out.finished)

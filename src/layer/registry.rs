@@ -57,6 +57,8 @@ pub(super) struct SurfaceEntry {
     pub shape: SurfaceShape,
     pub belt_local: Vec3,
     pub rigid: bool,
+    /// A pad bonded on it (`material` is the substrate's).
+    pub padding: Option<super::config::Padding>,
 }
 
 /// Materials, pair laws, apples and surfaces, with the handle-keyed tables that find them.
@@ -95,6 +97,10 @@ impl Registry {
         self.materials.push((name.to_string(), material));
         self.laws_dirty = true;
         MaterialId((self.materials.len() - 1) as u16)
+    }
+
+    pub fn material(&self, id: MaterialId) -> &Material {
+        &self.materials[id.0 as usize].1
     }
 
     pub fn material_name(&self, id: MaterialId) -> &str {
@@ -289,6 +295,7 @@ impl Registry {
             shape: options.shape,
             belt_local: options.belt_velocity_local,
             rigid: options.rigid,
+            padding: options.padding,
         });
         self.hooks.set(collider, role, id);
         Ok(SurfaceId(id))

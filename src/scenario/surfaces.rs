@@ -122,6 +122,20 @@ impl<'de> Deserialize<'de> for SurfaceSpec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         const TYPES: &[&str] = &["plane", "box", "conveyor", "chute", "bin", "mesh", "roller"];
         let (t, v) = de::tagged(d, TYPES)?;
+        if let Some(why) = match t {
+            "conveyor" => Some("a belt's own material is its top layer: give the belt that material"),
+            "bin" => Some("pad a bin's floor as a padded box or plane inside it"),
+            "mesh" => Some("a mesh has no single face to bond a layer on"),
+            "roller" => Some("the thin-layer law is for a flat layer, not a roller's curved side"),
+            _ => None,
+        } {
+            if v.get("padding").is_some() {
+                return Err(serde::de::Error::custom(de::nested(
+                    "padding",
+                    &format!("padding is for planes, boxes and flat chutes, not a {t}: {why}"),
+                )));
+            }
+        }
         Ok(match t {
             "plane" => SurfaceSpec::Plane(de::from_value(v)?),
             "box" => SurfaceSpec::Box(de::from_value(v)?),
@@ -161,6 +175,16 @@ impl SurfaceSpec {
         }
     }
 
+    /// The pad bonded on it, if any.
+    pub fn padding(&self) -> Option<&PaddingSpec> {
+        match self {
+            SurfaceSpec::Plane(p) => p.padding.as_ref(),
+            SurfaceSpec::Box(b) => b.padding.as_ref(),
+            SurfaceSpec::Chute(c) => c.padding.as_ref(),
+            _ => None,
+        }
+    }
+
     /// The prescribed motion, if any.
     pub fn motion(&self) -> Option<&MotionSpec> {
         match self {
@@ -186,6 +210,17 @@ impl SurfaceSpec {
     }
 }
 
+/// A layer of foam or rubber of `material`, `thickness_m` thick, bonded on a plane, a box or a
+/// flat chute (docs/physics.md section 13).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PaddingSpec {
+    /// The pad's material (its modulus and Poisson ratio enter the thin-layer law).
+    pub material: String,
+    /// The pad's thickness h (m).
+    pub thickness_m: f64,
+}
+
 /// An infinite plane.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -204,6 +239,10 @@ pub struct PlaneSpec {
     /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<MotionSpec>,
+    /// A pad bonded on the surface (docs/physics.md section 13): `material` is then the
+    /// substrate under it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub padding: Option<PaddingSpec>,
 }
 
 /// A box.
@@ -231,6 +270,10 @@ pub struct BoxSpec {
     /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<MotionSpec>,
+    /// A pad bonded on the surface (docs/physics.md section 13): `material` is then the
+    /// substrate under it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub padding: Option<PaddingSpec>,
 }
 
 /// A conveyor belt.
@@ -317,6 +360,10 @@ pub struct ChuteSpec {
     /// Prescribed motion (see [`super::motion`]); the surface is fixed without it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<MotionSpec>,
+    /// A pad bonded on the surface (docs/physics.md section 13): `material` is then the
+    /// substrate under it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub padding: Option<PaddingSpec>,
 }
 
 /// Per-wall materials of a bin; absent walls use the bin's `material`.

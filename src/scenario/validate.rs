@@ -3,7 +3,7 @@
 
 use super::generators::{FileSpec, GeneratorSpec};
 use super::ranges::{self, num};
-use super::surfaces::{rotation_of, ChuteProfile, Scale, SurfaceSpec};
+use super::surfaces::{rotation_of, ChuteProfile, ContactModel, Scale, SurfaceSpec};
 use super::{models, AppleSpec, ContactSpec, Scenario, ScenarioError, TimeStep};
 use crate::contact::{Material, MaterialError};
 use crate::layer::grid::NeighborList;
@@ -542,6 +542,24 @@ fn surface(
     let length = |field: &str, x: f64| ranges::LENGTH.check(&format!("{f}.{field}"), x);
     let position =
         |field: &str, v: [f64; 3]| ranges::POSITION.check_each(&format!("{f}.{field}"), v);
+    if let Some(pad) = s.padding() {
+        material_of(&format!("{f}.padding.material"), &pad.material, mats)?;
+        ranges::PAD_THICKNESS.check(&format!("{f}.padding.thickness_m"), pad.thickness_m)?;
+        if s.contact_model() == ContactModel::Rigid {
+            return Err(ScenarioError::invalid(
+                format!("{f}.padding"),
+                "a rigid surface (rapier's own contact) cannot model a pad: use the hertz contact_model",
+            ));
+        }
+        if let SurfaceSpec::Chute(c) = s {
+            if c.profile == ChuteProfile::Trough {
+                return Err(ScenarioError::invalid(
+                    format!("{f}.padding"),
+                    "padding is for flat surfaces: the thin-layer law is for a flat layer, not a trough",
+                ));
+            }
+        }
+    }
     match s {
         SurfaceSpec::Plane(p) => {
             material_of(&format!("{f}.material"), &p.material, mats)?;

@@ -233,6 +233,8 @@ pub struct Simulation {
     next_sample: u64,
     /// Contacts that ended, kept compact until the run's end (see [`FinishedContact`]).
     events: Vec<FinishedContact>,
+    /// Warnings of pads that bottomed out (docs/physics.md section 13), in the order they did.
+    pad_warnings: Vec<String>,
     states: Vec<AppleState>,
     gravity: crate::math::Vec3,
     energy: Option<EnergyGuard>,
@@ -301,6 +303,7 @@ impl Simulation {
             max_steps: sc.model.max_steps,
             next_sample: 0,
             events: Vec::new(),
+            pad_warnings: Vec::new(),
             states: Vec::new(),
             gravity: crate::math::vec3(sc.gravity_m_s2),
             energy: energy.map(|e| EnergyGuard { v_bound, ..e }),
@@ -444,6 +447,7 @@ impl Simulation {
                 .into_iter()
                 .map(FinishedContact::from),
         );
+        self.pad_warnings.extend(w.layer.take_pad_warnings());
         if let Some(d) = self.detector.as_mut() {
             d.observe(request.time_s, &w.layer);
         }
@@ -683,6 +687,7 @@ impl Simulation {
             })
             .collect();
         let mut warnings = fate::warnings(&apples, &line, self.time_s);
+        warnings.append(&mut self.pad_warnings);
         let worst = events.iter().map(|e| (e.max_overlap_m, e)).fold(
             None::<(f64, &ContactEvent)>,
             |acc, x| match acc {

@@ -451,6 +451,10 @@ impl World {
                 shape: part.shape,
                 belt_velocity_local: part.belt_local,
                 rigid,
+                padding: part.padding.as_ref().map(|(m, h)| crate::layer::Padding {
+                    material: self.materials[m.as_str()].0,
+                    thickness_m: *h,
+                }),
             },
         )?;
         self.surface_colliders.push(ch);

@@ -35,6 +35,8 @@ pub struct SurfacePart {
     /// runs along it from its start (a belt's upstream end, a chute's top end, a box's -x
     /// end). `None` for parts without a running direction (planes, bin walls, meshes).
     pub along: Option<Pose>,
+    /// A pad bonded on it: its material's name and thickness (m).
+    pub padding: Option<(String, f64)>,
 }
 
 fn part(name: &str, material: &str, collider: ColliderBuilder, model: ContactModel) -> SurfacePart {
@@ -46,6 +48,7 @@ fn part(name: &str, material: &str, collider: ColliderBuilder, model: ContactMod
         along: None,
         collider,
         model,
+        padding: None,
     }
 }
 
@@ -55,6 +58,20 @@ fn cuboid(size: [f64; 3], pose: Pose) -> ColliderBuilder {
 
 /// The colliders of one surface spec. `field` is its JSON path, `base_dir` resolves mesh files.
 pub fn parts(
+    s: &SurfaceSpec,
+    field: &str,
+    base_dir: &Path,
+) -> Result<Vec<SurfacePart>, ScenarioError> {
+    let mut parts = parts_without_padding(s, field, base_dir)?;
+    if let Some(p) = s.padding() {
+        for part in &mut parts {
+            part.padding = Some((p.material.clone(), p.thickness_m));
+        }
+    }
+    Ok(parts)
+}
+
+fn parts_without_padding(
     s: &SurfaceSpec,
     field: &str,
     base_dir: &Path,
