@@ -43,7 +43,10 @@ fn the_pad_law_is_dimitriadis_bonded_layer_at_three_thickness_ratios() {
             assert!(!bottomed, "h = {h}");
             let want = dimitriadis_bonded(e, nu, r, h, delta);
             let err = rel(f, want).abs();
-            println!("E {e} nu {nu} h/a {:.2}: {f:.6} N against {want:.6} N ({err:.2e})", h / a);
+            println!(
+                "E {e} nu {nu} h/a {:.2}: {f:.6} N against {want:.6} N ({err:.2e})",
+                h / a
+            );
             worst = worst.max(err);
             // Stiffer than the half-space.
             assert!(f > dimitriadis_bonded(e, nu, r, 1e3, delta));
@@ -80,7 +83,11 @@ fn parse(v: &Value) -> Scenario {
 
 fn plate_peak(sc: &Scenario) -> (f64, Vec<String>) {
     let (r, _) = run(sc);
-    let e = r.events.iter().find(|e| &*e.b == "plate").expect("an impact");
+    let e = r
+        .events
+        .iter()
+        .find(|e| &*e.b == "plate")
+        .expect("an impact");
     (e.peak_force_n, r.warnings)
 }
 
@@ -103,7 +110,9 @@ fn a_hard_drop_on_a_thin_pad_bottoms_out_with_a_warning() {
     let w: Vec<&String> = warnings.iter().filter(|w| w.contains("bottomed")).collect();
     assert_eq!(w.len(), 1, "{warnings:?}");
     assert!(
-        w[0].starts_with("pad of surface 'plate' (0.5 mm of foam) bottomed out under apple 'a1' at t = 0.0"),
+        w[0].starts_with(
+            "pad of surface 'plate' (0.5 mm of foam) bottomed out under apple 'a1' at t = 0.0"
+        ),
         "{}",
         w[0]
     );
@@ -148,7 +157,8 @@ fn the_padded_transfer_softens_the_landing_as_the_pad_law_predicts() {
         }
         // The pad's part s u of the overlap sets chi; f stiffens the pad's compliance.
         let delta = s * u;
-        let f_chi = dimitriadis_bonded(1.0, 0.3, r, h, delta) / dimitriadis_bonded(1.0, 0.3, r, 1e6, delta);
+        let f_chi =
+            dimitriadis_bonded(1.0, 0.3, r, h, delta) / dimitriadis_bonded(1.0, 0.3, r, 1e6, delta);
         4.0 / 3.0 * r.sqrt() / (ca + cp / f_chi) * u.powf(1.5)
     };
     let bare_force = |u: f64| 4.0 / 3.0 * r.sqrt() / (ca + cs) * u.powf(1.5);
@@ -158,7 +168,10 @@ fn the_padded_transfer_softens_the_landing_as_the_pad_law_predicts() {
             w += 0.5 * (force(u) + force(u + du)) * du;
             u += du;
         }
-        assert!(s * u < h && (r * s * u).sqrt() / h < 1.0, "within the series");
+        assert!(
+            s * u < h && (r * s * u).sqrt() / h < 1.0,
+            "within the series"
+        );
         force(u)
     };
     let want_p = peak(&pad_force, p.approach_speed_m_s);
@@ -172,7 +185,11 @@ fn the_padded_transfer_softens_the_landing_as_the_pad_law_predicts() {
     assert_rel("bare peak", b.peak_force_n, want_b, 0.004);
     // The reduction the law predicts.
     let (got, want) = (1.0 - p.peak_force_n / b.peak_force_n, 1.0 - want_p / want_b);
-    println!("reduction {:.2} % (predicted {:.2} %)", 100.0 * got, 100.0 * want);
+    println!(
+        "reduction {:.2} % (predicted {:.2} %)",
+        100.0 * got,
+        100.0 * want
+    );
     assert!((got - want).abs() < 0.003);
 }
 
@@ -196,8 +213,10 @@ fn bad_paddings_are_refused_naming_the_field() {
         })
     };
     let plane = |pad: Value| {
-        with(json!({"name": "p", "type": "plane", "material": "steel", "point_m": [0, 0, 0],
-                    "normal": [0, 0, 1], "padding": pad}))
+        with(
+            json!({"name": "p", "type": "plane", "material": "steel", "point_m": [0, 0, 0],
+                    "normal": [0, 0, 1], "padding": pad}),
+        )
     };
     let pad = json!({"material": "foam", "thickness_m": 0.01});
     let cases = [
@@ -233,10 +252,19 @@ fn bad_paddings_are_refused_naming_the_field() {
     }
     // Surface types without padding: refused when read, naming the field.
     for (t, extra) in [
-        ("conveyor", json!({"size_m": [1, 0.3, 0.04], "position_m": [0, 0, 0], "belt_velocity_m_s": 0.5})),
-        ("bin", json!({"inner_size_m": [0.5, 0.5, 0.3], "position_m": [0, 0, 0]})),
+        (
+            "conveyor",
+            json!({"size_m": [1, 0.3, 0.04], "position_m": [0, 0, 0], "belt_velocity_m_s": 0.5}),
+        ),
+        (
+            "bin",
+            json!({"inner_size_m": [0.5, 0.5, 0.3], "position_m": [0, 0, 0]}),
+        ),
         ("mesh", json!({"file": "x.obj", "position_m": [0, 0, 0]})),
-        ("roller", json!({"radius_m": 0.03, "length_m": 0.5, "position_m": [0, 0, 0], "angular_velocity_rad_s": 1})),
+        (
+            "roller",
+            json!({"radius_m": 0.03, "length_m": 0.5, "position_m": [0, 0, 0], "angular_velocity_rad_s": 1}),
+        ),
     ] {
         let mut s = json!({"name": "s", "type": t, "material": "steel", "padding": pad});
         for (k, v) in extra.as_object().unwrap() {
@@ -245,7 +273,12 @@ fn bad_paddings_are_refused_naming_the_field() {
         let e = refusal(&with(s));
         println!("{e}");
         assert!(e.contains("surfaces[0].padding"), "{e}");
-        assert!(e.contains(&format!("padding is for planes, boxes and flat chutes, not a {t}")), "{e}");
+        assert!(
+            e.contains(&format!(
+                "padding is for planes, boxes and flat chutes, not a {t}"
+            )),
+            "{e}"
+        );
     }
     // A padded box and a padded flat chute are fine.
     for s in [

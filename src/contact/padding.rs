@@ -163,9 +163,8 @@ mod tests {
         let foam = Material::from_youngs(1.0e6, 0.3, None).unwrap();
         let steel = Material::from_shear(8.1e10, 0.28, None).unwrap();
         let r: f64 = 0.037;
-        let hertz = |u: f64| {
-            4.0 / 3.0 / (compliance(&apple) + compliance(&foam)) * r.sqrt() * u.powf(1.5)
-        };
+        let hertz =
+            |u: f64| 4.0 / 3.0 / (compliance(&apple) + compliance(&foam)) * r.sqrt() * u.powf(1.5);
         let thick = PadConstants::new(&apple, &foam, &steel, 10.0, r);
         let u = 1e-3;
         assert!((thick.elastic_force(u).0 / hertz(u) - 1.0).abs() < 1e-3);

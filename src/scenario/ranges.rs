@@ -302,13 +302,7 @@ pub const LENGTH: Range = closed(
     "`size_m`, `inner_size_m`, `length_m`, `width_m`, `radius_m`, `thickness_m`, `wall_thickness_m`, `spacing_m`",
 );
 /// Thickness of a pad bonded on a surface (docs/physics.md section 13).
-pub const PAD_THICKNESS: Range = positive(
-    "pad thickness",
-    "h",
-    0.1,
-    "m",
-    "`padding.thickness_m`",
-);
+pub const PAD_THICKNESS: Range = positive("pad thickness", "h", 0.1, "m", "`padding.thickness_m`");
 /// Random offsets.
 pub const JITTER: Range = closed("jitter", "j", 0.0, 10.0, "m", "`jitter_m`");
 /// Histogram bins of the slip/roll summary.

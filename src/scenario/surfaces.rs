@@ -123,7 +123,9 @@ impl<'de> Deserialize<'de> for SurfaceSpec {
         const TYPES: &[&str] = &["plane", "box", "conveyor", "chute", "bin", "mesh", "roller"];
         let (t, v) = de::tagged(d, TYPES)?;
         if let Some(why) = match t {
-            "conveyor" => Some("a belt's own material is its top layer: give the belt that material"),
+            "conveyor" => {
+                Some("a belt's own material is its top layer: give the belt that material")
+            }
             "bin" => Some("pad a bin's floor as a padded box or plane inside it"),
             "mesh" => Some("a mesh has no single face to bond a layer on"),
             "roller" => Some("the thin-layer law is for a flat layer, not a roller's curved side"),
