@@ -45,3 +45,43 @@ pub fn human(x: f64, sig: usize, decimals: i32) -> String {
         s
     }
 }
+
+/// A step length as a person writes it: 4 significant digits, small ones as 5e-5.
+pub fn step(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-3 {
+        sci(x)
+    } else {
+        human(x, 4, 0)
+    }
+}
+
+/// `x` in e-notation to 4 significant digits, without trailing zeros (2.4e-4, 1e-3).
+fn sci(x: f64) -> String {
+    let rounded: f64 = format!("{x:.3e}").parse().unwrap_or(x);
+    format!("{rounded:e}")
+}
+
+/// An adaptive run's shortest and longest steps, both written alike ("2.4e-4 to 1e-3", not
+/// "2.4e-4 to 0.001").
+pub fn step_range(lo: f64, hi: f64) -> String {
+    if lo != 0.0 && lo.abs() < 1e-3 {
+        format!("{} to {}", sci(lo), sci(hi))
+    } else {
+        format!("{} to {}", step(lo), step(hi))
+    }
+}
+
+#[cfg(test)]
+mod human_tests {
+    use super::*;
+
+    #[test]
+    fn times_and_steps_as_people_write_them() {
+        assert_eq!(secs(0.030000000000000002), "0.03");
+        assert_eq!(secs(10.0), "10");
+        assert_eq!(step(5e-5), "5e-5");
+        assert_eq!(step(1.25e-4), "1.25e-4");
+        assert_eq!(step(0.0016666), "0.001667");
+        assert_eq!(step_range(2.4e-4, 1e-3), "2.4e-4 to 1e-3");
+    }
+}

@@ -1,9 +1,9 @@
 //! `applesim run SCENARIO --out DIR`.
 
 use applesim::batch::isolate;
+use applesim::math::{human, secs, step, step_range};
 use applesim::output;
 use applesim::output::plot::{self, PlotOptions};
-use applesim::sim::fate::{human, secs};
 use applesim::sim::RunResult;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Read};
@@ -210,31 +210,6 @@ fn progress_bar(duration_s: f64) -> ProgressBar {
     );
     bar.set_message(format!("0 of {} s simulated", secs(duration_s)));
     bar
-}
-
-/// A step length as a person writes it: 4 significant digits, small ones as 5e-5.
-fn step(x: f64) -> String {
-    if x != 0.0 && x.abs() < 1e-3 {
-        sci(x)
-    } else {
-        human(x, 4, 0)
-    }
-}
-
-/// `x` in e-notation to 4 significant digits, without trailing zeros (2.4e-4, 1e-3).
-fn sci(x: f64) -> String {
-    let rounded: f64 = format!("{x:.3e}").parse().unwrap_or(x);
-    format!("{rounded:e}")
-}
-
-/// An adaptive run's shortest and longest steps, both written alike ("2.4e-4 to 1e-3", not
-/// "2.4e-4 to 0.001").
-fn step_range(lo: f64, hi: f64) -> String {
-    if lo != 0.0 && lo.abs() < 1e-3 {
-        format!("{} to {}", sci(lo), sci(hi))
-    } else {
-        format!("{} to {}", step(lo), step(hi))
-    }
 }
 
 /// "200000 steps of 5e-5 s (10 s simulated) in 1.11 s wall time"; an adaptive run gives the

@@ -88,12 +88,12 @@ pub fn line_report(dir: &Path, command: &str) -> Result<String, ReportError> {
         out,
         "- {} apples; {} s simulated in {} steps ({} step{}), fidelity {}.",
         apples.len(),
-        crate::output::report::human(t),
+        crate::math::secs(t),
         steps,
         s["step_policy"].as_str().unwrap_or("?"),
         match (range[0].as_f64(), range[1].as_f64()) {
-            (Some(a), Some(b)) if a == b => format!(" of {} s", human(a)),
-            (Some(a), Some(b)) => format!("s of {} to {} s", human(a), human(b)),
+            (Some(a), Some(b)) if a == b => format!(" of {} s", crate::math::step(a)),
+            (Some(a), Some(b)) => format!("s of {} s", crate::math::step_range(a, b)),
             _ => String::new(),
         },
         s["fidelity"]
@@ -197,40 +197,4 @@ pub fn line_report(dir: &Path, command: &str) -> Result<String, ReportError> {
         }
     }
     Ok(out)
-}
-
-/// A number of seconds as a person writes it: at most four significant digits, no float
-/// noise (0.030000000000000002 -> 0.03; 5e-05 -> 5e-5).
-pub fn human(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let mag = x.abs().log10().floor() as i32;
-    if !(-3..6).contains(&mag) {
-        let s = format!("{x:.3e}");
-        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
-        let m = m.trim_end_matches('0').trim_end_matches('.');
-        return format!("{m}e{e}");
-    }
-    let d = (3 - mag).max(0) as usize;
-    let s = format!("{x:.d$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::human;
-
-    #[test]
-    fn seconds_as_people_write_them() {
-        assert_eq!(human(0.030000000000000002), "0.03");
-        assert_eq!(human(5e-5), "5e-5");
-        assert_eq!(human(10.0), "10");
-        assert_eq!(human(1.25e-4), "1.25e-4");
-        assert_eq!(human(0.0016666), "0.001667");
-    }
 }
