@@ -160,7 +160,12 @@ pub fn points_of(events: &[ContactEvent]) -> Vec<String> {
 }
 
 /// The audit of a run's contacts; `bruise` tells which impacts exceeded a threshold.
-pub fn audit(events: &[ContactEvent], roster: &Roster, bruise: &BruiseReport) -> Audit {
+pub fn audit(
+    events: &[ContactEvent],
+    points: &[String],
+    roster: &Roster,
+    bruise: &BruiseReport,
+) -> Audit {
     let names = roster.by_name();
     let index: BTreeMap<&str, usize> = roster
         .apples()
@@ -168,14 +173,13 @@ pub fn audit(events: &[ContactEvent], roster: &Roster, bruise: &BruiseReport) ->
         .enumerate()
         .map(|(k, a)| (a.name.as_str(), k))
         .collect();
-    let points = points_of(events);
     let mut contacts: BTreeMap<&str, usize> = BTreeMap::new();
     let mut impacts: BTreeMap<&str, usize> = BTreeMap::new();
     let mut hits: BTreeMap<&str, Vec<Hit>> = BTreeMap::new();
     let mut absorbed: BTreeMap<&str, (f64, f64)> = BTreeMap::new();
     // (point, threshold name) -> apples over it there.
     let mut over: BTreeMap<(&str, &str), BTreeSet<usize>> = BTreeMap::new();
-    for (e, p) in events.iter().zip(&points) {
+    for (e, p) in events.iter().zip(points) {
         let p = p.as_str();
         *contacts.entry(p).or_default() += 1;
         let Some(pulse) = &e.impact else { continue };

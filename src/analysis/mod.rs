@@ -26,6 +26,9 @@ pub struct Analysis {
     pub bruise: bruise::BruiseReport,
     /// The line audit: impacts per transfer point.
     pub audit: audit::Audit,
+    /// The transfer point of each contact event, in the run's event order
+    /// ([`audit::points_of`]; contacts.csv's `transfer_point`).
+    pub contact_points: Vec<String>,
 }
 
 /// Fits the pulses and assesses bruising of a finished run of `sc` (its thresholds); each
@@ -35,11 +38,13 @@ pub fn analyse(sc: &Scenario, r: &RunResult) -> Analysis {
     let mass = |name: &str| roster.get(name).map_or(f64::NAN, |a| a.mass_kg);
     let order: Vec<&str> = r.apples.iter().map(|a| a.name.as_str()).collect();
     let bruise = bruise::assess(sc, &r.events, &roster, &order);
-    let audit = audit::audit(&r.events, &r.roster, &bruise);
+    let contact_points = audit::points_of(&r.events);
+    let audit = audit::audit(&r.events, &contact_points, &r.roster, &bruise);
     Analysis {
         pulse_fits: pulse::fit_events(&r.events, &mass),
         bruise,
         audit,
+        contact_points,
     }
 }
 

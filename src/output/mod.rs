@@ -159,6 +159,7 @@ fn opt(v: Option<f64>) -> String {
 pub fn write_contacts(
     path: &Path,
     events: &[ContactEvent],
+    points: &[String],
     roster: &crate::world::Roster,
 ) -> std::io::Result<()> {
     let f = AtomicFile::create(path)?;
@@ -166,7 +167,6 @@ pub fn write_contacts(
     w.write_record(CONTACT_HEADER)?;
     let by_name = roster.by_name();
     let size = |name: &str| by_name.get(name).map(|a| (2.0 * a.radius_m, a.mass_kg));
-    let points = crate::analysis::audit::points_of(events);
     for (e, point) in events.iter().zip(points) {
         let a = size(&e.a);
         let b = match e.b_party {
@@ -225,7 +225,7 @@ pub fn write_contacts(
             num(r.map(|x| x.max_force_n)),
             num(r.map(|x| x.mean_pressure_pa)),
             num(r.map(|x| x.max_pressure_pa)),
-            point,
+            point.clone(),
         ])?;
     }
     let f = w.into_inner().map_err(|e| e.into_error())?;
@@ -693,20 +693,20 @@ pub fn run_into(
     let p = out_dir.join(audit::AUDIT_MD);
     let title = sc.description.as_deref().unwrap_or("run");
     atomic::write_file(&p, analysis.audit.markdown(title).as_bytes()).map_err(io_at(&p))?;
-    let points = crate::analysis::audit::points_of(&result.events);
+    let points = &analysis.contact_points;
     for pr in &result.probes {
-        probe::write_probe(out_dir, pr, &result.events, &points)
+        probe::write_probe(out_dir, pr, &result.events, points)
             .map_err(|(path, source)| RunError::Io { path, source })?;
     }
     if let Some(chart) =
-        crate::analysis::audit::ird_chart(&points, &analysis.bruise, &result.roster, title)
+        crate::analysis::audit::ird_chart(points, &analysis.bruise, &result.roster, title)
     {
         chart
             .write_svg(&out_dir.join("ird.svg"))
             .map_err(plot::PlotError::from)?;
     }
     let p = out_dir.join("contacts.csv");
-    write_contacts(&p, &result.events, &result.roster).map_err(io_at(&p))?;
+    write_contacts(&p, &result.events, points, &result.roster).map_err(io_at(&p))?;
     if result.transition_summary.is_some() {
         let p = out_dir.join("transitions.csv");
         write_transitions(&p, &result.transitions).map_err(io_at(&p))?;
