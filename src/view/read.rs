@@ -288,12 +288,7 @@ pub(super) fn read_curves(
     let mut rec = csv::StringRecord::new();
     while r.read_record(&mut rec).map_err(|e| csv_err(path, e))? {
         let line = rec.position().map_or(0, |p| p.line());
-        let k: usize = rec[cc].parse().map_err(|_| {
-            bad(
-                path,
-                format!("line {line}: contact = '{}' is not an index", &rec[cc]),
-            )
-        })?;
+        let k = contact_index(path, line, &rec[cc])?;
         let Some(&until) = wanted.get(&k) else {
             continue;
         };
@@ -340,12 +335,7 @@ pub(super) fn read_bruise(path: &Path) -> Result<Risks, ViewError> {
     for rec in r.records() {
         let rec = rec.map_err(|e| csv_err(path, e))?;
         let line = rec.position().map_or(0, |p| p.line());
-        let k: usize = rec[cc].parse().map_err(|_| {
-            bad(
-                path,
-                format!("line {line}: contact = '{}' is not an index", &rec[cc]),
-            )
-        })?;
+        let k = contact_index(path, line, &rec[cc])?;
         let f = num(path, line, "force_threshold_n", &rec[cf])?;
         if !thr.contains(&f) {
             thr.push(f);
@@ -442,4 +432,14 @@ pub(super) fn read_contacts(
         });
     }
     Ok(out)
+}
+
+/// A `contact` column's value: the contact's index in contacts.csv.
+fn contact_index(path: &Path, line: u64, s: &str) -> Result<usize, ViewError> {
+    s.parse().map_err(|_| {
+        bad(
+            path,
+            format!("line {line}: contact = '{s}' is not an index"),
+        )
+    })
 }
