@@ -89,7 +89,7 @@ fn main() {
         loads.sort_by(f64::total_cmp);
         let info = tab
             .evaluate(
-                "JSON.stringify([applesimView.apples.count, applesimView.frameTimes.length, \
+                "JSON.stringify([applesimView.apples.userData.count, applesimView.frameTimes.length, \
                  (r => [r.left + r.width / 2, r.top + r.height / 2])(document.getElementById('play').getBoundingClientRect())])",
                 false,
             )

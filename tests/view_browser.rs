@@ -310,10 +310,10 @@ fn surface_parts(run_dir: &Path) -> usize {
 /// frame's time.
 fn check_positions(s: &Session, samples: &Samples, names: &[String]) -> f64 {
     let v = s.eval(
-        "(() => { const V = window.applesimView, m = new V.THREE.Matrix4(); \
+        "(() => { const V = window.applesimView; \
            const k = parseInt(document.getElementById('slider').value, 10); \
-           const out = []; for (let i = 0; i < V.apples.count; i++) { V.apples.getMatrixAt(i, m); \
-           const e = m.elements; out.push([V.data.apples[i].name, e[12], e[13], e[14], Math.hypot(e[0], e[1], e[2])]); } \
+           const out = []; for (let i = 0; i < V.apples.userData.count; i++) { \
+           out.push([V.data.apples[i].name, ...V.apples.userData.at(i)]); } \
            return JSON.stringify({ frame: k, t: String(V.frameTimes[k]), step: V.data.position_step_m, apples: out }); })()",
     );
     // As text: serde_json's default float parsing may be one unit in the last place off, Rust's
@@ -385,7 +385,7 @@ fn handling_line_in_chromium() {
 
     // The scene holds the run's apples and surfaces.
     let counts = s.eval(
-        "JSON.stringify({ apples: applesimView.apples.count, surfaces: applesimView.surfaces.length, \
+        "JSON.stringify({ apples: applesimView.apples.userData.count, surfaces: applesimView.surfaces.length, \
            names: applesimView.data.apples.map(a => a.name), \
            kinds: applesimView.surfaces.map(m => m.userData.kind), \
            frames: applesimView.frameTimes.length, \
@@ -411,6 +411,83 @@ fn handling_line_in_chromium() {
     // At t = 0 one apple has been fed in; the first frame is the first sample.
     let t0 = check_positions(&s, &samples, &names);
     assert_eq!(t0, 0.0);
+
+    // Apples are drawn as spheres by a shader on one square each (impostors): alone on the
+    // screen, the one apple fed in covers a disc of its projected radius around its centre, not
+    // a square, and picking (hover) agrees with the drawing at its rim.
+    let one = s.eval(
+        "(() => { const V = applesimView, T = V.THREE, c = V.renderer.domElement.getBoundingClientRect(); \
+           let i = -1; for (let k = 0; k < V.apples.userData.count; k++) if (V.apples.userData.at(k)[3] > 0) i = k; \
+           const a = V.apples.userData.at(i), p = new T.Vector3(a[0], a[1], a[2]); \
+           const e = p.clone().add(new T.Vector3().setFromMatrixColumn(V.camera.matrixWorld, 0).multiplyScalar(a[3])); \
+           const px = (v) => { v.project(V.camera); return [c.left + (v.x + 1) / 2 * c.width, c.top + (1 - v.y) / 2 * c.height]; }; \
+           const [x, y] = px(p), [xe, ye] = px(e); \
+           const r = Math.hypot(xe - x, ye - y), clear = [[0, 0], [-3, -3], [3, -3], [-3, 3], [3, 3]] \
+             .every(([u, v]) => document.elementFromPoint(x + u * r, y + v * r) === V.renderer.domElement); \
+           V.scene.children.forEach((o) => { if (o !== V.apples && !o.isLight) o.visible = false; }); \
+           return JSON.stringify([i, x, y, r, window.innerWidth, clear]); })()",
+    );
+    let (i, x, y, rpx) = (
+        one[0].as_u64().unwrap() as usize,
+        one[1].as_f64().unwrap(),
+        one[2].as_f64().unwrap(),
+        one[3].as_f64().unwrap(),
+    );
+    assert!(rpx > 4.0, "apple {} is {rpx} px across", names[i]);
+    assert_eq!(one[5], true, "apple {} is under a panel", names[i]);
+    let (px, w, _) = s.screenshot();
+    let dpr = w as f64 / one[4].as_f64().unwrap();
+    let bg = [px[0], px[1], px[2]];
+    let (mut inside, mut outside) = (0usize, 0usize);
+    for (k, p) in px.chunks(4).enumerate() {
+        let d = (0..3)
+            .map(|c| (p[c] as i32 - bg[c] as i32).abs())
+            .sum::<i32>();
+        let (qx, qy) = (
+            (k % w as usize) as f64 / dpr + 0.5,
+            (k / w as usize) as f64 / dpr + 0.5,
+        );
+        if d > 24 && (qx - x).abs() < 3.0 * rpx && (qy - y).abs() < 3.0 * rpx {
+            if (qx - x).hypot(qy - y) <= 1.1 * rpx + 1.5 {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+    }
+    let disc = std::f64::consts::PI * rpx * rpx * dpr * dpr;
+    assert!(
+        inside as f64 > 0.75 * disc && (inside as f64) < 1.3 * disc,
+        "apple {} covers {inside} pixels in its disc of {disc:.0}",
+        names[i]
+    );
+    assert_eq!(outside, 0, "pixels drawn outside apple {}'s disc", names[i]);
+    eprintln!(
+        "apple {} drawn as a disc of {inside} pixels ({disc:.0} for its radius of {rpx:.1} px)",
+        names[i]
+    );
+    s.eval("(() => { applesimView.scene.children.forEach((o) => { o.visible = true; }); return 'true'; })()");
+    for (f, over) in [(0.8, true), (1.3, false)] {
+        s.tab
+            .move_mouse_to_point(Point {
+                x: x + f * rpx + if over { 0.0 } else { 2.0 },
+                y,
+            })
+            .unwrap();
+        let tip = s.eval(
+            "JSON.stringify([document.getElementById('tip').style.display, document.getElementById('tip').textContent])",
+        );
+        assert_eq!(
+            tip[0] == "block"
+                && tip[1]
+                    .as_str()
+                    .unwrap()
+                    .starts_with(&format!("{} (", names[i])),
+            over,
+            "hover at {f} of apple {}'s radius from its centre: {tip}",
+            names[i]
+        );
+    }
 
     // A click on the slider at 40 % of its width moves the apples to that frame's sample.
     let rect = s.eval(
@@ -483,10 +560,10 @@ fn handling_line_in_chromium() {
 
     // A click on an apple shows its name, size, mass and contacts so far.
     let at = s.eval(
-        "(() => { const V = applesimView, m = new V.THREE.Matrix4(), p = new V.THREE.Vector3(); \
+        "(() => { const V = applesimView, p = new V.THREE.Vector3(); \
            const c = V.renderer.domElement.getBoundingClientRect(); \
-           let best = null; for (let i = 0; i < V.apples.count; i++) { V.apples.getMatrixAt(i, m); \
-           p.setFromMatrixPosition(m).project(V.camera); \
+           let best = null; for (let i = 0; i < V.apples.userData.count; i++) { \
+           p.fromArray(V.apples.userData.at(i)).project(V.camera); \
            const x = c.left + (p.x + 1) / 2 * c.width, y = c.top + (1 - p.y) / 2 * c.height; \
            if (document.elementFromPoint(x, y) === V.renderer.domElement && (!best || p.z < best[3])) best = [i, x, y, p.z]; } \
            return JSON.stringify(best); })()",
@@ -617,7 +694,7 @@ fn every_surface_kind_and_a_run_without_apples() {
     let s = launch("kinds");
     s.open(&run_dir.join("view.html"), "");
     let v = s.eval(
-        "JSON.stringify({ apples: applesimView.apples.count, kinds: applesimView.surfaces.map(m => m.userData.kind), \
+        "JSON.stringify({ apples: applesimView.apples.userData.count, kinds: applesimView.surfaces.map(m => m.userData.kind), \
            frames: applesimView.frameTimes.length, arrows: applesimView.scene.children.filter(c => c.type === 'ArrowHelper').length, \
            notes: [...document.querySelectorAll('#notes-list li')].map(l => l.textContent) })",
     );
@@ -651,11 +728,11 @@ fn every_surface_kind_and_a_run_without_apples() {
     // With force histories, a contact over a bruise threshold has its force curve: click the
     // apple, then the contact's row.
     let target = s.eval(
-        "(() => { const V = applesimView, m = new V.THREE.Matrix4(), p = new V.THREE.Vector3(); \
+        "(() => { const V = applesimView, p = new V.THREE.Vector3(); \
            const c = V.renderer.domElement.getBoundingClientRect(); \
            const ks = Object.keys(V.data.curves).map(Number); \
-           for (const k of ks) { const i = V.data.contacts[k].a; V.apples.getMatrixAt(i, m); \
-             p.setFromMatrixPosition(m).project(V.camera); \
+           for (const k of ks) { const i = V.data.contacts[k].a; \
+             p.fromArray(V.apples.userData.at(i)).project(V.camera); \
              const x = c.left + (p.x + 1) / 2 * c.width, y = c.top + (1 - p.y) / 2 * c.height; \
              if (document.elementFromPoint(x, y) === V.renderer.domElement) return JSON.stringify([k, i, x, y, ks.length]); } \
            return JSON.stringify(null); })()",
@@ -686,7 +763,7 @@ fn every_surface_kind_and_a_run_without_apples() {
 
     s.open(&empty_dir.join("view.html"), "");
     let v = s.eval(
-        "JSON.stringify({ apples: applesimView.apples.count, surfaces: applesimView.surfaces.length, \
+        "JSON.stringify({ apples: applesimView.apples.userData.count, surfaces: applesimView.surfaces.length, \
            notes: document.getElementById('notes-list').textContent })",
     );
     assert_eq!(v["apples"], 0);
