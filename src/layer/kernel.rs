@@ -301,7 +301,7 @@ impl Ctx<'_> {
                 pad = surf.padding.map(|p| (p, surf.material));
                 (
                     surf.padding.map_or(surf.material, |p| p.material),
-                    inv,
+                    inv + surf.turned_by_contacts.unwrap_or(0.0),
                     inv,
                     ri,
                     0.0,
@@ -464,6 +464,14 @@ impl Ctx<'_> {
                 }
                 if let Some(b) = now.dynamic_body {
                     loads.body_loads.push((b, -fk, point));
+                }
+                if self.registry.surfaces[s as usize]
+                    .turned_by_contacts
+                    .is_some()
+                {
+                    loads
+                        .surface_reactions
+                        .push((super::SurfaceId(s), -fk, point));
                 }
             }
         }

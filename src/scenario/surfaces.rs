@@ -206,7 +206,9 @@ impl SurfaceSpec {
         self.motion().is_some()
             || match self {
                 SurfaceSpec::Conveyor(c) => c.belt_velocity_m_s != 0.0,
-                SurfaceSpec::Roller(r) => r.angular_velocity_rad_s != 0.0,
+                SurfaceSpec::Roller(r) => {
+                    r.angular_velocity_rad_s != 0.0 || r.free_turning.is_some()
+                }
                 _ => false,
             }
     }
@@ -451,8 +453,10 @@ pub struct MeshSpec {
 }
 
 /// A roller: a cylinder of `radius_m` and `length_m` centred on `position_m`, its axis along
-/// `axis`, turning about it at `angular_velocity_rad_s` (right-hand rule about `axis`; a
-/// powered roller, whose rate no load changes).
+/// `axis`, turning about it at `angular_velocity_rad_s` (right-hand rule about `axis`). Powered
+/// (the default): no load changes its rate. With `free_turning` no motor drives it: it starts at
+/// `angular_velocity_rad_s` and turns from the friction torques the apples put on it, against
+/// its own moment of inertia and its bearing friction (`world::free_roller`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RollerSpec {
@@ -468,7 +472,7 @@ pub struct RollerSpec {
     pub position_m: [f64; 3],
     /// Axis direction (any length > 0; normalised).
     pub axis: [f64; 3],
-    /// Rate of turn about `axis` (rad/s; default 0).
+    /// Rate of turn about `axis` (rad/s; default 0); a free-turning roller's initial rate.
     #[serde(default)]
     pub angular_velocity_rad_s: f64,
     /// Contact model.
@@ -477,6 +481,24 @@ pub struct RollerSpec {
     /// Prescribed motion of the whole roller (see [`super::motion`]), besides its own turning.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<MotionSpec>,
+    /// No motor: the roller turns freely on its bearings (absent: powered).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free_turning: Option<FreeTurningSpec>,
+}
+
+/// A roller that no motor drives: what turns it is the apples' friction, against its own
+/// inertia and its bearings. A packhouse engineer reads the inertia off the roller's drawing:
+/// a steel tube of mass m, outer radius R and inner radius R_i has I = m (R^2 + R_i^2) / 2 (a
+/// solid shaft m R^2 / 2); shafts and end caps add theirs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FreeTurningSpec {
+    /// Moment of inertia of everything that turns with the roller, about its axis (kg m^2).
+    pub moment_of_inertia_kg_m2: f64,
+    /// Friction torque of its bearings (N m; default 0): a constant torque against the turning
+    /// (Coulomb), holding the roller at rest below it.
+    #[serde(default)]
+    pub bearing_torque_n_m: f64,
 }
 
 /// A uniform or per-axis scale.

@@ -681,6 +681,21 @@ fn surface(
                     ),
                 ));
             }
+            if let Some(ft) = &r.free_turning {
+                let g = format!("{f}.free_turning");
+                ranges::ROLLER_INERTIA.check(
+                    &format!("{g}.moment_of_inertia_kg_m2"),
+                    ft.moment_of_inertia_kg_m2,
+                )?;
+                ranges::BEARING_TORQUE
+                    .check(&format!("{g}.bearing_torque_n_m"), ft.bearing_torque_n_m)?;
+                if r.motion.as_ref().is_some_and(|m| m.rotation.is_some()) {
+                    return Err(ScenarioError::invalid(
+                        format!("{f}.motion.rotation"),
+                        "a free-turning roller may be carried (motion.translation) but not swung: its spin is integrated about a fixed axis direction",
+                    ));
+                }
+            }
         }
     }
     if let Some(m) = s.motion() {

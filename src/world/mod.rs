@@ -13,6 +13,7 @@
 //! Gyroscopic forces are off: for a ball's isotropic inertia the term w x (I w) is zero, and
 //! rapier would spend a sixth of its step computing it.
 
+pub mod free_roller;
 pub mod mesh;
 pub mod motion;
 pub mod roster;
@@ -78,8 +79,11 @@ pub struct World {
     apple_colliders: bool,
     /// The bins' inner boxes, in scenario order (where apples end and when they entered).
     pub bins: Vec<BinBox>,
-    /// The kinematic body of each moving surface spec and its motion.
-    movers: Vec<(RigidBodyHandle, motion::Motion)>,
+    /// The kinematic body of each moving surface spec, its motion, and its free roller's index
+    /// in `free_rollers` if it turns freely.
+    movers: Vec<(RigidBodyHandle, motion::Motion, Option<usize>)>,
+    /// The free-turning rollers: the one owner of their spin ([`free_roller`]).
+    free_rollers: Vec<free_roller::FreeRoller>,
     /// Largest speed of any moving part's surface over its profile (m/s).
     moving_speed_m_s: f64,
     /// Time of the current poses (s), set by the driver ([`World::set_time`]).
@@ -285,6 +289,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             .collect(),
         taken_out: Vec::new(),
         movers: Vec::new(),
+        free_rollers: Vec::new(),
         moving_speed_m_s: 0.0,
         time_s: 0.0,
         apple_colliders: rigid
@@ -331,7 +336,23 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
                 .filter(|r| r.is_finite())
                 .fold(0.0, f64::max);
             world.moving_speed_m_s = world.moving_speed_m_s.max(m.max_speed_m_s(reach));
-            world.movers.push((b, m));
+            let free = match s {
+                scenario::SurfaceSpec::Roller(r) => r.free_turning.as_ref().map(|f| {
+                    // Its one part is the last surface registered.
+                    let id = SurfaceId(world.surface_colliders.len() as u32 - 1);
+                    world.free_rollers.push(free_roller::FreeRoller::new(
+                        &r.name,
+                        id,
+                        &m,
+                        r.angular_velocity_rad_s,
+                        f.moment_of_inertia_kg_m2,
+                        f.bearing_torque_n_m,
+                    ));
+                    world.free_rollers.len() - 1
+                }),
+                _ => None,
+            };
+            world.movers.push((b, m, free));
         }
     }
     let plan = roster::plan(sc)?;
@@ -370,14 +391,30 @@ impl World {
             // Each moving part to its pose at the end of the step: rapier moves it there and
             // gives it the velocity that does so.
             let t = self.time_s + dt_s;
-            for (b, m) in &self.movers {
-                if let Some(rb) = self.physics.bodies.get_mut(*b) {
-                    rb.set_next_kinematic_position(m.pose(t));
-                }
+            for (b, m, free) in &self.movers {
+                let Some(rb) = self.physics.bodies.get_mut(*b) else {
+                    continue;
+                };
+                let pose = match free {
+                    Some(k) => {
+                        // Its spin from the torques of the force pass just done.
+                        let f = &mut self.free_rollers[*k];
+                        let torque = f.torque_n_m(self.layer.surface_reactions(), rb.translation());
+                        f.turn(torque, dt_s);
+                        m.pose_spun(t, f.angle_rad())
+                    }
+                    None => m.pose(t),
+                };
+                rb.set_next_kinematic_position(pose);
             }
         }
         self.physics.integration_parameters.dt = dt_s;
         self.physics.step_with_events(self.layer.hooks(), &());
+    }
+
+    /// The free-turning rollers' rates and angles now.
+    pub fn free_rollers(&self) -> Vec<free_roller::FreeRollerState> {
+        self.free_rollers.iter().map(|f| f.state()).collect()
     }
 
     /// Sets the time of the current poses (s): the driver's clock, from which the next step's
@@ -455,6 +492,7 @@ impl World {
                     material: self.materials[m.as_str()].0,
                     thickness_m: *h,
                 }),
+                turned_by_contacts: part.turned_by_contacts,
             },
         )?;
         self.surface_colliders.push(ch);
