@@ -20,8 +20,12 @@ fn materials() -> Value {
 }
 
 fn e_star_of(a: (f64, f64), b: (f64, f64)) -> f64 {
-    let ea = Material::from_shear(a.0, a.1, None).unwrap().youngs_modulus_pa;
-    let eb = Material::from_shear(b.0, b.1, None).unwrap().youngs_modulus_pa;
+    let ea = Material::from_shear(a.0, a.1, None)
+        .unwrap()
+        .youngs_modulus_pa;
+    let eb = Material::from_shear(b.0, b.1, None)
+        .unwrap()
+        .youngs_modulus_pa;
     1.0 / ((1.0 - a.1 * a.1) / ea + (1.0 - b.1 * b.1) / eb)
 }
 
@@ -243,9 +247,111 @@ fn bad_free_rollers_are_refused_naming_the_field() {
         "surfaces[0].free_turning.bearing_torque_n_m: -1 N m is outside the range of fruit handling (0 N m <= T <= 1000 N m)"
     );
     r["free_turning"] = json!({"moment_of_inertia_kg_m2": 1e-4});
-    r["motion"] = json!({"rotation": {"axis": [0, 0, 1], "point_m": [0, 0, 0], "angular_velocity_rad_s": 1}});
+    r["motion"] =
+        json!({"rotation": {"axis": [0, 0, 1], "point_m": [0, 0, 0], "angular_velocity_rad_s": 1}});
     assert_eq!(
         err(base(r.clone())),
         "surfaces[0].motion.rotation: a free-turning roller may be carried (motion.translation) but not swung: its spin is integrated about a fixed axis direction"
+    );
+}
+
+/// A powered bed of four steel rollers (R_r 30 mm, axes along x, pitch 80 mm along y, the first
+/// at y = 0) turning at `w`, and an apple (R 37.5 mm) set in the pocket of rollers 1 and 2.
+fn bed_scenario(w: f64, duration: f64) -> (Value, f64, f64) {
+    let (ra, rr, pitch): (f64, f64, f64) = (0.0375, 0.03, 0.08);
+    let y_mid = 1.5 * pitch;
+    let z = ((ra + rr).powi(2) - (0.5 * pitch).powi(2)).sqrt();
+    let v = json!({
+        "duration_s": duration, "time_step_s": 2e-5, "gravity_m_s2": [0, 0, -G],
+        "output": {"sample_interval_s": 1e-3, "force_history": false},
+        "materials": materials(),
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000, "rolling": "none"},
+        "model": {"sleep": {"enabled": false}},
+        "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * ra,
+            "position_m": [0, y_mid, z]}],
+        "surfaces": [{"name": "bed", "type": "roller_bed", "material": "steel", "radius_m": rr,
+            "length_m": 0.3, "position_m": [0, 0, 0], "axis": [1, 0, 0],
+            "pitch_direction": [0, 1, 0], "count": 4, "pitch_m": pitch,
+            "angular_velocity_rad_s": w}]
+    });
+    (v, ra, rr)
+}
+
+/// Item 2a: the apple in a pocket of a powered roller bed turning at 10 rad/s spins the other way
+/// at w_a = w_r R_r / (R - u) (no slip at either roller; docs/physics.md 12.2, u the mean of its
+/// two overlaps from its final centre): mean over the last 0.3 s of 0.8 s within 1 % (the issue);
+/// stated in docs/physics.md 12.5 and checked at twice that. Its contacts are with `bed/1` and
+/// `bed/2`, and the line audit counts them as one transfer point, `bed`.
+#[test]
+fn an_apple_in_a_pocket_of_a_powered_roller_bed_spins_at_the_surface_speed_ratio() {
+    let (v, ra, rr) = bed_scenario(10.0, 0.8);
+    let (res, s) = run(&parse(&v));
+    let s = s.of(0);
+    let c = s.last().unwrap().1.position;
+    let u_of = |y: f64| ra + rr - ((c.y - y).powi(2) + c.z.powi(2)).sqrt();
+    let u = 0.5 * (u_of(0.08) + u_of(0.16));
+    let late: Vec<_> = s.iter().filter(|(t, _)| *t >= 0.5).collect();
+    let spin = late.iter().map(|(_, a)| a.angular_velocity.x).sum::<f64>() / late.len() as f64;
+    let want = 10.0 * rr / (ra - u);
+    println!(
+        "spin {:.6} rad/s, closed form {want:.6} ({:+.5} %), centre y {:.4} mm from the pocket",
+        -spin,
+        100.0 * (-spin / want - 1.0),
+        1e3 * (c.y - 0.12)
+    );
+    assert_ref(
+        "spin in the pocket",
+        -spin,
+        want,
+        2.0 * 0.01e-2,
+        "closed form",
+    );
+    let mut touched: Vec<&str> = res.events.iter().map(|e| &*e.b).collect();
+    touched.sort();
+    touched.dedup();
+    assert_eq!(touched, ["bed/1", "bed/2"]);
+    let points = applesim::analysis::audit::points_of(&res.events);
+    assert!(points.iter().all(|p| p == "bed"), "{points:?}");
+}
+
+/// Item 2b: roller-bed mistakes are refused naming the field, and an apple cannot be put `on` a
+/// bed (no running surface to measure along).
+#[test]
+fn bad_roller_beds_are_refused_naming_the_field() {
+    let err = |v: Value| match scenario::from_json(&v.to_string(), "bad") {
+        Ok(sc) => scenario::validate(&sc).unwrap_err().to_string(),
+        Err(e) => e.to_string(),
+    };
+    let (v, _, _) = bed_scenario(10.0, 0.1);
+    for (field, value, msg) in [
+        ("count", json!(0), "surfaces[0].count: 0 rollers: a roller bed has 1 to 10000"),
+        (
+            "pitch_m",
+            json!(0.05),
+            "surfaces[0].pitch_m: 0.05 m is less than a roller's diameter (0.06 m): neighbouring rollers would overlap",
+        ),
+        (
+            "pitch_direction",
+            json!([1, 0, 0]),
+            "surfaces[0].pitch_direction: it makes 0.000 deg with the axis: the rollers must follow each other across their axes (pitch_direction at right angles to axis)",
+        ),
+        (
+            "pitch_direction",
+            json!([0, 0, 0]),
+            "surfaces[0].pitch_direction: [0, 0, 0]: a rotation axis needs a finite non-zero length",
+        ),
+        ("name", json!("bed/x"), "surfaces[0].name: 'bed/x': '/' is reserved for the walls of a bin and the rollers of a roller bed"),
+    ] {
+        let mut bad = v.clone();
+        bad["surfaces"][0][field] = value;
+        assert_eq!(err(bad), msg);
+    }
+    let mut on = v.clone();
+    on["apples"][0] = json!({"name": "a1", "material": "apple", "diameter_m": 0.075,
+        "on": {"surface": "bed", "along_m": 0.1}});
+    let e = err(on);
+    assert!(
+        e.contains("'bed' is a roller bed: an apple can be put on a conveyor, a chute or a box"),
+        "{e}"
     );
 }

@@ -164,8 +164,16 @@ mod tests {
         let c = Vec3::new(0.0, 0.0, 1.0);
         // A force +y at the top (z = 1.03) of a roller about x through c: torque -0.03 F.
         let reactions = [
-            (SurfaceId(0), Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.0, 0.0, 1.03)),
-            (SurfaceId(1), Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.0, 0.0, 1.03)),
+            (
+                SurfaceId(0),
+                Vec3::new(0.0, 2.0, 0.0),
+                Vec3::new(0.0, 0.0, 1.03),
+            ),
+            (
+                SurfaceId(1),
+                Vec3::new(0.0, 5.0, 0.0),
+                Vec3::new(0.0, 0.0, 1.03),
+            ),
         ];
         assert!((r.torque_n_m(&reactions, c) + 0.06).abs() < 1e-12);
     }

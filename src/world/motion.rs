@@ -90,7 +90,9 @@ impl Motion {
     /// `motion` is fixed).
     pub fn of(s: &SurfaceSpec) -> Option<Motion> {
         let (origin, spin) = match s {
-            SurfaceSpec::Roller(r) if r.angular_velocity_rad_s != 0.0 || r.free_turning.is_some() => {
+            SurfaceSpec::Roller(r)
+                if r.angular_velocity_rad_s != 0.0 || r.free_turning.is_some() =>
+            {
                 let axis = vec3(unit_axis("axis", r.axis).ok()?);
                 (vec3(r.position_m), Some((axis, r.angular_velocity_rad_s)))
             }

@@ -247,6 +247,17 @@ fn parts_without_padding(
                 .position(pose);
             vec![part(&m.name, &m.material, collider, m.contact_model)]
         }
+        SurfaceSpec::RollerBed(b) => {
+            let mut parts = Vec::new();
+            for r in b.rollers() {
+                parts.extend(parts_without_padding(
+                    &SurfaceSpec::Roller(r),
+                    field,
+                    base_dir,
+                )?);
+            }
+            parts
+        }
         SurfaceSpec::Roller(r) => {
             let axis = vec3(crate::scenario::motion::unit_axis(
                 &format!("{field}.axis"),
