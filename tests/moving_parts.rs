@@ -14,27 +14,19 @@
 //! - refusals naming the field.
 
 mod common;
-use applesim::contact::{elliptic, material::Material, normal, theory};
+use applesim::contact::{elliptic, normal, theory};
 use applesim::record::series::MemorySeries;
 use applesim::scenario::{self, Scenario};
 use common::*;
 use serde_json::{json, Value};
 
 const G: f64 = 9.81;
-const APPLE: (f64, f64) = (1.0e6, 0.18);
-const STEEL: (f64, f64) = (8.1e10, 0.28);
-
 fn materials() -> Value {
-    json!({
-        "apple": {"shear_modulus_pa": APPLE.0, "poisson_ratio": APPLE.1, "density_kg_m3": 800},
-        "steel": {"shear_modulus_pa": STEEL.0, "poisson_ratio": STEEL.1}})
+    apple_and_steel()
 }
 
 fn e_star() -> f64 {
-    let a = Material::from_shear(APPLE.0, APPLE.1, None).unwrap();
-    let s = Material::from_shear(STEEL.0, STEEL.1, None).unwrap();
-    1.0 / ((1.0 - APPLE.1 * APPLE.1) / a.youngs_modulus_pa
-        + (1.0 - STEEL.1 * STEEL.1) / s.youngs_modulus_pa)
+    e_star_of(PAPER_APPLE, PAPER_STEEL)
 }
 
 fn parse(v: &Value) -> Scenario {

@@ -4,29 +4,14 @@
 //! build, docs/physics.md 12.6).
 
 mod common;
-use applesim::contact::{elliptic, material::Material};
+use applesim::contact::elliptic;
 use applesim::scenario::{self, Scenario};
 use common::*;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
 
-const APPLE: (f64, f64) = (1.0e6, 0.18);
-const STEEL: (f64, f64) = (8.1e10, 0.28);
-
 fn materials() -> Value {
-    json!({
-        "apple": {"shear_modulus_pa": APPLE.0, "poisson_ratio": APPLE.1, "density_kg_m3": 800},
-        "steel": {"shear_modulus_pa": STEEL.0, "poisson_ratio": STEEL.1}})
-}
-
-fn e_star_of(a: (f64, f64), b: (f64, f64)) -> f64 {
-    let ea = Material::from_shear(a.0, a.1, None)
-        .unwrap()
-        .youngs_modulus_pa;
-    let eb = Material::from_shear(b.0, b.1, None)
-        .unwrap()
-        .youngs_modulus_pa;
-    1.0 / ((1.0 - a.1 * a.1) / ea + (1.0 - b.1 * b.1) / eb)
+    apple_and_steel()
 }
 
 fn parse(v: &Value) -> Scenario {
