@@ -145,7 +145,7 @@ impl Motion {
     pub fn pose_spun(&self, t_s: f64, spin_angle: f64) -> Pose {
         let mut pose = Pose::from_translation(self.origin);
         if let Some((axis, _)) = self.spin {
-            pose = pose * Pose::from_rotation(Rotation::from_axis_angle(axis, spin_angle));
+            pose *= Pose::from_rotation(Rotation::from_axis_angle(axis, spin_angle));
         }
         if let Some((axis, point, profile)) = &self.turn {
             let (angle, _) = profile.at(t_s);
