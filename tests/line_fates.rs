@@ -478,7 +478,17 @@ fn readme_documents_the_line_end() {
         fates: FateCounts::default(),
         throughput: vec![bin("one"), bin("two")],
         sources: vec![feed],
+        free_rollers: Vec::new(),
     };
+    documented(
+        "free_rollers",
+        &serde_json::to_value(applesim::world::free_roller::FreeRollerState {
+            name: "r".into(),
+            angular_velocity_rad_s: 1.0,
+            angle_turned_rad: 2.0,
+        })
+        .unwrap(),
+    );
     for (m, _) in line.metrics() {
         let generic = m.replace(".one", ".NAME").replace(".two", ".NAME");
         assert!(

@@ -2,7 +2,8 @@
 //! transfer point, the way packhouses read an instrumented sphere's run (peak acceleration and
 //! velocity change at each point of the line, against bruise thresholds).
 //!
-//! A transfer point is a surface (a bin's walls apart: `bin/floor`, `bin/x_max`, ...), or for
+//! A transfer point is a surface (a bin's walls apart: `bin/floor`, `bin/x_max`, ...; a roller
+//! bed's rollers `bed/0`, `bed/1`, ... together: `bed`), or for
 //! apple-on-apple hits the region they happen over: `apples on REGION`, REGION the surface (a
 //! bin as a whole) that either apple touched last before the hit, `apples in the air` when
 //! neither had touched one. Per point: the contacts there (as `contacts.csv` lists them), the
@@ -100,9 +101,19 @@ fn quantiles(mut v: Vec<f64>) -> [f64; 3] {
     [rank(0.5), rank(0.95), v[v.len() - 1]]
 }
 
-/// The region a surface belongs to (a bin's walls make one bin).
+/// The region a surface belongs to (a bin's walls make one bin, a roller bed's rollers one bed).
 fn region(surface: &str) -> &str {
     surface.split('/').next().unwrap_or(surface)
+}
+
+/// The transfer point of a surface contact: the surface, but a roller bed's rollers (`BED/0`,
+/// `BED/1`, ...: '/' and a number) are one point, the bed, as a line designer reads a bed (a
+/// bin's walls, `BIN/floor`, stay apart: which wall is hit matters).
+fn surface_point(surface: &str) -> &str {
+    match surface.rsplit_once('/') {
+        Some((bed, i)) if !i.is_empty() && i.bytes().all(|b| b.is_ascii_digit()) => bed,
+        _ => surface,
+    }
 }
 
 /// The transfer point of each contact (index in `events`): a surface contact's surface; for two
@@ -143,7 +154,7 @@ pub fn points_of(events: &[ContactEvent]) -> Vec<String> {
     events
         .iter()
         .map(|e| match e.b_party {
-            Party::Surface(_) => e.b.to_string(),
+            Party::Surface(_) => surface_point(&e.b).to_string(),
             Party::Apple(j) => {
                 let t = e.impact.map_or(e.t_start_s, |i| i.t_peak_s);
                 let best = match (place(e.a_index, t), place(j, t)) {

@@ -24,10 +24,10 @@
 //!
 //! and the contact area pi a b = pi R_a delta with R_a = 1 / (g K). Both reduce to R* = R' = R''
 //! for a circle (e -> 0). The layer uses R_k as the contact's R*: force, impact time and energy are
-//! exact; the contact radius sqrt(R* u) it reports (and the Mindlin spring's) is sqrt(R_k/R_a)
-//! times the exact sqrt(a b) (see [`EllipticHertz::area_radius_m`]; 1.0064-1.0303 for an apple of
-//! 37 mm on rollers of 60-20 mm, so its mean pressure reads 1.3-5.8 % low: docs/physics.md
-//! section 12).
+//! exact. The law's contact radius sqrt(R_k u) (the Mindlin spring's) is sqrt(R_k/R_a) times the
+//! exact sqrt(a b) (1.0064-1.0303 for an apple of 37 mm on rollers of 60-20 mm); the area and
+//! pressure the layer reports use R_a ([`EllipticHertz::area_radius_m`],
+//! `ContactConstants::area_scale`), so they are the true ellipse's (docs/physics.md section 12).
 //!
 //! Johnson's shortcut, the equivalent radius R_e = sqrt(R' R'') with correction factors read off
 //! his Fig. 4.4, is not used: [`johnson_equivalent_radius`] is kept to state its error (used bare,

@@ -146,6 +146,11 @@ pub struct ContactConstants {
     pub sqrt_r_star: f64,
     /// Hertz stiffness k = 4/3 E* sqrt(R*) (N/m^(3/2)).
     pub stiffness: f64,
+    /// sqrt(R_a / R*): the radius of the circle of the contact's true area over the law's
+    /// contact radius sqrt(R* u). 1 for a circular contact; for an elliptical one (an apple on a
+    /// roller, [`elliptic`]) R* is the stiffness radius R_k and the area is pi a b = pi R_a u, so
+    /// the reported area and pressure use this factor while the law keeps sqrt(R_k u).
+    pub area_scale: f64,
     /// Normal effective mass of the contact (kg), for the bound on eq. 12's rate part.
     pub normal_mass_kg: f64,
     /// 1 / `normal_mass_kg`.
@@ -170,6 +175,7 @@ impl ContactConstants {
             r_star_m,
             sqrt_r_star,
             stiffness: 4.0 / 3.0 * law.e_star_pa * sqrt_r_star,
+            area_scale: 1.0,
             normal_mass_kg,
             inv_normal_mass: 1.0 / normal_mass_kg,
             tangential_mass_kg,
@@ -212,9 +218,14 @@ pub struct ContactResponse {
     pub friction_force: Vec3,
     /// Shift of the point of application from the geometric contact point (eq. 9), m.
     pub patch_shift: Vec3,
-    /// Contact radius a (m).
+    /// Contact radius a = sqrt(R* u) of the law (m): the Mindlin spring's and the rolling
+    /// spring's radius.
     pub contact_radius_m: f64,
-    /// Mean pressure P / (pi a^2) (Pa).
+    /// Radius of the circle of the true contact area (m): `contact_radius_m` for a circular
+    /// contact, sqrt(a b) for an elliptical one (see [`ContactConstants::area_scale`]).
+    pub area_radius_m: f64,
+    /// Mean pressure P / (true contact area) (Pa): P / (pi a b) on an ellipse; the peak
+    /// pressure is 1.5 times this for both shapes.
     pub mean_pressure_pa: f64,
     /// Overlap rate du/dt (m/s), > 0 while approaching.
     pub overlap_rate_m_s: f64,
@@ -343,7 +354,8 @@ pub fn evaluate(
         friction_force,
         patch_shift: shift,
         contact_radius_m: a,
-        mean_pressure_pa: normal::mean_pressure(p, a),
+        area_radius_m: a * k.area_scale,
+        mean_pressure_pa: normal::mean_pressure(p, a * k.area_scale),
         overlap_rate_m_s: du_dt,
         slip_velocity: slip_t,
         sliding,

@@ -156,6 +156,12 @@ pub struct SurfaceOptions {
     /// A pad bonded on the surface (docs/physics.md section 13); `material` is then the
     /// substrate's.
     pub padding: Option<Padding>,
+    /// A surface turned by its contacts (a free-turning roller), with the inverse mass of its
+    /// surface point in the turning direction, R^2 / I (1/kg): the layer keeps the reaction
+    /// forces on it for its owner to integrate ([`super::ContactLayer::surface_reactions`]) and
+    /// counts that mass in its contacts' tangential effective mass (the friction dashpot's bound
+    /// must stop the relative slip of the apple and the roller, not of the apple alone).
+    pub turned_by_contacts: Option<f64>,
 }
 
 /// A pad of finite thickness bonded on a surface (see [`crate::contact::padding`]).
@@ -177,6 +183,7 @@ impl SurfaceOptions {
             belt_velocity_local: Vec3::ZERO,
             rigid: false,
             padding: None,
+            turned_by_contacts: None,
         }
     }
 }

@@ -78,6 +78,7 @@ impl Contact {
                 r_star_m: 0.0,
                 sqrt_r_star: 0.0,
                 stiffness: 0.0,
+                area_scale: 1.0,
                 normal_mass_kg: 0.0,
                 inv_normal_mass: 0.0,
                 tangential_mass_kg: 0.0,

@@ -5,6 +5,7 @@
 use super::config::StepControl;
 use super::error::LayerError;
 use super::registry::AppleEntry;
+use super::SurfaceId;
 use crate::math::{is_finite, Vec3};
 use rapier3d_f64::dynamics::{RigidBodyHandle, RigidBodySet};
 
@@ -98,6 +99,9 @@ pub(super) struct Loads {
     pub loaded: Vec<bool>,
     /// Reaction forces on dynamic surface bodies: (body, force, point).
     pub body_loads: Vec<(RigidBodyHandle, Vec3, Vec3)>,
+    /// Reaction forces on the surfaces turned by their contacts, this step, in slot order:
+    /// (surface, force on it with its kick, point).
+    pub surface_reactions: Vec<(SurfaceId, Vec3, Vec3)>,
 }
 
 impl Loads {
@@ -115,6 +119,7 @@ impl Loads {
         }
         self.busy.clear();
         self.busy.resize(n, false);
+        self.surface_reactions.clear();
         self.loaded.resize(n, false);
     }
 

@@ -227,7 +227,7 @@ impl Ctx<'_> {
                 kick_back_s: kick_back,
                 overlap_m: u,
                 force_n: resp.normal_force_n,
-                contact_radius_m: resp.contact_radius_m,
+                contact_radius_m: resp.area_radius_m,
                 pressure_pa: resp.mean_pressure_pa,
                 point,
                 normal: n,
@@ -301,7 +301,7 @@ impl Ctx<'_> {
                 pad = surf.padding.map(|p| (p, surf.material));
                 (
                     surf.padding.map_or(surf.material, |p| p.material),
-                    inv,
+                    inv + surf.turned_by_contacts.unwrap_or(0.0),
                     inv,
                     ri,
                     0.0,
@@ -331,6 +331,15 @@ impl Ctx<'_> {
         // Moments about the contact point, I + m R^2 (LIGGGHTS epsd).
         c.consts.rolling_inertia_kg_m2 = 1.0 / (1.0 / (ai.inertia + ai.mass * ri * ri) + inv_i2);
         c.consts.spin_inertia_kg_m2 = 1.0 / (1.0 / ai.inertia + inv_spin2);
+        if let Party::Surface(s) = c.other {
+            // A roller's side (the only surface hit with a positive curvature on a cylinder):
+            // the true area of the ellipse, pi a b = pi R_a u, for the recorded area and pressure.
+            let rr = self.surf_now[s as usize].cylinder_radius_m;
+            if let (Some(rr), true) = (rr, c.curvature2 > 0.0) {
+                let h = contact::elliptic::sphere_on_cylinder(ri, rr);
+                c.consts.area_scale = (h.area_radius_m / h.stiffness_radius_m).sqrt();
+            }
+        }
         c.consts.pad = pad.map(|(p, substrate)| {
             contact::padding::PadConstants::new(
                 self.registry.material(ai.material),
@@ -455,6 +464,14 @@ impl Ctx<'_> {
                 }
                 if let Some(b) = now.dynamic_body {
                     loads.body_loads.push((b, -fk, point));
+                }
+                if self.registry.surfaces[s as usize]
+                    .turned_by_contacts
+                    .is_some()
+                {
+                    loads
+                        .surface_reactions
+                        .push((super::SurfaceId(s), -fk, point));
                 }
             }
         }

@@ -33,6 +33,14 @@ impl ContactLayer {
         self.registry.surfaces.len()
     }
 
+    /// The reaction forces on the surfaces turned by their contacts (free-turning rollers) from
+    /// the last force pass, in a fixed order: (surface, force on the surface, point of
+    /// application). With adaptive steps each force carries its contact's leapfrog kick, as the
+    /// apples' loads do. Empty without such surfaces.
+    pub fn surface_reactions(&self) -> &[(SurfaceId, Vec3, Vec3)] {
+        &self.loads.surface_reactions
+    }
+
     /// Name of a surface.
     pub fn surface_name(&self, id: SurfaceId) -> &str {
         &self.registry.surfaces[id.0 as usize].name

@@ -59,6 +59,8 @@ pub(super) struct SurfaceEntry {
     pub rigid: bool,
     /// A pad bonded on it (`material` is the substrate's).
     pub padding: Option<super::config::Padding>,
+    /// Turned by its contacts: R^2 / I of its surface point (see `SurfaceOptions`).
+    pub turned_by_contacts: Option<f64>,
 }
 
 /// Materials, pair laws, apples and surfaces, with the handle-keyed tables that find them.
@@ -296,6 +298,7 @@ impl Registry {
             belt_local: options.belt_velocity_local,
             rigid: options.rigid,
             padding: options.padding,
+            turned_by_contacts: options.turned_by_contacts,
         });
         self.hooks.set(collider, role, id);
         Ok(SurfaceId(id))

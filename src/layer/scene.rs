@@ -26,6 +26,9 @@ pub(super) struct SurfaceNow {
     /// A cylinder: turning about its own axis (a powered roller) moves its material, not its
     /// shape, so that alone neither wakes sleepers nor rebuilds the candidate lists.
     pub axisymmetric: bool,
+    /// A cylinder's radius (m): its side contacts are elliptical (their true area is set from
+    /// it, see `kernel`).
+    pub cylinder_radius_m: Option<f64>,
     /// The parent body is not fixed, or the surface is a running belt: apples on it stay awake.
     pub moving: bool,
     /// Velocity field of the parent body: linear velocity, angular velocity, centre of mass.
@@ -61,6 +64,7 @@ impl SurfaceNow {
             extent_m: f64::INFINITY,
             changed: false,
             axisymmetric: false,
+            cylinder_radius_m: None,
             moving: false,
             lin: Vec3::ZERO,
             ang: Vec3::ZERO,
@@ -110,7 +114,8 @@ impl SurfaceNow {
             } else {
                 f64::INFINITY
             };
-            self.axisymmetric = co.shape().as_cylinder().is_some();
+            self.cylinder_radius_m = co.shape().as_cylinder().map(|c| c.radius);
+            self.axisymmetric = self.cylinder_radius_m.is_some();
             rebuild = true;
         } else if pose != self.pose {
             // A roller spinning in place: the same shape (to rounding: its pose is recomputed

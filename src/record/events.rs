@@ -58,9 +58,10 @@ pub struct ContactEvent {
     pub impulse_n_s: f64,
     /// Largest overlap u (m).
     pub max_overlap_m: f64,
-    /// Largest contact radius a = sqrt(R* u) (m).
+    /// Largest contact radius a = sqrt(R* u) (m); on a roller's elliptical contact the radius
+    /// of the circle of its true area, sqrt(a b).
     pub max_contact_radius_m: f64,
-    /// Largest mean contact pressure P / (pi a^2) (Pa).
+    /// Largest mean contact pressure P / (true contact area) (Pa).
     pub max_pressure_pa: f64,
     /// Normal approach speed at first touch (m/s).
     pub approach_speed_m_s: f64,
@@ -250,9 +251,10 @@ pub struct ContactSample {
     pub overlap_m: f64,
     /// Normal force (N).
     pub force_n: f64,
-    /// Contact radius (m).
+    /// Contact radius (m): the radius of the circle of the true contact area, sqrt(a b) on an
+    /// elliptical contact (a roller's side).
     pub contact_radius_m: f64,
-    /// Mean pressure (Pa).
+    /// Mean pressure P / (true contact area) (Pa).
     pub pressure_pa: f64,
     /// Contact point (m).
     pub point: Vec3,

@@ -139,7 +139,10 @@ fn frame_of(s: &SurfaceSpec, field: &str) -> Result<Option<Frame>, ScenarioError
             flow: Vec3::X,
             up: Vec3::Z,
         },
-        SurfaceSpec::Plane(_) | SurfaceSpec::Mesh(_) | SurfaceSpec::Roller(_) => return Ok(None),
+        SurfaceSpec::Plane(_)
+        | SurfaceSpec::Mesh(_)
+        | SurfaceSpec::Roller(_)
+        | SurfaceSpec::RollerBed(_) => return Ok(None),
     }))
 }
 
@@ -150,7 +153,10 @@ fn place_of(s: &mut SurfaceSpec) -> Option<(&Option<PlaceSpec>, &mut [f64; 3])> 
         SurfaceSpec::Box(b) => Some((&b.place, &mut b.position_m)),
         SurfaceSpec::Chute(c) => Some((&c.place, &mut c.position_m)),
         SurfaceSpec::Bin(b) => Some((&b.place, &mut b.position_m)),
-        SurfaceSpec::Plane(_) | SurfaceSpec::Mesh(_) | SurfaceSpec::Roller(_) => None,
+        SurfaceSpec::Plane(_)
+        | SurfaceSpec::Mesh(_)
+        | SurfaceSpec::Roller(_)
+        | SurfaceSpec::RollerBed(_) => None,
     }
 }
 
@@ -163,6 +169,7 @@ fn kind(s: &SurfaceSpec) -> &'static str {
         SurfaceSpec::Bin(_) => "bin",
         SurfaceSpec::Mesh(_) => "mesh",
         SurfaceSpec::Roller(_) => "roller",
+        SurfaceSpec::RollerBed(_) => "roller bed",
     }
 }
 
@@ -290,6 +297,7 @@ fn surface_position(s: &SurfaceSpec) -> [f64; 3] {
         SurfaceSpec::Plane(p) => p.point_m,
         SurfaceSpec::Mesh(m) => m.position_m,
         SurfaceSpec::Roller(r) => r.position_m,
+        SurfaceSpec::RollerBed(b) => b.position_m,
     }
 }
 

@@ -578,6 +578,24 @@ pub const PROBE_TRIGGER: Range =
 /// The window a virtual instrumented sphere keeps around an impact.
 pub const PROBE_WINDOW: Range = closed("probe window", "w", 0.0, 1.0, "s", "`probe.window_s`");
 
+/// A free-turning roller's own moment of inertia about its axis.
+pub const ROLLER_INERTIA: Range = positive(
+    "roller moment of inertia",
+    "I",
+    100.0,
+    "kg m^2",
+    "`free_turning.moment_of_inertia_kg_m2`",
+);
+/// A free-turning roller's bearing friction torque.
+pub const BEARING_TORQUE: Range = closed(
+    "bearing torque",
+    "T",
+    0.0,
+    1000.0,
+    "N m",
+    "`free_turning.bearing_torque_n_m`",
+);
+
 /// Every range, in the README's order.
 pub const TABLE: &[Range] = &[
     SPEED,
@@ -620,6 +638,8 @@ pub const TABLE: &[Range] = &[
     TURN,
     INCLINE,
     HALF_ANGLE,
+    ROLLER_INERTIA,
+    BEARING_TORQUE,
     BRUISE_FORCE,
     BRUISE_PRESSURE,
     BRUISE_ENERGY,

@@ -114,13 +114,24 @@ pub enum SurfaceSpec {
     Bin(BinSpec),
     /// A triangle mesh from an OBJ or STL file.
     Mesh(MeshSpec),
-    /// A cylinder turning about its own axis at a set rate (a powered roller).
+    /// A cylinder turning about its own axis at a set rate (a powered roller), or freely.
     Roller(RollerSpec),
+    /// A row of identical rollers at a pitch (a roller conveyor, a singulator's bed).
+    RollerBed(RollerBedSpec),
 }
 
 impl<'de> Deserialize<'de> for SurfaceSpec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        const TYPES: &[&str] = &["plane", "box", "conveyor", "chute", "bin", "mesh", "roller"];
+        const TYPES: &[&str] = &[
+            "plane",
+            "box",
+            "conveyor",
+            "chute",
+            "bin",
+            "mesh",
+            "roller",
+            "roller_bed",
+        ];
         let (t, v) = de::tagged(d, TYPES)?;
         if let Some(why) = match t {
             "conveyor" => {
@@ -128,7 +139,9 @@ impl<'de> Deserialize<'de> for SurfaceSpec {
             }
             "bin" => Some("pad a bin's floor as a padded box or plane inside it"),
             "mesh" => Some("a mesh has no single face to bond a layer on"),
-            "roller" => Some("the thin-layer law is for a flat layer, not a roller's curved side"),
+            "roller" | "roller_bed" => {
+                Some("the thin-layer law is for a flat layer, not a roller's curved side")
+            }
             _ => None,
         } {
             if v.get("padding").is_some() {
@@ -145,6 +158,7 @@ impl<'de> Deserialize<'de> for SurfaceSpec {
             "chute" => SurfaceSpec::Chute(de::from_value(v)?),
             "bin" => SurfaceSpec::Bin(de::from_value(v)?),
             "roller" => SurfaceSpec::Roller(de::from_value(v)?),
+            "roller_bed" => SurfaceSpec::RollerBed(de::from_value(v)?),
             _ => SurfaceSpec::Mesh(de::from_value(v)?),
         })
     }
@@ -161,6 +175,7 @@ impl SurfaceSpec {
             SurfaceSpec::Bin(s) => &s.name,
             SurfaceSpec::Mesh(s) => &s.name,
             SurfaceSpec::Roller(s) => &s.name,
+            SurfaceSpec::RollerBed(s) => &s.name,
         }
     }
 
@@ -174,6 +189,7 @@ impl SurfaceSpec {
             SurfaceSpec::Bin(s) => s.contact_model,
             SurfaceSpec::Mesh(s) => s.contact_model,
             SurfaceSpec::Roller(s) => s.contact_model,
+            SurfaceSpec::RollerBed(s) => s.contact_model,
         }
     }
 
@@ -197,6 +213,7 @@ impl SurfaceSpec {
             SurfaceSpec::Bin(s) => s.motion.as_ref(),
             SurfaceSpec::Mesh(s) => s.motion.as_ref(),
             SurfaceSpec::Roller(s) => s.motion.as_ref(),
+            SurfaceSpec::RollerBed(s) => s.motion.as_ref(),
         }
     }
 
@@ -206,9 +223,23 @@ impl SurfaceSpec {
         self.motion().is_some()
             || match self {
                 SurfaceSpec::Conveyor(c) => c.belt_velocity_m_s != 0.0,
-                SurfaceSpec::Roller(r) => r.angular_velocity_rad_s != 0.0,
+                SurfaceSpec::Roller(r) => {
+                    r.angular_velocity_rad_s != 0.0 || r.free_turning.is_some()
+                }
+                SurfaceSpec::RollerBed(b) => {
+                    b.angular_velocity_rad_s != 0.0 || b.free_turning.is_some()
+                }
                 _ => false,
             }
+    }
+
+    /// The surface specs the world builds, one moving body each: a roller bed's rollers
+    /// ([`RollerBedSpec::rollers`]), else the spec itself.
+    pub fn units(&self) -> Vec<SurfaceSpec> {
+        match self {
+            SurfaceSpec::RollerBed(b) => b.rollers().into_iter().map(SurfaceSpec::Roller).collect(),
+            s => vec![s.clone()],
+        }
     }
 }
 
@@ -451,8 +482,10 @@ pub struct MeshSpec {
 }
 
 /// A roller: a cylinder of `radius_m` and `length_m` centred on `position_m`, its axis along
-/// `axis`, turning about it at `angular_velocity_rad_s` (right-hand rule about `axis`; a
-/// powered roller, whose rate no load changes).
+/// `axis`, turning about it at `angular_velocity_rad_s` (right-hand rule about `axis`). Powered
+/// (the default): no load changes its rate. With `free_turning` no motor drives it: it starts at
+/// `angular_velocity_rad_s` and turns from the friction torques the apples put on it, against
+/// its own moment of inertia and its bearing friction (`world::free_roller`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RollerSpec {
@@ -468,7 +501,7 @@ pub struct RollerSpec {
     pub position_m: [f64; 3],
     /// Axis direction (any length > 0; normalised).
     pub axis: [f64; 3],
-    /// Rate of turn about `axis` (rad/s; default 0).
+    /// Rate of turn about `axis` (rad/s; default 0); a free-turning roller's initial rate.
     #[serde(default)]
     pub angular_velocity_rad_s: f64,
     /// Contact model.
@@ -477,6 +510,98 @@ pub struct RollerSpec {
     /// Prescribed motion of the whole roller (see [`super::motion`]), besides its own turning.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<MotionSpec>,
+    /// No motor: the roller turns freely on its bearings (absent: powered).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free_turning: Option<FreeTurningSpec>,
+}
+
+/// A roller that no motor drives: what turns it is the apples' friction, against its own
+/// inertia and its bearings. A packhouse engineer reads the inertia off the roller's drawing:
+/// a steel tube of mass m, outer radius R and inner radius R_i has I = m (R^2 + R_i^2) / 2 (a
+/// solid shaft m R^2 / 2); shafts and end caps add theirs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FreeTurningSpec {
+    /// Moment of inertia of everything that turns with the roller, about its axis (kg m^2).
+    pub moment_of_inertia_kg_m2: f64,
+    /// Friction torque of its bearings (N m; default 0): a constant torque against the turning
+    /// (Coulomb), holding the roller at rest below it.
+    #[serde(default)]
+    pub bearing_torque_n_m: f64,
+}
+
+/// A roller bed: `count` identical rollers (radius, length, axis, material, turning) whose
+/// centres lie on a line along `pitch_direction`, `pitch_m` apart, the first at `position_m`.
+/// They are the surfaces `NAME/0` .. `NAME/N-1` in the results (contacts.csv, transitions); the
+/// line audit counts them as one transfer point, `NAME`. All turn alike: powered at
+/// `angular_velocity_rad_s`, or each freely with the same `free_turning` (each its own spin).
+/// A `motion` carries the whole bed (each roller rides its own copy of it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RollerBedSpec {
+    /// Unique name (its rollers are `NAME/0`, `NAME/1`, ...).
+    pub name: String,
+    /// Material of the rollers' surface.
+    pub material: String,
+    /// Radius of each roller (m).
+    pub radius_m: f64,
+    /// Length of each roller along its axis (m).
+    pub length_m: f64,
+    /// Centre of the first roller, `NAME/0` (m).
+    pub position_m: [f64; 3],
+    /// The rollers' axis direction (any length > 0; normalised).
+    pub axis: [f64; 3],
+    /// From one roller's centre to the next (any length > 0; normalised; at right angles to
+    /// `axis`).
+    pub pitch_direction: [f64; 3],
+    /// Number of rollers (>= 1).
+    pub count: u32,
+    /// Distance between neighbouring rollers' axes (m; at least a diameter: they may not
+    /// overlap).
+    pub pitch_m: f64,
+    /// Rate of turn of every roller about `axis` (rad/s; default 0).
+    #[serde(default)]
+    pub angular_velocity_rad_s: f64,
+    /// Contact model.
+    #[serde(default)]
+    pub contact_model: ContactModel,
+    /// Prescribed motion of the whole bed (see [`super::motion`]), besides the rollers' turning.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
+    /// Every roller turns freely on its bearings with these (absent: powered).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free_turning: Option<FreeTurningSpec>,
+}
+
+impl RollerBedSpec {
+    /// The bed's rollers, `NAME/0` first at `position_m`, each the next `pitch_m` further along
+    /// `pitch_direction` (normalised; a zero direction leaves them all at `position_m`, which
+    /// validation refuses).
+    pub fn rollers(&self) -> Vec<RollerSpec> {
+        let d = vec3(self.pitch_direction);
+        let step = if d.length() > 0.0 {
+            d.normalize() * self.pitch_m
+        } else {
+            Vec3::ZERO
+        };
+        (0..self.count)
+            .map(|i| {
+                let c = vec3(self.position_m) + step * f64::from(i);
+                RollerSpec {
+                    name: format!("{}/{i}", self.name),
+                    material: self.material.clone(),
+                    radius_m: self.radius_m,
+                    length_m: self.length_m,
+                    position_m: [c.x, c.y, c.z],
+                    axis: self.axis,
+                    angular_velocity_rad_s: self.angular_velocity_rad_s,
+                    contact_model: self.contact_model,
+                    motion: self.motion.clone(),
+                    free_turning: self.free_turning.clone(),
+                }
+            })
+            .collect()
+    }
 }
 
 /// A uniform or per-axis scale.

@@ -3,7 +3,7 @@
 
 use super::generators::{FileSpec, GeneratorSpec};
 use super::ranges::{self, num};
-use super::surfaces::{rotation_of, ChuteProfile, ContactModel, Scale, SurfaceSpec};
+use super::surfaces::{rotation_of, ChuteProfile, ContactModel, RollerSpec, Scale, SurfaceSpec};
 use super::{models, AppleSpec, ContactSpec, Scenario, ScenarioError, TimeStep};
 use crate::contact::{Material, MaterialError};
 use crate::layer::grid::NeighborList;
@@ -530,7 +530,10 @@ fn surface(
     if s.name().contains('/') {
         return Err(ScenarioError::invalid(
             format!("{f}.name"),
-            format!("'{}': '/' is reserved for the walls of a bin", s.name()),
+            format!(
+                "'{}': '/' is reserved for the walls of a bin and the rollers of a roller bed",
+                s.name()
+            ),
         ));
     }
     if !names.insert(s.name().to_string()) {
@@ -660,31 +663,95 @@ fn surface(
             position("position_m", m.position_m)?;
             rotation_of(&m.rotation, f)?;
         }
-        SurfaceSpec::Roller(r) => {
-            material_of(&format!("{f}.material"), &r.material, mats)?;
-            length("radius_m", r.radius_m)?;
-            length("length_m", r.length_m)?;
-            position("position_m", r.position_m)?;
-            super::motion::unit_axis(&format!("{f}.axis"), r.axis)?;
-            let w = r.angular_velocity_rad_s;
-            ranges::ANGULAR_SPEED.check_abs(&format!("{f}.angular_velocity_rad_s"), w)?;
-            // Its surface speed is a speed like any other.
-            if !ranges::SPEED.contains((w * r.radius_m).abs()) {
+        SurfaceSpec::Roller(r) => roller(f, r, mats)?,
+        SurfaceSpec::RollerBed(b) => {
+            if !(1..=MAX_BED_ROLLERS).contains(&b.count) {
                 return Err(ScenarioError::invalid(
-                    format!("{f}.angular_velocity_rad_s"),
+                    format!("{f}.count"),
                     format!(
-                        "{} rad/s on a radius of {} m moves the roller's surface at {} m/s, outside the range of fruit handling ({})",
-                        num(w),
-                        num(r.radius_m),
-                        ranges::num3((w * r.radius_m).abs()),
-                        ranges::SPEED.describe()
+                        "{} rollers: a roller bed has 1 to {MAX_BED_ROLLERS}",
+                        b.count
                     ),
                 ));
+            }
+            let axis = vec3(super::motion::unit_axis(&format!("{f}.axis"), b.axis)?);
+            let dir = vec3(super::motion::unit_axis(
+                &format!("{f}.pitch_direction"),
+                b.pitch_direction,
+            )?);
+            if axis.dot(dir).abs() > 1e-9 {
+                return Err(ScenarioError::invalid(
+                    format!("{f}.pitch_direction"),
+                    format!(
+                        "it makes {:.3} deg with the axis: the rollers must follow each other across their axes (pitch_direction at right angles to axis)",
+                        axis.dot(dir).clamp(-1.0, 1.0).acos().to_degrees()
+                    ),
+                ));
+            }
+            length("pitch_m", b.pitch_m)?;
+            if b.count > 1 && b.pitch_m < 2.0 * b.radius_m {
+                return Err(ScenarioError::invalid(
+                    format!("{f}.pitch_m"),
+                    format!(
+                        "{} m is less than a roller's diameter ({} m): neighbouring rollers would overlap",
+                        num(b.pitch_m),
+                        num(2.0 * b.radius_m)
+                    ),
+                ));
+            }
+            // Every roller is a roller (its fields are the bed's).
+            for r in b.rollers() {
+                roller(f, &r, mats)?;
             }
         }
     }
     if let Some(m) = s.motion() {
         super::motion::validate(&format!("{f}.motion"), m)?;
+    }
+    Ok(())
+}
+
+/// The most rollers a roller bed may have (each is a rapier body and a surface).
+pub const MAX_BED_ROLLERS: u32 = 10_000;
+
+/// The checks of a roller (`f` its JSON path; a roller bed's rollers share the bed's fields).
+fn roller(f: &str, r: &RollerSpec, mats: &BTreeMap<&str, Material>) -> R {
+    let length = |field: &str, x: f64| ranges::LENGTH.check(&format!("{f}.{field}"), x);
+    let position =
+        |field: &str, v: [f64; 3]| ranges::POSITION.check_each(&format!("{f}.{field}"), v);
+    material_of(&format!("{f}.material"), &r.material, mats)?;
+    length("radius_m", r.radius_m)?;
+    length("length_m", r.length_m)?;
+    position("position_m", r.position_m)?;
+    super::motion::unit_axis(&format!("{f}.axis"), r.axis)?;
+    let w = r.angular_velocity_rad_s;
+    ranges::ANGULAR_SPEED.check_abs(&format!("{f}.angular_velocity_rad_s"), w)?;
+    // Its surface speed is a speed like any other.
+    if !ranges::SPEED.contains((w * r.radius_m).abs()) {
+        return Err(ScenarioError::invalid(
+                format!("{f}.angular_velocity_rad_s"),
+                format!(
+                    "{} rad/s on a radius of {} m moves the roller's surface at {} m/s, outside the range of fruit handling ({})",
+                    num(w),
+                    num(r.radius_m),
+                    ranges::num3((w * r.radius_m).abs()),
+                    ranges::SPEED.describe()
+                ),
+            ));
+    }
+    if let Some(ft) = &r.free_turning {
+        let g = format!("{f}.free_turning");
+        ranges::ROLLER_INERTIA.check(
+            &format!("{g}.moment_of_inertia_kg_m2"),
+            ft.moment_of_inertia_kg_m2,
+        )?;
+        ranges::BEARING_TORQUE.check(&format!("{g}.bearing_torque_n_m"), ft.bearing_torque_n_m)?;
+        if r.motion.as_ref().is_some_and(|m| m.rotation.is_some()) {
+            return Err(ScenarioError::invalid(
+                    format!("{f}.motion.rotation"),
+                    "a free-turning roller may be carried (motion.translation) but not swung: its spin is integrated about a fixed axis direction",
+                ));
+        }
     }
     Ok(())
 }

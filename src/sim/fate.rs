@@ -166,6 +166,10 @@ pub struct LineEnd {
     pub throughput: Vec<BinThroughput>,
     /// Per source, what it fed and what held it up.
     pub sources: Vec<SourceFeed>,
+    /// Per free-turning roller, its rate and the angle it turned at the end (absent without
+    /// free rollers).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub free_rollers: Vec<crate::world::free_roller::FreeRollerState>,
 }
 
 impl LineEnd {
@@ -455,6 +459,7 @@ impl Tracker {
                 fates: counts,
                 throughput,
                 sources: feeds,
+                free_rollers: Vec::new(),
             },
         )
     }

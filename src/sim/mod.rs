@@ -667,7 +667,8 @@ impl Simulation {
         }
         let feeds = self.world.source_feeds(self.time_s);
         let tracker = self.tracker;
-        let (fates, line) = tracker.finish(&self.states, &self.world, &events, feeds);
+        let (fates, mut line) = tracker.finish(&self.states, &self.world, &events, feeds);
+        line.free_rollers = self.world.free_rollers();
         let apples: Vec<AppleFinal> = self
             .states
             .iter()

@@ -51,6 +51,7 @@ pub(super) fn surfaces_of(
             SurfaceSpec::Bin(_) => "bin",
             SurfaceSpec::Mesh(_) => "mesh",
             SurfaceSpec::Roller(_) => "roller",
+            SurfaceSpec::RollerBed(_) => "roller_bed",
         };
         if s.motion().is_some() {
             notes.push(format!(

@@ -13,16 +13,18 @@
 //! Gyroscopic forces are off: for a ball's isotropic inertia the term w x (I w) is zero, and
 //! rapier would spend a sixth of its step computing it.
 
+pub mod free_roller;
 pub mod mesh;
 pub mod motion;
 pub mod roster;
+mod surface_specs;
 pub mod surfaces;
 
 use crate::contact::Material;
 use crate::contact::{LawParts, SubModels};
 use crate::layer::{
     AppleId, Coefficients, ContactLayer, Guard, LayerConfig, LayerError, MaterialId, SleepConfig,
-    StepControl, SurfaceId, SurfaceOptions,
+    StepControl, SurfaceId,
 };
 use crate::math::{vec3, Vec3};
 use crate::scenario::{self, AppleSpec, ContactModel, Fidelity, Scenario, ScenarioError, TimeStep};
@@ -32,7 +34,6 @@ pub use roster::{apple_mass, sphere_mass, Origin, Roster, RosterApple};
 use serde::Serialize;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
-use surfaces::SurfacePart;
 use thiserror::Error;
 
 /// Largest initial overlap of an apple with a surface, as a fraction of its radius: an apple may
@@ -78,8 +79,11 @@ pub struct World {
     apple_colliders: bool,
     /// The bins' inner boxes, in scenario order (where apples end and when they entered).
     pub bins: Vec<BinBox>,
-    /// The kinematic body of each moving surface spec and its motion.
-    movers: Vec<(RigidBodyHandle, motion::Motion)>,
+    /// The kinematic body of each moving surface spec, its motion, and its free roller's index
+    /// in `free_rollers` if it turns freely.
+    movers: Vec<(RigidBodyHandle, motion::Motion, Option<usize>)>,
+    /// The free-turning rollers: the one owner of their spin ([`free_roller`]).
+    free_rollers: Vec<free_roller::FreeRoller>,
     /// Largest speed of any moving part's surface over its profile (m/s).
     moving_speed_m_s: f64,
     /// Time of the current poses (s), set by the driver ([`World::set_time`]).
@@ -285,6 +289,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             .collect(),
         taken_out: Vec::new(),
         movers: Vec::new(),
+        free_rollers: Vec::new(),
         moving_speed_m_s: 0.0,
         time_s: 0.0,
         apple_colliders: rigid
@@ -294,46 +299,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
                 .any(|s| s.contact_model() == ContactModel::Rigid),
     };
 
-    // An apple material for rigid surfaces' coefficients: the first apple's, or any source's.
-    let apple_material = sc
-        .apples
-        .first()
-        .map(|a| a.material.clone())
-        .or_else(|| sc.sources.first().map(|s| s.material.clone()));
-    for (k, s) in sc.surfaces.iter().enumerate() {
-        let field = format!("surfaces[{k}]");
-        // A moving part rides a kinematic body placed at its rest pose, moving at its initial
-        // velocity (rapier derives the velocity from the poses only once it steps).
-        let mover = motion::Motion::of(s).map(|m| {
-            let (lin, ang) = m.velocity(0.0);
-            let body = RigidBodyBuilder::kinematic_position_based()
-                .pose(m.rest_pose())
-                .linvel(lin)
-                .angvel(ang)
-                .build();
-            (world.physics.bodies.insert(body), m)
-        });
-        for part in surfaces::parts(s, &field, base_dir)? {
-            let parent = mover.as_ref().map(|(b, m)| (*b, m.rest_pose()));
-            world.add_surface(part, apple_material.as_deref(), parent)?;
-        }
-        if let Some((b, m)) = mover {
-            // The farthest point of its colliders from the body's origin.
-            let origin = m.rest_pose().translation;
-            let reach = world.physics.bodies[b]
-                .colliders()
-                .iter()
-                .filter_map(|&c| world.physics.colliders.get(c))
-                .map(|c| {
-                    let bs = c.shape().compute_local_bounding_sphere();
-                    (c.position() * bs.center - origin).length() + bs.radius
-                })
-                .filter(|r| r.is_finite())
-                .fold(0.0, f64::max);
-            world.moving_speed_m_s = world.moving_speed_m_s.max(m.max_speed_m_s(reach));
-            world.movers.push((b, m));
-        }
-    }
+    world.add_surface_specs(sc, base_dir)?;
     let plan = roster::plan(sc)?;
     for (a, origin) in &plan.initial {
         world.add_apple(a, *origin)?;
@@ -370,14 +336,30 @@ impl World {
             // Each moving part to its pose at the end of the step: rapier moves it there and
             // gives it the velocity that does so.
             let t = self.time_s + dt_s;
-            for (b, m) in &self.movers {
-                if let Some(rb) = self.physics.bodies.get_mut(*b) {
-                    rb.set_next_kinematic_position(m.pose(t));
-                }
+            for (b, m, free) in &self.movers {
+                let Some(rb) = self.physics.bodies.get_mut(*b) else {
+                    continue;
+                };
+                let pose = match free {
+                    Some(k) => {
+                        // Its spin from the torques of the force pass just done.
+                        let f = &mut self.free_rollers[*k];
+                        let torque = f.torque_n_m(self.layer.surface_reactions(), rb.translation());
+                        f.turn(torque, dt_s);
+                        m.pose_spun(t, f.angle_rad())
+                    }
+                    None => m.pose(t),
+                };
+                rb.set_next_kinematic_position(pose);
             }
         }
         self.physics.integration_parameters.dt = dt_s;
         self.physics.step_with_events(self.layer.hooks(), &());
+    }
+
+    /// The free-turning rollers' rates and angles now.
+    pub fn free_rollers(&self) -> Vec<free_roller::FreeRollerState> {
+        self.free_rollers.iter().map(|f| f.state()).collect()
     }
 
     /// Sets the time of the current poses (s): the driver's clock, from which the next step's
@@ -397,69 +379,6 @@ impl World {
         let dt = self.physics.integration_parameters.dt;
         self.advance(0.0);
         self.physics.integration_parameters.dt = dt;
-    }
-
-    fn add_surface(
-        &mut self,
-        part: SurfacePart,
-        apple_material: Option<&str>,
-        parent: Option<(RigidBodyHandle, rapier3d_f64::math::Pose)>,
-    ) -> Result<(), BuildError> {
-        let (mid, _) = self.materials[&part.material];
-        let rigid = part.model == ContactModel::Rigid || self.layer.config().passive;
-        let mut collider = part.collider;
-        let along = part.along;
-        if rigid {
-            // rapier's own response: friction and restitution of the apple-surface pair.
-            let c = match apple_material {
-                Some(am) => self.layer.coefficients(self.materials[am].0, mid),
-                None => self.layer.coefficients(mid, mid),
-            };
-            collider = collider
-                .friction(c.friction)
-                .restitution(c.ke.sqrt())
-                .friction_combine_rule(CoefficientCombineRule::Max)
-                .restitution_combine_rule(CoefficientCombineRule::Max);
-        }
-        if !rigid {
-            // Out of the way of the apple colliders of scenes that have them (the layer owns
-            // these contacts).
-            collider = collider.collision_groups(InteractionGroups::new(
-                HERTZ_SURFACE_GROUP,
-                Group::ALL,
-                InteractionTestMode::And,
-            ));
-        }
-        let ch = match parent {
-            Some((body, rest)) => {
-                // Attached at its scenario pose relative to the body's rest pose, massless (the
-                // body's centre of mass stays at its origin).
-                let at = rest.inverse() * collider.position;
-                collider = collider.position(at).density(0.0);
-                let set = &mut self.physics;
-                set.colliders
-                    .insert_with_parent(collider, body, &mut set.bodies)
-            }
-            None => self.physics.colliders.insert(collider),
-        };
-        self.layer.add_surface(
-            &mut self.physics.colliders,
-            ch,
-            SurfaceOptions {
-                name: part.name,
-                material: mid,
-                shape: part.shape,
-                belt_velocity_local: part.belt_local,
-                rigid,
-                padding: part.padding.as_ref().map(|(m, h)| crate::layer::Padding {
-                    material: self.materials[m.as_str()].0,
-                    thickness_m: *h,
-                }),
-            },
-        )?;
-        self.surface_colliders.push(ch);
-        self.surface_frames.push(along);
-        Ok(())
     }
 
     /// Inserts an apple (a dynamic ball), registers it with the layer and enters

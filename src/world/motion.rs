@@ -90,7 +90,9 @@ impl Motion {
     /// `motion` is fixed).
     pub fn of(s: &SurfaceSpec) -> Option<Motion> {
         let (origin, spin) = match s {
-            SurfaceSpec::Roller(r) if r.angular_velocity_rad_s != 0.0 => {
+            SurfaceSpec::Roller(r)
+                if r.angular_velocity_rad_s != 0.0 || r.free_turning.is_some() =>
+            {
                 let axis = vec3(unit_axis("axis", r.axis).ok()?);
                 (vec3(r.position_m), Some((axis, r.angular_velocity_rad_s)))
             }
@@ -134,9 +136,16 @@ impl Motion {
 
     /// The body's pose at time `t_s`.
     pub fn pose(&self, t_s: f64) -> Pose {
+        let angle = self.spin.map_or(0.0, |(_, w)| w * t_s);
+        self.pose_spun(t_s, angle)
+    }
+
+    /// The body's pose at time `t_s` with the roller turned by `spin_angle` (rad) about its own
+    /// axis: a free-turning roller's angle is its own state ([`super::free_roller`]), not w t.
+    pub fn pose_spun(&self, t_s: f64, spin_angle: f64) -> Pose {
         let mut pose = Pose::from_translation(self.origin);
-        if let Some((axis, w)) = self.spin {
-            pose = pose * Pose::from_rotation(Rotation::from_axis_angle(axis, w * t_s));
+        if let Some((axis, _)) = self.spin {
+            pose *= Pose::from_rotation(Rotation::from_axis_angle(axis, spin_angle));
         }
         if let Some((axis, point, profile)) = &self.turn {
             let (angle, _) = profile.at(t_s);
@@ -176,6 +185,11 @@ impl Motion {
             lin += shift.at(t_s).1;
         }
         (lin, ang)
+    }
+
+    /// The roller's own axis at t = 0 (world), if it turns about one.
+    pub fn spin_axis(&self) -> Option<Vec3> {
+        self.spin.map(|(a, _)| a)
     }
 
     /// The largest speed of a point within `reach` of the body's origin over the whole profile

@@ -37,6 +37,9 @@ pub struct SurfacePart {
     pub along: Option<Pose>,
     /// A pad bonded on it: its material's name and thickness (m).
     pub padding: Option<(String, f64)>,
+    /// A free-turning roller: R^2 / I of its surface point (1/kg; see
+    /// [`crate::layer::SurfaceOptions::turned_by_contacts`]).
+    pub turned_by_contacts: Option<f64>,
 }
 
 fn part(name: &str, material: &str, collider: ColliderBuilder, model: ContactModel) -> SurfacePart {
@@ -49,6 +52,7 @@ fn part(name: &str, material: &str, collider: ColliderBuilder, model: ContactMod
         collider,
         model,
         padding: None,
+        turned_by_contacts: None,
     }
 }
 
@@ -243,6 +247,17 @@ fn parts_without_padding(
                 .position(pose);
             vec![part(&m.name, &m.material, collider, m.contact_model)]
         }
+        SurfaceSpec::RollerBed(b) => {
+            let mut parts = Vec::new();
+            for r in b.rollers() {
+                parts.extend(parts_without_padding(
+                    &SurfaceSpec::Roller(r),
+                    field,
+                    base_dir,
+                )?);
+            }
+            parts
+        }
         SurfaceSpec::Roller(r) => {
             let axis = vec3(crate::scenario::motion::unit_axis(
                 &format!("{field}.axis"),
@@ -254,7 +269,12 @@ fn parts_without_padding(
                 Rotation::from_rotation_arc(Vec3::Y, axis),
             );
             let collider = ColliderBuilder::cylinder(r.length_m / 2.0, r.radius_m).position(pose);
-            vec![part(&r.name, &r.material, collider, r.contact_model)]
+            let mut p = part(&r.name, &r.material, collider, r.contact_model);
+            p.turned_by_contacts = r
+                .free_turning
+                .as_ref()
+                .map(|f| r.radius_m * r.radius_m / f.moment_of_inertia_kg_m2);
+            vec![p]
         }
     })
 }

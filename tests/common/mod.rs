@@ -65,3 +65,25 @@ pub fn assert_ref(what: &str, got: f64, want: f64, tol: f64, kind: &str) {
         100.0 * tol
     );
 }
+
+/// The paper's apple (G 1 MPa, nu 0.18) and steel plate (G 8.1e10 Pa, nu 0.28) as (shear
+/// modulus in Pa, Poisson's ratio): the materials of the moving-part and roller tests.
+pub const PAPER_APPLE: (f64, f64) = (1.0e6, 0.18);
+/// See [`PAPER_APPLE`].
+pub const PAPER_STEEL: (f64, f64) = (8.1e10, 0.28);
+
+/// [`PAPER_APPLE`] (800 kg/m^3) and [`PAPER_STEEL`] as a scenario's `materials`, named `apple`
+/// and `steel`.
+pub fn apple_and_steel() -> serde_json::Value {
+    serde_json::json!({
+        "apple": {"shear_modulus_pa": PAPER_APPLE.0, "poisson_ratio": PAPER_APPLE.1,
+                  "density_kg_m3": 800},
+        "steel": {"shear_modulus_pa": PAPER_STEEL.0, "poisson_ratio": PAPER_STEEL.1}})
+}
+
+/// E* of two materials given as (shear modulus in Pa, Poisson's ratio): physics.md section 2,
+/// 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 with E = 2 G (1 + nu).
+pub fn e_star_of(a: (f64, f64), b: (f64, f64)) -> f64 {
+    let e = |(g, nu): (f64, f64)| 2.0 * g * (1.0 + nu);
+    1.0 / ((1.0 - a.1 * a.1) / e(a) + (1.0 - b.1 * b.1) / e(b))
+}

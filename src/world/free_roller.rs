@@ -1,0 +1,180 @@
+//! Free-turning rollers: a roller that no motor drives turns from the friction torques the
+//! apples put on it, against its own moment of inertia and its bearing friction.
+//!
+//! The roller's body stays a rapier kinematic body posed from its [`Motion`] every step, like
+//! every moving part (one body per surface spec, the layer reading the surface velocity from
+//! it); its spin is a state of its own, and this module is its one owner: [`FreeRoller`] holds
+//! the rate and the angle, [`super::World::advance`] asks it to turn them before it poses the
+//! body. Each step, with the reaction forces F_c the layer's force pass put on the roller at the
+//! contact points c (the opposite of what it applied to the apples, [`crate::layer::ContactLayer::surface_reactions`]):
+//!
+//! ```text
+//! I dw/dt = sum_c ((c - o) x F_c) . n  -  T_b sign(w)        (o the roller's centre, n its axis)
+//! ```
+//!
+//! integrated like the apples (symplectic Euler: the rate from this step's torque, then the
+//! angle from the new rate), so the pose it gives the body at the end of the step moves the
+//! roller's surface at w x r over it, the velocity rapier derives and the layer reads at the
+//! next step. The bearing torque T_b is Coulomb friction: it slows the roller, never turns it
+//! back, and holds it at rest while the apples' torque stays below it.
+//!
+//! A free roller may be carried (a `motion.translation`) but not swung (validation refuses a
+//! `motion.rotation`): the spin is integrated about the axis direction it was given.
+//! docs/physics.md section 12.5.
+
+use super::motion::Motion;
+use crate::layer::SurfaceId;
+use crate::math::Vec3;
+use serde::Serialize;
+
+/// A free-turning roller's spin (see the module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FreeRoller {
+    /// The roller's name.
+    pub name: String,
+    /// Its surface in the layer.
+    pub surface: SurfaceId,
+    /// Its axis (unit, world).
+    axis: Vec3,
+    /// Moment of inertia about the axis (kg m^2).
+    inertia_kg_m2: f64,
+    /// Bearing friction torque (N m).
+    bearing_torque_n_m: f64,
+    /// Rate about the axis over the last step (rad/s; right-hand rule about the axis).
+    rate_rad_s: f64,
+    /// Angle turned since the start (rad).
+    angle_rad: f64,
+}
+
+/// A free-turning roller's state at the end of a run (`summary.json`, `free_rollers`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FreeRollerState {
+    /// The roller's name.
+    pub name: String,
+    /// Its rate about its axis (rad/s).
+    pub angular_velocity_rad_s: f64,
+    /// The angle it turned since the start (rad).
+    pub angle_turned_rad: f64,
+}
+
+impl FreeRoller {
+    /// A free roller on `surface` of the motion `m` (its spin axis and initial rate), with its
+    /// inertia and bearing torque (validated).
+    pub fn new(
+        name: &str,
+        surface: SurfaceId,
+        m: &Motion,
+        rate_rad_s: f64,
+        inertia_kg_m2: f64,
+        bearing_torque_n_m: f64,
+    ) -> Self {
+        Self {
+            name: name.to_string(),
+            surface,
+            axis: m.spin_axis().unwrap_or(Vec3::X),
+            inertia_kg_m2,
+            bearing_torque_n_m,
+            rate_rad_s,
+            angle_rad: 0.0,
+        }
+    }
+
+    /// The angle turned since the start (rad): the pose's spin angle.
+    pub fn angle_rad(&self) -> f64 {
+        self.angle_rad
+    }
+
+    /// Its state for the summary.
+    pub fn state(&self) -> FreeRollerState {
+        FreeRollerState {
+            name: self.name.clone(),
+            angular_velocity_rad_s: self.rate_rad_s,
+            angle_turned_rad: self.angle_rad,
+        }
+    }
+
+    /// The torque about the axis through `centre` of this roller's reactions (N m).
+    pub fn torque_n_m(&self, reactions: &[(SurfaceId, Vec3, Vec3)], centre: Vec3) -> f64 {
+        reactions
+            .iter()
+            .filter(|r| r.0 == self.surface)
+            .map(|&(_, f, p)| (p - centre).cross(f).dot(self.axis))
+            .sum()
+    }
+
+    /// One step of `dt_s` under the apples' torque `torque_n_m` (symplectic Euler: the rate,
+    /// then the angle from the new rate), with the bearing's Coulomb torque against the turning.
+    pub fn turn(&mut self, torque_n_m: f64, dt_s: f64) {
+        let (w, tb, i) = (self.rate_rad_s, self.bearing_torque_n_m, self.inertia_kg_m2);
+        self.rate_rad_s = if w != 0.0 {
+            let next = w + (torque_n_m - tb * w.signum()) * dt_s / i;
+            // The bearing stops the roller; it does not turn it back.
+            if next * w < 0.0 && torque_n_m.abs() <= tb {
+                0.0
+            } else {
+                next
+            }
+        } else if torque_n_m.abs() > tb {
+            (torque_n_m - tb * torque_n_m.signum()) * dt_s / i
+        } else {
+            0.0
+        };
+        self.angle_rad += self.rate_rad_s * dt_s;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn roller(i: f64, tb: f64, w0: f64) -> FreeRoller {
+        FreeRoller {
+            name: "r".into(),
+            surface: SurfaceId(0),
+            axis: Vec3::X,
+            inertia_kg_m2: i,
+            bearing_torque_n_m: tb,
+            rate_rad_s: w0,
+            angle_rad: 0.0,
+        }
+    }
+
+    #[test]
+    fn the_bearing_stops_the_roller_and_holds_it() {
+        let mut r = roller(2e-3, 1e-3, 1.0);
+        // Decelerates at T/I = 0.5 rad/s^2: at rest after 2 s, then stays there.
+        for _ in 0..1000 {
+            r.turn(0.0, 1e-3);
+        }
+        assert!((r.rate_rad_s - 0.5).abs() < 1e-12);
+        for _ in 0..2000 {
+            r.turn(0.0, 1e-3);
+        }
+        assert_eq!(r.rate_rad_s, 0.0);
+        // A torque below the bearing's does not start it; above, it does by the excess.
+        r.turn(0.9e-3, 1e-3);
+        assert_eq!(r.rate_rad_s, 0.0);
+        r.turn(3e-3, 1e-3);
+        assert!((r.rate_rad_s - 1e-3).abs() < 1e-15);
+    }
+
+    #[test]
+    fn torque_about_the_axis_from_reactions() {
+        let r = roller(1.0, 0.0, 0.0);
+        let c = Vec3::new(0.0, 0.0, 1.0);
+        // A force +y at the top (z = 1.03) of a roller about x through c: torque -0.03 F.
+        let reactions = [
+            (
+                SurfaceId(0),
+                Vec3::new(0.0, 2.0, 0.0),
+                Vec3::new(0.0, 0.0, 1.03),
+            ),
+            (
+                SurfaceId(1),
+                Vec3::new(0.0, 5.0, 0.0),
+                Vec3::new(0.0, 0.0, 1.03),
+            ),
+        ];
+        assert!((r.torque_n_m(&reactions, c) + 0.06).abs() < 1e-12);
+    }
+}
