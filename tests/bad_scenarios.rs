@@ -946,7 +946,7 @@ fn an_object_given_as_an_array_is_refused() {
     mutated(
         "object-array",
         |v| v["contact"] = json!([0.3, 1, 1000]),
-        &["contact: invalid type: sequence, expected an object {friction, ke, lambda_s_m, damping, restitution, tangential, rolling, rolling_friction, rolling_damping}"],
+        &["contact: invalid type: sequence, expected an object {friction, ke, lambda_s_m, damping, restitution, tangential, rolling, rolling_friction, rolling_damping, twisting}"],
     );
 }
 

@@ -17,12 +17,14 @@ pub mod normal;
 pub mod padding;
 pub mod rolling;
 pub mod theory;
+pub mod twisting;
 
 use crate::math::Vec3;
 pub use damping::DampingModel;
 pub use friction::TangentialModel;
 pub use material::{Material, MaterialError};
 pub use rolling::RollingModel;
+pub use twisting::TwistingModel;
 
 /// The sub-models of a pair of materials beyond friction, ke and lambda (docs/physics.md
 /// section 11). The default is the paper's model: eq. 12, the Mindlin spring, no rolling
@@ -44,6 +46,8 @@ pub struct SubModels {
     /// Damping ratio eta_r of the elastic-plastic rolling spring (LIGGGHTS `epsd`'s
     /// `coefficientRollingViscousDamping`; 0 is `epsd2`).
     pub rolling_damping: f64,
+    /// Twisting resistance (spin about the normal).
+    pub twisting: TwistingModel,
 }
 
 impl Default for SubModels {
@@ -55,6 +59,7 @@ impl Default for SubModels {
             rolling: RollingModel::None,
             rolling_friction: 0.0,
             rolling_damping: 0.0,
+            twisting: TwistingModel::None,
         }
     }
 }
@@ -415,6 +420,30 @@ pub fn rolling_torque(
                 dt_s,
             )
         }
+    }
+}
+
+/// The twisting torque on body 1 of a contact (see [`twisting`]); body 2 gets the opposite.
+/// `rel_angular_velocity` is w1 - w2, `resp` the contact's response this step, `kill_rate` the
+/// share of 1/dt that bounds the torque (as for the friction dashpot): the spin stops within a
+/// step at most, about the centres (the moment `spin_inertia_kg_m2`).
+#[inline]
+pub fn twisting_torque(
+    law: &PairLaw,
+    k: &ContactConstants,
+    n: Vec3,
+    rel_angular_velocity: Vec3,
+    resp: &ContactResponse,
+    kill_rate: f64,
+) -> Vec3 {
+    match law.models.twisting {
+        TwistingModel::None => Vec3::ZERO,
+        TwistingModel::Coulomb => twisting::coulomb_torque(
+            twisting::coulomb_limit(law.friction, resp.contact_radius_m, resp.normal_force_n),
+            rel_angular_velocity,
+            n,
+            kill_rate * k.spin_inertia_kg_m2,
+        ),
     }
 }
 

@@ -41,7 +41,8 @@ pub(super) struct ContactOut {
     elastic_energy_j: f64,
     /// Overlap over the smaller radius.
     overlap_ratio: f64,
-    /// Rolling-resistance torque on apple `i` (N m); the other body gets the opposite.
+    /// Rolling- and twisting-resistance torque on apple `i` (N m); the other body gets the
+    /// opposite.
     torque: Vec3,
     /// A pad bottomed out under this contact for the first time this step.
     pad_bottomed: bool,
@@ -166,8 +167,11 @@ impl Ctx<'_> {
             kill_rate,
             self.dt_s,
         );
-        // Rolling resistance (a pure couple), only for the pairs that have it.
-        let torque = if law.models.rolling == contact::RollingModel::None {
+        // Rolling and twisting resistance (pure couples), only for the pairs that have them.
+        let rolling = law.models.rolling != contact::RollingModel::None;
+        let twisting =
+            law.models.twisting != contact::TwistingModel::None && self.config.parts.friction;
+        let torque = if !rolling && !twisting {
             Vec3::ZERO
         } else {
             let w2 = match c.other {
@@ -175,16 +179,25 @@ impl Ctx<'_> {
                 Party::Surface(s) => self.surf_now[s as usize].ang,
             };
             let w_rel = self.frame.angvel[i] - w2;
-            contact::rolling_torque(
-                law,
-                &k,
-                n,
-                w_rel,
-                &resp,
-                &mut c.rolling,
-                kill_rate,
-                self.dt_s,
-            )
+            let roll = if rolling {
+                contact::rolling_torque(
+                    law,
+                    &k,
+                    n,
+                    w_rel,
+                    &resp,
+                    &mut c.rolling,
+                    kill_rate,
+                    self.dt_s,
+                )
+            } else {
+                Vec3::ZERO
+            };
+            if twisting {
+                roll + contact::twisting_torque(law, &k, n, w_rel, &resp, kill_rate)
+            } else {
+                roll
+            }
         };
         if !(resp.normal_force_n.is_finite() && is_finite(resp.force_on_1)) {
             return Err(Box::new(LayerError::NonFinite {

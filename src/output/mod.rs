@@ -346,7 +346,12 @@ pub fn write_summary_with(
 
 /// Writes the scenario as it was run (`scenario.json`).
 pub fn write_scenario(path: &Path, sc: &Scenario) -> std::io::Result<()> {
-    let mut bytes = serde_json::to_vec_pretty(sc).map_err(std::io::Error::other)?;
+    // The scenario as run: the sleep thresholds its accuracy chose are written out.
+    let mut sc = sc.clone();
+    let rule = sc.model.sleep.rule(sc.accuracy);
+    sc.model.sleep.speed_m_s = Some(rule.speed_m_s);
+    sc.model.sleep.time_s = Some(rule.time_s);
+    let mut bytes = serde_json::to_vec_pretty(&sc).map_err(std::io::Error::other)?;
     bytes.push(b'\n');
     atomic::write_file(path, &bytes)
 }

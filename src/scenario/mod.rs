@@ -424,6 +424,14 @@ pub struct ContactSpec {
     /// [`models::DEFAULT_ROLLING_DAMPING`]; 0 is LIGGGHTS `epsd2`).
     #[serde(default = "default_rolling_damping")]
     pub rolling_damping: f64,
+    /// Twisting-resistance model (default `none`, as the paper, LIGGGHTS and EDEM; `coulomb`
+    /// stops apples spinning about the contact normal, see [`models::Twisting`]).
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub twisting: models::Twisting,
+}
+
+fn is_default<T: Default + PartialEq>(v: &T) -> bool {
+    *v == T::default()
 }
 
 fn default_rolling_friction() -> f64 {
@@ -447,6 +455,7 @@ impl ContactSpec {
             rolling: models::Rolling::None,
             rolling_friction: 0.0,
             rolling_damping: 0.0,
+            twisting: models::Twisting::None,
         }
     }
 }
@@ -484,6 +493,9 @@ pub struct PairSpec {
     /// Rolling damping ratio for this pair.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rolling_damping: Option<f64>,
+    /// Twisting model for this pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub twisting: Option<models::Twisting>,
 }
 
 impl PairSpec {
@@ -499,6 +511,7 @@ impl PairSpec {
             rolling: self.rolling.unwrap_or(c.rolling),
             rolling_friction: self.rolling_friction.unwrap_or(c.rolling_friction),
             rolling_damping: self.rolling_damping.unwrap_or(c.rolling_damping),
+            twisting: self.twisting.unwrap_or(c.twisting),
         }
     }
 }
@@ -579,34 +592,57 @@ fn default_max_steps() -> u64 {
 /// |w| R) stays below `speed_m_s` for `time_s`, with no moving neighbour or moving surface, is
 /// put to sleep (not integrated, its contacts with sleeping apples and fixed surfaces not
 /// evaluated) and woken when something changes around it. The rule is in `docs/design.md`.
+///
+/// Unset, the two thresholds follow `accuracy` ([`SleepSpec::rule`]): `preview` freezes apples
+/// slower than 1 cm/s for 0.1 s, every other accuracy slower than 5 mm/s for 0.2 s.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SleepSpec {
     /// Whether apples may sleep.
     #[serde(default = "default_true")]
     pub enabled: bool,
+    /// Speed below which an apple counts as still (m/s); default by accuracy.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed_m_s: Option<f64>,
+    /// How long it must stay still before sleeping (s); default by accuracy.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_s: Option<f64>,
+}
+
+/// The sleep thresholds of a run (see [`SleepSpec`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SleepRule {
     /// Speed below which an apple counts as still (m/s).
-    #[serde(default = "default_sleep_speed")]
     pub speed_m_s: f64,
     /// How long it must stay still before sleeping (s).
-    #[serde(default = "default_sleep_time")]
     pub time_s: f64,
 }
 
-fn default_sleep_speed() -> f64 {
-    0.005
-}
-
-fn default_sleep_time() -> f64 {
-    0.2
+impl SleepSpec {
+    /// The thresholds: the scenario's own, else those of `accuracy`. `preview` asks for a fast
+    /// answer: a pile whose last apples creep at millimetres per second is at rest for it, and
+    /// its coarser steps leave a settling pile a little more agitated than `balanced`'s (measured
+    /// on the 1000-apple pile, docs/performance.md "Time to an answer": with 5 mm/s and 0.2 s
+    /// its top apples slept up to 1 s later than at `balanced`, with 1 cm/s and 0.1 s no later).
+    /// `balanced` and `precise` keep 5 mm/s and 0.2 s: 0.1 % of a 1 m/s impact speed.
+    pub fn rule(&self, accuracy: Option<Accuracy>) -> SleepRule {
+        let (speed, time) = match accuracy {
+            Some(Accuracy::Preview) => (0.01, 0.1),
+            _ => (0.005, 0.2),
+        };
+        SleepRule {
+            speed_m_s: self.speed_m_s.unwrap_or(speed),
+            time_s: self.time_s.unwrap_or(time),
+        }
+    }
 }
 
 impl Default for SleepSpec {
     fn default() -> Self {
         Self {
             enabled: true,
-            speed_m_s: default_sleep_speed(),
-            time_s: default_sleep_time(),
+            speed_m_s: None,
+            time_s: None,
         }
     }
 }

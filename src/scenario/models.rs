@@ -3,7 +3,7 @@
 //! rolling resistance (docs/physics.md section 11). Names as users of DEM codes know them; each
 //! maps onto a sub-model of [`crate::contact`].
 
-use crate::contact::{DampingModel, RollingModel, TangentialModel};
+use crate::contact::{DampingModel, RollingModel, TangentialModel, TwistingModel};
 use serde::{Deserialize, Serialize};
 
 /// `damping`: how the normal force loses energy.
@@ -83,6 +83,30 @@ impl Rolling {
             Rolling::None => RollingModel::None,
             Rolling::ConstantTorque => RollingModel::ConstantTorque,
             Rolling::ElasticPlastic => RollingModel::ElasticPlastic,
+        }
+    }
+}
+
+/// `twisting`: the twisting-resistance model (spin about the contact normal).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Twisting {
+    /// None (the paper's model, and LIGGGHTS's and EDEM's default): an apple spinning about the
+    /// vertical on a floor spins for ever.
+    #[default]
+    #[serde(rename = "none")]
+    None,
+    /// Coulomb friction over the Hertz contact patch, (3 pi / 16) mu a F_n against the spin
+    /// (docs/physics.md section 11.5).
+    #[serde(rename = "coulomb")]
+    Coulomb,
+}
+
+impl Twisting {
+    /// The contact law's sub-model.
+    pub fn model(self) -> TwistingModel {
+        match self {
+            Twisting::None => TwistingModel::None,
+            Twisting::Coulomb => TwistingModel::Coulomb,
         }
     }
 }

@@ -207,6 +207,7 @@ pub fn resolve(sc: &mut Scenario) -> Result<(), ScenarioError> {
                         rolling: None,
                         rolling_friction: None,
                         rolling_damping: None,
+                        twisting: None,
                     });
                     sc.pairs.last_mut().expect("just pushed")
                 }

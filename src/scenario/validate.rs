@@ -342,8 +342,12 @@ fn model(sc: &Scenario) -> R {
     ranges::MAX_STEPS.check("model.max_steps", m.max_steps as f64)?;
     ranges::MEMORY_BUDGET.check("model.max_memory_mb", m.max_memory_mb)?;
     ranges::OUTPUT_BUDGET.check("model.max_output_mb", m.max_output_mb)?;
-    ranges::SPEED_THRESHOLD.check("model.sleep.speed_m_s", m.sleep.speed_m_s)?;
-    ranges::DURATION.check("model.sleep.time_s", m.sleep.time_s)?;
+    if let Some(v) = m.sleep.speed_m_s {
+        ranges::SPEED_THRESHOLD.check("model.sleep.speed_m_s", v)?;
+    }
+    if let Some(v) = m.sleep.time_s {
+        ranges::DURATION.check("model.sleep.time_s", v)?;
+    }
     if let Some(b) = &m.scene_bounds {
         ranges::POSITION.check_each("model.scene_bounds.min_m", b.min_m)?;
         ranges::POSITION.check_each("model.scene_bounds.max_m", b.max_m)?;

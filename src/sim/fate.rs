@@ -64,7 +64,7 @@ pub enum Fate {
         /// Its last contact with a surface: where it went off the line.
         last_surface: Option<LastContact>,
     },
-    /// Still moving at the end (faster than `model.sleep.speed_m_s`, the speed under which
+    /// Still moving at the end (faster than `model.sleep.speed_m_s` (default by accuracy), the speed under which
     /// apples may fall asleep).
     Moving {
         /// Centre speed at the end (m/s).
@@ -266,7 +266,7 @@ impl Tracker {
         Self {
             up: (g.length() > 0.0).then(|| -g / g.length()),
             bounds: sc.model.scene_bounds.clone(),
-            rest_speed_m_s: sc.model.sleep.speed_m_s,
+            rest_speed_m_s: sc.model.sleep.rule(sc.accuracy).speed_m_s,
             apples: Vec::new(),
         }
     }

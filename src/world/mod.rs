@@ -202,6 +202,7 @@ pub fn coefficients(c: &scenario::ContactSpec) -> Coefficients {
             rolling: c.rolling.model(),
             rolling_friction: c.rolling_friction,
             rolling_damping: c.rolling_damping,
+            twisting: c.twisting.model(),
         },
     }
 }
@@ -223,6 +224,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     }
 
     let sl = &sc.model.sleep;
+    let rule = sl.rule(sc.accuracy);
     // Adaptive steps: the layer chooses each step (rigid fidelity: rapier's own contacts, a
     // fixed step). No apple may cross half of rapier's prediction distance in one step.
     let step_control = (sc.time_step_s == TimeStep::Adaptive && !rigid).then(|| StepControl {
@@ -250,8 +252,8 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         record_slips: sc.output.transitions.enabled,
         sleep: SleepConfig {
             enabled: sl.enabled,
-            speed_m_s: sl.speed_m_s,
-            time_s: sl.time_s,
+            speed_m_s: rule.speed_m_s,
+            time_s: rule.time_s,
             ..SleepConfig::default()
         },
         ..LayerConfig::default()
