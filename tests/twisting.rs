@@ -1,4 +1,4 @@
-//! Twisting resistance (docs/physics.md section 11.5) against its closed form.
+//! Twisting resistance (docs/physics.md section 11.8) against its closed form.
 //!
 //! An apple resting on a steel floor at its static sag u, spinning about the vertical at w0, is
 //! braked by the Coulomb friction over its Hertz patch of radius a = sqrt(R u): the torque
@@ -6,7 +6,7 @@
 //! at M / I (I = 2/5 m R^2) and stops it after T = I w0 / M, having turned w0^2 I / (2 M). The
 //! tangential force stays nil (the contact point is on the spin axis), so the apple stays where
 //! it is. Without the model the spin goes on (the gap it closes). The figures measured with this
-//! build are in docs/physics.md 11.5 and checked there at twice their value (docs/claims.md).
+//! build are in docs/physics.md 11.8 and checked there at twice their value (docs/claims.md).
 //!
 //! The apple is the paper's Figs. 6-7 apple (D 80 mm, G 1 MPa, nu 0.18, 0.107 kg) on steel.
 

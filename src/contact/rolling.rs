@@ -23,7 +23,8 @@
 //!   settled 27-apple pile crept 1.6 um in 2 s, against 0.06 nm without rolling resistance).
 //!
 //! Twisting (spin about the normal) is not resisted here; only the tangential part of the
-//! relative spin counts, as in LIGGGHTS without `torsionTorque`.
+//! relative spin counts, as in LIGGGHTS without `torsionTorque`. Twisting resistance is its own
+//! sub-model, [`super::twisting`].
 
 use crate::math::Vec3;
 

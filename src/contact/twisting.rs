@@ -1,6 +1,6 @@
 //! Twisting resistance: the torque that opposes the relative spin of two bodies about their
 //! contact normal (the paper omits it, as LIGGGHTS and EDEM do by default; docs/physics.md
-//! section 11.5).
+//! section 11.8).
 //!
 //! A point contact offers no lever against a spin about its normal: the tangential force acts at
 //! the contact point, which such a spin does not move. Without a twisting torque an apple set

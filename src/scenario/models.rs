@@ -96,7 +96,7 @@ pub enum Twisting {
     #[serde(rename = "none")]
     None,
     /// Coulomb friction over the Hertz contact patch, (3 pi / 16) mu a F_n against the spin
-    /// (docs/physics.md section 11.5).
+    /// (docs/physics.md section 11.8).
     #[serde(rename = "coulomb")]
     Coulomb,
 }
