@@ -59,10 +59,10 @@ fn fit(points: &[(f64, f64)], t_at: f64) -> (f64, f64) {
 /// docs/lines.md's approach table: each apple's speed at t0 + t1 + k V/(mu_r g), k = 0, 0.25,
 /// 0.5, 0.75, 1, 1.25 (the sample nearest each time; golden values at their printed digits).
 const TABLE: [[f64; 6]; 4] = [
-    [0.1274, 0.1982, 0.2677, 0.3395, 0.4001, 0.4001],
-    [0.1338, 0.2006, 0.2722, 0.3418, 0.3999, 0.3999],
-    [0.1281, 0.1984, 0.2701, 0.3418, 0.3999, 0.3999],
-    [0.1309, 0.2006, 0.2722, 0.3418, 0.3999, 0.3999],
+    [0.1274, 0.1982, 0.2677, 0.3395, 0.4001, 0.4000],
+    [0.1338, 0.2006, 0.2722, 0.3418, 0.3999, 0.4000],
+    [0.1281, 0.1984, 0.2701, 0.3418, 0.3998, 0.4000],
+    [0.1309, 0.2006, 0.2722, 0.3418, 0.3999, 0.4000],
 ];
 
 /// Issue 19's acceptance: each apple fed onto the belt rides at the belt speed, within 2 %, from
@@ -248,8 +248,8 @@ fn belt_carries_apples_at_belt_speed() {
         "largest deviation from V after the ride time: {:.4} %",
         100.0 * worst_after
     );
-    // docs/lines.md: 0.020 % (checked at twice).
-    assert!(worst_after <= 4e-4, "{worst_after}");
+    // docs/lines.md: 0.041 % (checked at twice).
+    assert!(worst_after <= 8.2e-4, "{worst_after}");
 }
 
 /// The contrast: with `"rolling": "none"` the same apples ride at 2V/7 for ever (within 3 %:
@@ -628,26 +628,26 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
     println!("impacts per surface (contacts, largest peak N, above 80 N): {imp:?}");
     // docs/lines.md's seed-19 row (golden values at their printed digits: the pile is chaotic).
     assert_eq!(
-        h.at_walls, 1,
-        "one apple of the heap's edge against a wall: {h:?}"
+        h.at_walls, 3,
+        "three apples of the heap's edge against a wall: {h:?}"
     );
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 120, "{h:?}");
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 128, "{h:?}");
     assert!(
-        (h.layers - 2.29).abs() <= 0.01 && (h.fit_angle_deg - 9.2).abs() <= 0.1,
+        (h.layers - 2.12).abs() <= 0.01 && (h.fit_angle_deg - 8.0).abs() <= 0.1,
         "{h:?}"
     );
     assert!(
-        (h.apex_edge_angle_deg - 9.7).abs() <= 0.1 && (h.r95_m - 0.564).abs() <= 0.001,
+        (h.apex_edge_angle_deg - 8.3).abs() <= 0.1 && (h.r95_m - 0.577).abs() <= 0.001,
         "{h:?}"
     );
     // docs/lines.md's impact table and bruised apples (golden).
     for (surface, n, peak, over) in [
-        ("bin/floor", 273, 255.2, 106),
-        ("apple", 2748, 96.7, 20),
-        ("bin/x_max", 7, 74.7, 0),
-        ("bin/y_min", 1, 33.9, 0),
-        ("bin/y_max", 4, 32.6, 0),
-        ("bin/x_min", 1, 15.3, 0),
+        ("bin/floor", 276, 279.2, 107),
+        ("apple", 2531, 100.4, 19),
+        ("bin/x_max", 3, 77.3, 0),
+        ("bin/y_min", 1, 33.4, 0),
+        ("bin/y_max", 2, 26.8, 0),
+        ("bin/x_min", 8, 51.5, 0),
     ] {
         let got = imp[surface];
         assert!(
@@ -664,7 +664,7 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
         }
     }
     println!("{} apples with a contact above 80 N", over_80.len());
-    assert_eq!(over_80.len(), 90);
+    assert_eq!(over_80.len(), 85);
     // The hardest impacts are the first apples' landings on the bare floor.
     let floor_peak = imp["bin/floor"].1;
     assert!(imp.values().all(|s| s.1 <= floor_peak));
@@ -681,22 +681,21 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
     );
     // docs/lines.md's seed-19 row without rolling resistance (golden).
     assert!(
-        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.3).abs() <= 0.1,
+        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.5).abs() <= 0.1,
         "{flat:?}"
     );
     assert!(
-        (flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.739).abs() <= 0.001,
+        (flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.738).abs() <= 0.001,
         "{flat:?}"
     );
     assert!(flat.max_speed_m_s > 0.01, "some still roll: {flat:?}");
 }
 
 /// docs/lines.md: poured from 0.45 m at 1 m/s (landing at 3 m/s) instead of 0.3 m at 0.5 m/s,
-/// the same apples with the same rolling resistance spread into a single layer too (but for
-/// the odd apple caught on top of two others): the apples thrown off the landing point roll to
-/// the walls.
+/// the same apples with the same rolling and twisting resistance build a lower, wider, flatter
+/// heap: the apples thrown off the landing point roll further, some to the walls.
 #[test]
-fn a_higher_pour_spreads_even_with_rolling_resistance() {
+fn a_higher_pour_spreads_wider_and_flatter() {
     let (_, h) = bin_run(|sc| {
         let s = &mut sc.sources[0];
         s.position_m[2] = 0.45;
@@ -704,13 +703,22 @@ fn a_higher_pour_spreads_even_with_rolling_resistance() {
         s.rate_per_s = 12.0;
         sc.duration_s = 15.0;
     });
+    let (_, shipped) = bin_run(|_| {});
     assert_eq!(h.apples, 150);
-    assert!(h.floor_fraction >= 0.98, "{h:?}");
-    assert!(h.fit_angle_deg.abs() < 2.0, "no slope: {h:?}");
+    assert!(
+        h.floor_fraction > shipped.floor_fraction
+            && h.r95_m > shipped.r95_m + 0.05
+            && h.fit_angle_deg < shipped.fit_angle_deg - 1.0
+            && h.layers < shipped.layers,
+        "lower, wider, flatter: {h:?} against {shipped:?}"
+    );
     assert!(h.at_walls > 0, "rolled to the walls: {h:?}");
-    // docs/lines.md (golden, seed 19): 149 on the floor, one on top of them (1.55 diameters).
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 149, "{h:?}");
-    assert!((h.layers - 1.55).abs() <= 0.01, "{h:?}");
+    // docs/lines.md (golden, seed 19): 138 of 150 on the floor, 1.96 diameters, 6.2 degrees,
+    // r95 0.672 m, four at the walls.
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 138, "{h:?}");
+    assert!((h.layers - 1.96).abs() <= 0.01, "{h:?}");
+    assert!((h.fit_angle_deg - 6.2).abs() <= 0.1, "{h:?}");
+    assert!((h.r95_m - 0.672).abs() <= 0.001 && h.at_walls == 4, "{h:?}");
 }
 
 /// The heap's figures over five pour seeds, with and without rolling resistance (docs/lines.md's
@@ -721,22 +729,22 @@ fn heap_over_seeds() {
     // mu_r, apples poured, the figures.
     #[allow(clippy::type_complexity)]
     const STRONGER: [(f64, usize, [f64; 5]); 2] = [
-        (0.06, 150, [0.720, 2.32, 12.1, 11.8, 0.474]),
-        (0.1, 149, [0.557, 4.59, 27.8, 32.6, 0.421]),
+        (0.06, 150, [0.680, 2.59, 15.4, 14.4, 0.463]),
+        (0.1, 135, [0.607, 3.56, 21.9, 24.1, 0.429]),
     ];
     // The table's rows (golden, printed digits): floor fraction, height / D, fit angle,
     // apex-edge angle, r95.
     let table: [(u64, bool, [f64; 5]); 10] = [
-        (19, true, [0.800, 2.29, 9.2, 9.7, 0.564]),
-        (19, false, [1.000, 1.06, -0.3, 0.4, 0.739]),
-        (1, true, [0.820, 2.35, 7.6, 9.8, 0.584]),
-        (1, false, [1.000, 1.06, -0.5, 0.4, 0.744]),
-        (2, true, [0.807, 1.94, 7.6, 6.9, 0.579]),
-        (2, false, [1.000, 1.06, -0.2, 0.4, 0.747]),
-        (3, true, [0.860, 1.94, 7.7, 6.8, 0.595]),
-        (3, false, [1.000, 1.06, -0.3, 0.4, 0.741]),
-        (4, true, [0.833, 2.00, 7.1, 7.7, 0.558]),
-        (4, false, [1.000, 1.06, -0.1, 0.4, 0.741]),
+        (19, true, [0.853, 2.12, 8.0, 8.3, 0.577]),
+        (19, false, [1.000, 1.06, -0.5, 0.4, 0.738]),
+        (1, true, [0.807, 2.23, 7.9, 9.2, 0.572]),
+        (1, false, [1.000, 1.06, -0.3, 0.4, 0.742]),
+        (2, true, [0.867, 2.01, 5.5, 6.7, 0.642]),
+        (2, false, [1.000, 1.06, -0.5, 0.4, 0.747]),
+        (3, true, [0.807, 2.38, 10.2, 10.0, 0.584]),
+        (3, false, [1.000, 1.06, -0.3, 0.4, 0.743]),
+        (4, true, [0.800, 2.35, 9.9, 9.4, 0.612]),
+        (4, false, [1.000, 1.06, 0.2, 0.4, 0.733]),
     ];
     let figures = |h: &Heap| {
         [
@@ -885,11 +893,11 @@ fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
     );
     assert!(max_filler < max_fixed && over_filler < over_fixed);
     assert!(
-        (max_fixed - 255.2).abs() <= 0.1 && over_fixed == 106,
+        (max_fixed - 279.2).abs() <= 0.1 && over_fixed == 107,
         "{max_fixed} {over_fixed}"
     );
     assert!(
-        (max_filler - 173.1).abs() <= 0.1 && over_filler == 40,
+        (max_filler - 161.3).abs() <= 0.1 && over_filler == 31,
         "{max_filler} {over_filler}"
     );
 }

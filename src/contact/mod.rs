@@ -401,13 +401,18 @@ pub fn rolling_torque(
             kill_rate * k.spin_inertia_kg_m2,
         ),
         RollingModel::ElasticPlastic => {
-            // k_r = k_t R*^2 with k_t = 8 G* a (LIGGGHTS epsd2); the dashpot of epsd, bounded
-            // by the velocity-kill rate for explicit stepping.
+            // k_r = k_t R*^2 with k_t = 8 G* a (LIGGGHTS epsd2); the dashpot of epsd (its
+            // coefficient on the moment about the contact point, as LIGGGHTS), bounded by the
+            // velocity-kill rate for explicit stepping. The bound is on the moment about the
+            // centres: within one step a couple turns the apple about its centre, and on
+            // I + m R^2 the bound reversed the rolling by 1.75 times itself every step, so a
+            // settled pile rattled and never slept (tests/rolling_damping_bound.rs).
             let k_r = friction::mindlin_stiffness(law.g_star_pa, resp.contact_radius_m)
                 * k.r_star_m
                 * k.r_star_m;
             let i_r = k.rolling_inertia_kg_m2;
-            let c_r = (law.models.rolling_damping * 2.0 * (i_r * k_r).sqrt()).min(kill_rate * i_r);
+            let c_r = (law.models.rolling_damping * 2.0 * (i_r * k_r).sqrt())
+                .min(kill_rate * k.spin_inertia_kg_m2);
             rolling::elastic_plastic(
                 mu_r,
                 k.r_star_m,
