@@ -73,6 +73,20 @@ fn pvd(path: &Path) -> Vec<(f64, u32, String)> {
         .collect()
 }
 
+/// How many files of the folder `dir` have names starting with `prefix`.
+fn files_starting(dir: &Path, prefix: &str) -> usize {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with(prefix)
+        })
+        .count()
+}
+
 fn drops() -> Scenario {
     // Three apples dropped on steel under gravity at 0.5, 1.0 and 1.4 m/s: the last one peaks
     // near 100 N at t = 2.9 ms, over the 80 N bruise threshold.
@@ -295,16 +309,7 @@ fn rerun_with_fewer_frames_removes_stale_ones() {
     applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     sc.output.vtk = Some(VtkSpec { interval_s: 0.01 });
     applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
-    let n = std::fs::read_dir(dir.join("vtk"))
-        .unwrap()
-        .filter(|e| {
-            e.as_ref()
-                .unwrap()
-                .file_name()
-                .to_string_lossy()
-                .starts_with("apples_")
-        })
-        .count();
+    let n = files_starting(&dir.join("vtk"), "apples_");
     assert_eq!(n, 4, "frames at 0, 10, 20, 30 ms only");
     assert_eq!(pvd(&dir.join("scene.pvd")).len(), 8);
 }
@@ -557,16 +562,7 @@ fn moving_box_is_drawn_per_frame_at_its_motion_offset() {
     // The same folder rerun without the motion: the moving files are gone, the index is back to
     // two parts per frame.
     applesim::output::run_into(&drops(), &repo("scenarios"), &dir, &mut |_| {}).unwrap();
-    let left = std::fs::read_dir(dir.join("vtk"))
-        .unwrap()
-        .filter(|e| {
-            e.as_ref()
-                .unwrap()
-                .file_name()
-                .to_string_lossy()
-                .starts_with("moving_")
-        })
-        .count();
+    let left = files_starting(&dir.join("vtk"), "moving_");
     assert_eq!(left, 0);
     assert!(pvd(&dir.join("scene.pvd")).iter().all(|d| d.1 < 2));
 }
