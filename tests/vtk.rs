@@ -73,6 +73,20 @@ fn pvd(path: &Path) -> Vec<(f64, u32, String)> {
         .collect()
 }
 
+/// How many files of the folder `dir` have names starting with `prefix`.
+fn files_starting(dir: &Path, prefix: &str) -> usize {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with(prefix)
+        })
+        .count()
+}
+
 fn drops() -> Scenario {
     // Three apples dropped on steel under gravity at 0.5, 1.0 and 1.4 m/s: the last one peaks
     // near 100 N at t = 2.9 ms, over the 80 N bruise threshold.
@@ -295,16 +309,7 @@ fn rerun_with_fewer_frames_removes_stale_ones() {
     applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     sc.output.vtk = Some(VtkSpec { interval_s: 0.01 });
     applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
-    let n = std::fs::read_dir(dir.join("vtk"))
-        .unwrap()
-        .filter(|e| {
-            e.as_ref()
-                .unwrap()
-                .file_name()
-                .to_string_lossy()
-                .starts_with("apples_")
-        })
-        .count();
+    let n = files_starting(&dir.join("vtk"), "apples_");
     assert_eq!(n, 4, "frames at 0, 10, 20, 30 ms only");
     assert_eq!(pvd(&dir.join("scene.pvd")).len(), 8);
 }
@@ -456,4 +461,182 @@ fn trough_chute_is_drawn_as_its_half_pipe() {
     }
     let bottom = m.points.iter().map(|p| p.z).fold(f64::MAX, f64::min);
     assert!((axis.z - bottom - 0.1).abs() < 1e-9, "opens upwards");
+}
+
+/// Cell array `name` of a surfaces file, as numbers.
+fn cell_array(p: &PolyDataPiece, name: &str) -> Vec<f64> {
+    p.data
+        .cell
+        .iter()
+        .find_map(|a| match a {
+            Attribute::DataArray(d) if d.name == name => {
+                Some(d.data.clone().cast_into::<f64>().unwrap())
+            }
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("no cell array {name}"))
+}
+
+/// The moving box of [`moving_box_is_drawn_per_frame_at_its_motion_offset`]: centre, size, and
+/// the keyframes of its offset (m), held after the last.
+const BOX_CENTRE: [f64; 3] = [1.0, 0.0, 0.05];
+const BOX_SIZE: [f64; 3] = [0.1, 0.08, 0.1];
+const BOX_KEYS: [(f64, [f64; 3]); 2] = [(0.0, [0.0; 3]), (0.02, [0.01, -0.004, 0.006])];
+
+/// The box's offset at `t`, interpolated here (not by the crate): linear between the two keys,
+/// held after the last.
+fn box_offset(t: f64) -> [f64; 3] {
+    let (t0, a) = BOX_KEYS[0];
+    let (t1, b) = BOX_KEYS[1];
+    let f = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+    [0, 1, 2].map(|i| a[i] + f * (b[i] - a[i]))
+}
+
+#[test]
+fn moving_box_is_drawn_per_frame_at_its_motion_offset() {
+    // The drops of `drops()` beside a box raised and shifted by translation keyframes: the box
+    // gets a file per frame, posed by its motion; the floor stays in the fixed file.
+    let mut sc = drops();
+    sc.surfaces.push(
+        serde_json::from_value(serde_json::json!({
+            "name": "lift", "type": "box", "material": "steel",
+            "size_m": BOX_SIZE, "position_m": BOX_CENTRE,
+            "motion": {"translation": {"keyframes": BOX_KEYS}}
+        }))
+        .unwrap(),
+    );
+    scenario::validate(&sc).unwrap();
+    let dir = tmp("vtk_moving");
+    applesim::output::run_into(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let index = pvd(&dir.join("scene.pvd"));
+    let parts = |part: u32| -> Vec<(f64, String)> {
+        index
+            .iter()
+            .filter(|d| d.1 == part)
+            .map(|d| (d.0, d.2.clone()))
+            .collect()
+    };
+    let (apples, fixed, moving) = (parts(0), parts(1), parts(2));
+    assert_eq!(index.len(), 3 * 7, "three parts per frame, 7 frames");
+    for (k, ((ta, _), (tm, fm))) in apples.iter().zip(&moving).enumerate() {
+        assert_eq!(ta, tm);
+        assert_eq!(fm, &format!("vtk/moving_{k:06}.vtp"));
+    }
+    assert!(fixed.iter().all(|f| f.1 == "vtk/surfaces.vtp"));
+    // The fixed file: the floor alone (its square patch), surface_id 0.
+    let s = piece(&dir.join("vtk/surfaces.vtp"));
+    assert_eq!(
+        (s.num_points(), cell_array(&s, "surface_id")),
+        (4, vec![0.0; 2])
+    );
+    // The box's corners at rest, from the scenario.
+    let corners: Vec<[f64; 3]> = (0..8)
+        .map(|c| [0, 1, 2].map(|i| BOX_CENTRE[i] + BOX_SIZE[i] / 2.0 * [-1.0, 1.0][(c >> i) & 1]))
+        .collect();
+    let mut worst = 0.0f64;
+    for (t, f) in &moving {
+        let p = piece(&dir.join(f));
+        // The box alone: 12 triangles of surface 1 (the floor is not in it).
+        assert_eq!(cell_array(&p, "surface_id"), vec![1.0; 12], "{f}");
+        assert_eq!(p.num_points(), 8, "{f}");
+        let pts = p.points.clone().cast_into::<f64>().unwrap();
+        let d = box_offset(*t);
+        // Every vertex is a corner moved by the offset, and every corner is drawn.
+        for want in &corners {
+            let e = pts
+                .chunks(3)
+                .map(|q| {
+                    (0..3)
+                        .map(|i| (q[i] - want[i] - d[i]).abs())
+                        .fold(0.0, f64::max)
+                })
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(e);
+        }
+        assert_eq!(pts.len() / 3, corners.len(), "{f}: one vertex per corner");
+    }
+    println!("largest vertex error against the prescribed offset: {worst:e} m");
+    assert!(worst < 1e-9, "{worst}");
+    // The last frames are past the last keyframe: the box held at its final offset.
+    assert!(moving.last().unwrap().0 > BOX_KEYS[1].0);
+    // The same folder rerun without the motion: the moving files are gone, the index is back to
+    // two parts per frame.
+    applesim::output::run_into(&drops(), &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let left = files_starting(&dir.join("vtk"), "moving_");
+    assert_eq!(left, 0);
+    assert!(pvd(&dir.join("scene.pvd")).iter().all(|d| d.1 < 2));
+}
+
+/// `drops()`'s floor, as the build before moving surfaces were drawn per frame wrote it (its
+/// `applesim run` of the same scenario, byte for byte).
+const FLOOR_VTP: &str = r#"<?xml version="1.0"?>
+<VTKFile type="PolyData" version="0.1" byte_order="LittleEndian">
+  <PolyData>
+    <Piece NumberOfPoints="4" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="2">
+      <CellData Scalars="surface_id">
+        <DataArray type="Int64" Name="surface_id" format="ascii">
+          0 0
+        </DataArray>
+      </CellData>
+      <Points>
+        <DataArray type="Float64" Name="points" NumberOfComponents="3" format="ascii">
+          0.6993989020054834 -0.49939890200548337 0 0.6993989020054834 0.49939890200548337 0 -0.29939890200548336 0.49939890200548337 0 -0.29939890200548336 -0.49939890200548337 0
+        </DataArray>
+      </Points>
+      <Polys>
+        <DataArray type="Int64" Name="connectivity" format="ascii">
+          0 1 2 0 2 3
+        </DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">
+          3 6
+        </DataArray>
+      </Polys>
+    </Piece>
+  </PolyData>
+</VTKFile>
+"#;
+
+#[test]
+fn without_motion_the_files_are_as_before() {
+    // No surface moves: no moving files, the one surfaces file as before, and the index with
+    // the apples and the surfaces per frame, in the form it had.
+    let sc = drops();
+    let dir = tmp("vtk_fixed");
+    applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let mut names: Vec<String> = std::fs::read_dir(dir.join("vtk"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let mut want: Vec<String> = (0..7).map(|k| format!("apples_{k:06}.vtp")).collect();
+    want.push("surfaces.vtp".into());
+    assert_eq!(names, want);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("vtk/surfaces.vtp")).unwrap(),
+        FLOOR_VTP
+    );
+    let mut index = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
+    );
+    for (k, t) in [
+        "0",
+        "0.005",
+        "0.01",
+        "0.015000000000000001",
+        "0.02",
+        "0.025",
+        "0.030000000000000002",
+    ]
+    .iter()
+    .enumerate()
+    {
+        index.push_str(&format!(
+            "    <DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"vtk/apples_{k:06}.vtp\"/>\n    <DataSet timestep=\"{t}\" group=\"\" part=\"1\" file=\"vtk/surfaces.vtp\"/>\n"
+        ));
+    }
+    index.push_str("  </Collection>\n</VTKFile>\n");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("scene.pvd")).unwrap(),
+        index
+    );
 }

@@ -8,12 +8,20 @@
 //!   that contact's peak force), `apple_id` (index in the run's apple order: listed, generated,
 //!   then fed-in apples; -1 if unknown). Every frame carries its own points, so the number of
 //!   apples may change from frame to frame (sources feed apples in).
-//! - `vtk/surfaces.vtp`: every surface as triangles at t = 0, cell array `surface_id`
-//!   (index of the surface part in the layer: a bin's floor and walls are separate parts).
-//!   Half-spaces become a square patch sized to the scene, boxes their box, meshes their
-//!   triangles, balls a tessellated sphere, troughs their half-pipe; any other shape its
-//!   bounding box, with a warning.
-//! - `scene.pvd`: the time series: per frame, part 0 the apples and part 1 the surfaces.
+//! - `vtk/surfaces.vtp`: every fixed surface as triangles, cell array `surface_id` (index of
+//!   the surface part in the layer: a bin's floor and walls are separate parts). Half-spaces
+//!   become a square patch sized to the scene, boxes their box, meshes their triangles, balls a
+//!   tessellated sphere, troughs their half-pipe; any other shape its bounding box, with a
+//!   warning.
+//! - `vtk/moving_NNNNNN.vtp`, only when a surface moves (a `motion`): the moving surfaces of
+//!   frame NNNNNN, the same triangles posed at the frame's time by the motion their kinematic
+//!   body follows in the run (`world::motion::Motion::pose`), with the same `surface_id`s; the
+//!   fixed file then leaves them out. A roller is drawn without its own turn about its axis (it
+//!   looks the same turned, and a free-turning roller's angle is not kept after the run), so a
+//!   roller that only turns stays in the fixed file. LIGGGHTS users expect moving meshes this
+//!   way, one file per dump.
+//! - `scene.pvd`: the time series: per frame, part 0 the apples, part 1 the fixed surfaces and,
+//!   when a surface moves, part 2 that frame's moving surfaces.
 //!
 //! Frames are taken from `bodies.csv` after the run (so they show exactly what it holds, and the
 //! bruise flag can use the finished contacts): the frame interval is rounded up to a whole
@@ -25,6 +33,7 @@ use crate::analysis::bruise::BruiseReport;
 use crate::layer::{SurfaceId, SurfaceShape};
 use crate::math::Vec3;
 use crate::scenario::Scenario;
+use crate::world::motion::Motion;
 use crate::world::World;
 use rapier3d_f64::parry::math::Pose;
 use rapier3d_f64::parry::shape::{Shape, SharedShape, TypedShape};
@@ -38,6 +47,10 @@ pub const VTK_DIR: &str = "vtk";
 pub const PVD_FILE: &str = "scene.pvd";
 /// Name of the surfaces file inside [`VTK_DIR`].
 pub const SURFACES_FILE: &str = "surfaces.vtp";
+/// Start of the names of the moving surfaces' files inside [`VTK_DIR`] (`moving_NNNNNN.vtp`).
+pub const MOVING_PREFIX: &str = "moving_";
+/// Start of the names of the apple frames inside [`VTK_DIR`] (`apples_NNNNNN.vtp`).
+const APPLES_PREFIX: &str = "apples_";
 
 /// Errors of the VTK output.
 #[derive(Debug, thiserror::Error)]
@@ -93,6 +106,9 @@ struct SurfaceItem {
     shape: SharedShape,
     pose: Pose,
     layer_shape: SurfaceShape,
+    /// The motion of its body and its pose on the body, if it moves other than turning about
+    /// its own axis ([`Motion::displaces`]).
+    motion: Option<(Motion, Pose)>,
 }
 
 /// The surfaces of a world, captured at t = 0 (from `World::surface_colliders`) so that they can
@@ -117,6 +133,10 @@ impl SceneSurfaces {
                     shape: co.shared_shape().clone(),
                     pose: *co.position(),
                     layer_shape: world.layer.surface_shape(id).clone(),
+                    motion: world
+                        .surface_motion(k)
+                        .filter(|(m, _)| m.displaces())
+                        .map(|(m, on_body)| (m.clone(), on_body)),
                 })
             })
             .collect();
@@ -137,6 +157,7 @@ impl SceneSurfaces {
                     shape,
                     pose,
                     layer_shape,
+                    motion: None,
                 })
                 .collect(),
         }
@@ -152,39 +173,70 @@ impl SceneSurfaces {
         self.items.is_empty()
     }
 
-    /// One mesh per surface; unbounded half-spaces are cut to a square patch centred under the
-    /// scene box (`lo`, `hi`, m) and twice its diagonal wide. Warnings name the surfaces drawn as
-    /// their bounding box.
+    /// Whether a surface moves (other than a roller turning about its own axis): then the
+    /// moving ones get a file per frame.
+    pub fn moves(&self) -> bool {
+        self.items.iter().any(|s| s.motion.is_some())
+    }
+
+    /// One mesh per surface, as captured (t = 0); unbounded half-spaces are cut to a square
+    /// patch centred under the scene box (`lo`, `hi`, m) and twice its diagonal wide. Warnings
+    /// name the surfaces drawn as their bounding box.
     pub fn tessellate(&self, lo: Vec3, hi: Vec3) -> (Vec<Mesh>, Vec<String>) {
         let mut warnings = Vec::new();
         let meshes = self
             .items
             .iter()
             .map(|s| {
-                let mut m = Mesh::default();
-                if let SurfaceShape::Trough {
-                    radius_m,
-                    half_length_m,
-                    half_angle_rad,
-                } = s.layer_shape
-                {
-                    trough(&mut m, &s.pose, radius_m, half_length_m, half_angle_rad);
-                } else if !shape_mesh(&mut m, &s.pose, s.shape.as_ref(), lo, hi) {
-                    warnings.push(format!(
-                        "vtk: surface '{}' has a shape the VTK output does not draw ({:?}); it is shown as its bounding box",
-                        s.name,
-                        s.shape.shape_type()
-                    ));
-                    m = Mesh::default();
-                    let aabb = s.shape.compute_aabb(&s.pose);
-                    let (p, t) = aabb.to_trimesh();
-                    m.push(&Pose::IDENTITY, &p, &t);
-                }
+                let (m, w) = item_mesh(s, &s.pose, lo, hi);
+                warnings.extend(w);
                 m
             })
             .collect();
         (meshes, warnings)
     }
+
+    /// The moving surfaces at time `t_s`, as (index of the surface, mesh): each posed by its
+    /// body's motion at `t_s` without a roller's own turn. Their warnings are those of
+    /// [`Self::tessellate`] (same shapes), so none are returned.
+    fn moving_meshes(&self, t_s: f64, lo: Vec3, hi: Vec3) -> Vec<(usize, Mesh)> {
+        self.items
+            .iter()
+            .enumerate()
+            .filter_map(|(k, s)| {
+                let (m, on_body) = s.motion.as_ref()?;
+                Some((
+                    k,
+                    item_mesh(s, &(m.pose_spun(t_s, 0.0) * *on_body), lo, hi).0,
+                ))
+            })
+            .collect()
+    }
+}
+
+/// The mesh of one surface at `pose`, and a warning if it is drawn as its bounding box.
+fn item_mesh(s: &SurfaceItem, pose: &Pose, lo: Vec3, hi: Vec3) -> (Mesh, Option<String>) {
+    let mut m = Mesh::default();
+    if let SurfaceShape::Trough {
+        radius_m,
+        half_length_m,
+        half_angle_rad,
+    } = s.layer_shape
+    {
+        trough(&mut m, pose, radius_m, half_length_m, half_angle_rad);
+    } else if !shape_mesh(&mut m, pose, s.shape.as_ref(), lo, hi) {
+        let warning = format!(
+            "vtk: surface '{}' has a shape the VTK output does not draw ({:?}); it is shown as its bounding box",
+            s.name,
+            s.shape.shape_type()
+        );
+        m = Mesh::default();
+        let aabb = s.shape.compute_aabb(pose);
+        let (p, t) = aabb.to_trimesh();
+        m.push(&Pose::IDENTITY, &p, &t);
+        return (m, Some(warning));
+    }
+    (m, None)
 }
 
 /// Appends the triangles of `shape` at `pose`; false for a shape it cannot draw.
@@ -398,9 +450,11 @@ fn apples_vtp(apples: &[FrameApple]) -> String {
     s
 }
 
-fn surfaces_vtp(meshes: &[Mesh]) -> String {
-    let np: usize = meshes.iter().map(|m| m.points.len()).sum();
-    let nt: usize = meshes.iter().map(|m| m.triangles.len()).sum();
+/// Surfaces as triangles, each with its `surface_id` (its index in the layer, also when only
+/// some of them are in the file).
+fn surfaces_vtp(meshes: &[(usize, &Mesh)]) -> String {
+    let np: usize = meshes.iter().map(|(_, m)| m.points.len()).sum();
+    let nt: usize = meshes.iter().map(|(_, m)| m.triangles.len()).sum();
     let mut s = String::with_capacity(256 + np * 60 + nt * 40);
     xml_header(&mut s);
     s.push_str(
@@ -418,8 +472,7 @@ fn surfaces_vtp(meshes: &[Mesh]) -> String {
         1,
         meshes
             .iter()
-            .enumerate()
-            .flat_map(|(k, m)| std::iter::repeat_n(k as i64, m.triangles.len())),
+            .flat_map(|&(k, m)| std::iter::repeat_n(k as i64, m.triangles.len())),
     );
     s.push_str("      </CellData>\n      <Points>\n");
     data_array(
@@ -429,12 +482,12 @@ fn surfaces_vtp(meshes: &[Mesh]) -> String {
         3,
         meshes
             .iter()
-            .flat_map(|m| m.points.iter().flat_map(|p| [p.x, p.y, p.z])),
+            .flat_map(|(_, m)| m.points.iter().flat_map(|p| [p.x, p.y, p.z])),
     );
     s.push_str("      </Points>\n      <Polys>\n");
     let mut conn = Vec::with_capacity(3 * nt);
     let mut base = 0i64;
-    for m in meshes {
+    for (_, m) in meshes {
         for t in &m.triangles {
             conn.extend(t.iter().map(|&i| base + i as i64));
         }
@@ -452,11 +505,17 @@ fn surfaces_vtp(meshes: &[Mesh]) -> String {
     s
 }
 
-fn pvd(frames: &[(f64, String)]) -> String {
+/// File of frame `k`'s moving surfaces, relative to the run folder.
+fn moving_file(k: usize) -> String {
+    format!("{VTK_DIR}/{MOVING_PREFIX}{k:06}.vtp")
+}
+
+/// The index; `moving`: whether each frame has a file of moving surfaces (part 2).
+fn pvd(frames: &[(f64, String)], moving: bool) -> String {
     let mut s = String::new();
     xml_header(&mut s);
     s.push_str("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n");
-    for (t, f) in frames {
+    for (k, (t, f)) in frames.iter().enumerate() {
         let _ = writeln!(
             s,
             "    <DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"{f}\"/>"
@@ -465,6 +524,13 @@ fn pvd(frames: &[(f64, String)]) -> String {
             s,
             "    <DataSet timestep=\"{t}\" group=\"\" part=\"1\" file=\"{VTK_DIR}/{SURFACES_FILE}\"/>"
         );
+        if moving {
+            let _ = writeln!(
+                s,
+                "    <DataSet timestep=\"{t}\" group=\"\" part=\"2\" file=\"{}\"/>",
+                moving_file(k)
+            );
+        }
     }
     s.push_str("  </Collection>\n</VTKFile>\n");
     s
@@ -512,7 +578,8 @@ fn for_each_sample(
 
 /// Writes the ParaView output of a finished run whose `bodies.csv` is in `dir`: frames every
 /// `interval_s` (rounded up to whole samples of `sample_interval_s`), the surfaces captured
-/// before the run, and the `scene.pvd` index. `apple_order` lists the run's apples in layer
+/// before the run (the fixed ones once, the moving ones posed per frame), and the `scene.pvd`
+/// index. `apple_order` lists the run's apples in layer
 /// order (their `apple_id`); radii come from the scenario's apples, generators and sources.
 /// Frames of an earlier run in the same folder beyond the new last frame are removed, so the
 /// folder holds one run.
@@ -599,7 +666,7 @@ pub fn write_vtk(
                 bruise: u8::from(bruise.at_risk_by(&r[1], t)),
             });
         }
-        let rel = format!("{VTK_DIR}/apples_{:06}.vtp", summary.frames.len());
+        let rel = format!("{VTK_DIR}/{APPLES_PREFIX}{:06}.vtp", summary.frames.len());
         let path = dir.join(&rel);
         atomic::write_file(&path, apples_vtp(&apples).as_bytes()).map_err(io(&path))?;
         summary.frames.push((t, rel));
@@ -616,22 +683,39 @@ pub fn write_vtk(
     }
     let (meshes, warnings) = surfaces.tessellate(lo, hi);
     summary.warnings.extend(warnings);
+    let fixed: Vec<(usize, &Mesh)> = meshes
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| surfaces.items[*k].motion.is_none())
+        .collect();
     let spath = vdir.join(SURFACES_FILE);
-    atomic::write_file(&spath, surfaces_vtp(&meshes).as_bytes()).map_err(io(&spath))?;
-    remove_stale_frames(&vdir, summary.frames.len())?;
+    atomic::write_file(&spath, surfaces_vtp(&fixed).as_bytes()).map_err(io(&spath))?;
+    let moving = surfaces.moves();
+    if moving {
+        for (k, (t, _)) in summary.frames.iter().enumerate() {
+            let posed = surfaces.moving_meshes(*t, lo, hi);
+            let refs: Vec<(usize, &Mesh)> = posed.iter().map(|(k, m)| (*k, m)).collect();
+            let path = dir.join(moving_file(k));
+            atomic::write_file(&path, surfaces_vtp(&refs).as_bytes()).map_err(io(&path))?;
+        }
+    }
+    let n = summary.frames.len();
+    remove_stale_frames(&vdir, APPLES_PREFIX, n)?;
+    // A run without moving surfaces leaves none of an earlier run's.
+    remove_stale_frames(&vdir, MOVING_PREFIX, if moving { n } else { 0 })?;
     let ppath = dir.join(PVD_FILE);
-    atomic::write_file(&ppath, pvd(&summary.frames).as_bytes()).map_err(io(&ppath))?;
+    atomic::write_file(&ppath, pvd(&summary.frames, moving).as_bytes()).map_err(io(&ppath))?;
     Ok(summary)
 }
 
-/// Removes `apples_NNNNNN.vtp` with NNNNNN >= `count` (left by a longer earlier run).
-fn remove_stale_frames(vdir: &Path, count: usize) -> Result<(), VtkError> {
+/// Removes `PREFIXNNNNNN.vtp` with NNNNNN >= `count` (left by a longer earlier run).
+fn remove_stale_frames(vdir: &Path, prefix: &str, count: usize) -> Result<(), VtkError> {
     for entry in std::fs::read_dir(vdir).map_err(io(vdir))? {
         let entry = entry.map_err(io(vdir))?;
         let name = entry.file_name();
         let name = name.to_string_lossy();
         let Some(num) = name
-            .strip_prefix("apples_")
+            .strip_prefix(prefix)
             .and_then(|n| n.strip_suffix(".vtp"))
         else {
             continue;

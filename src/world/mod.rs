@@ -359,6 +359,20 @@ impl World {
         self.physics.step_with_events(self.layer.hooks(), &());
     }
 
+    /// The motion of the body that carries surface part `k` (layer order), and the part's pose
+    /// on that body, if the part moves: its pose at time t is `motion.pose(t) * on_body`. The
+    /// ParaView output draws moving parts from it ([`crate::output::vtk`]).
+    pub fn surface_motion(&self, k: usize) -> Option<(&motion::Motion, Pose)> {
+        let co = self
+            .physics
+            .colliders
+            .get(*self.surface_colliders.get(k)?)?;
+        let body = co.parent()?;
+        let on_body = *co.position_wrt_parent()?;
+        let (_, m, _) = self.movers.iter().find(|(b, _, _)| *b == body)?;
+        Some((m, on_body))
+    }
+
     /// The free-turning rollers' rates and angles now.
     pub fn free_rollers(&self) -> Vec<free_roller::FreeRollerState> {
         self.free_rollers.iter().map(|f| f.state()).collect()

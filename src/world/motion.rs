@@ -187,6 +187,13 @@ impl Motion {
         (lin, ang)
     }
 
+    /// Whether the motion carries the part anywhere (a rotation or a translation), not only turns
+    /// a roller about its own axis: a roller that only turns keeps its place and, being round,
+    /// its look, so the ParaView output draws it with the fixed surfaces ([`crate::output::vtk`]).
+    pub fn displaces(&self) -> bool {
+        self.turn.is_some() || self.shift.is_some()
+    }
+
     /// The roller's own axis at t = 0 (world), if it turns about one.
     pub fn spin_axis(&self) -> Option<Vec3> {
         self.spin.map(|(a, _)| a)
