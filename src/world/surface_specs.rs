@@ -41,12 +41,16 @@ impl World {
         apple_material: Option<&str>,
     ) -> Result<(), BuildError> {
         {
-            // A moving part rides a kinematic body placed at its rest pose, moving at its initial
-            // velocity (rapier derives the velocity from the poses only once it steps).
+            // A moving part rides a kinematic body placed at its pose at t = 0 (its colliders are
+            // attached relative to the rest pose, where the scenario puts them, and follow it),
+            // moving at its initial velocity (rapier derives the velocity from the poses only
+            // once it steps). Placed at the rest pose instead, a part whose profile starts
+            // displaced (a bin filler's bin, keyframed 0.2 m up at t = 0) jumped there in the
+            // first step: tests/moving_parts.rs, `a_part_starts_at_its_pose_at_time_zero`.
             let mover = motion::Motion::of(s).map(|m| {
                 let (lin, ang) = m.velocity(0.0);
                 let body = RigidBodyBuilder::kinematic_position_based()
-                    .pose(m.rest_pose())
+                    .pose(m.pose(0.0))
                     .linvel(lin)
                     .angvel(ang)
                     .build();
@@ -58,7 +62,7 @@ impl World {
             }
             if let Some((b, m)) = mover {
                 // The farthest point of its colliders from the body's origin.
-                let origin = m.rest_pose().translation;
+                let origin = m.pose(0.0).translation;
                 let reach = self.physics.bodies[b]
                     .colliders()
                     .iter()
