@@ -897,7 +897,7 @@ fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
         "{max_fixed} {over_fixed}"
     );
     assert!(
-        (max_filler - 161.3).abs() <= 0.1 && over_filler == 31,
+        (max_filler - 165.0).abs() <= 0.1 && over_filler == 39,
         "{max_filler} {over_filler}"
     );
 }
