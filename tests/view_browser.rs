@@ -262,6 +262,29 @@ fn run(args: &[&str]) -> std::process::Output {
     o
 }
 
+/// Writes `scenario` to `dir/NAME.json` and runs it into `dir/OUT` with `extra` arguments;
+/// returns the run folder.
+fn run_scenario(
+    dir: &Path,
+    name: &str,
+    out: &str,
+    scenario: &serde_json::Value,
+    extra: &[&str],
+) -> PathBuf {
+    let sc_path = dir.join(format!("{name}.json"));
+    std::fs::write(&sc_path, serde_json::to_string_pretty(scenario).unwrap()).unwrap();
+    let run_dir = dir.join(out);
+    let mut args = vec![
+        "run",
+        sc_path.to_str().unwrap(),
+        "--out",
+        run_dir.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    run(&args);
+    run_dir
+}
+
 /// bodies.csv as the test reads it: per sample time, per apple name, the centre.
 type Samples = BTreeMap<u64, BTreeMap<String, [f64; 3]>>;
 
@@ -654,18 +677,13 @@ fn every_surface_kind_and_a_run_without_apples() {
         dir.join("floor_two_triangles.obj"),
     )
     .unwrap();
-    let sc_path = dir.join("kinds.json");
-    std::fs::write(&sc_path, serde_json::to_string_pretty(&scenario).unwrap()).unwrap();
-    let run_dir = dir.join("run");
-    run(&[
+    let run_dir = run_scenario(
+        &dir,
+        "kinds",
         "run",
-        sc_path.to_str().unwrap(),
-        "--out",
-        run_dir.to_str().unwrap(),
-        "--view",
-        "--max-frames",
-        "20",
-    ]);
+        &scenario,
+        &["--view", "--max-frames", "20"],
+    );
     let (samples, names) = bodies(&run_dir);
     assert_eq!(names.len(), 5);
 
@@ -674,16 +692,7 @@ fn every_surface_kind_and_a_run_without_apples() {
     empty["apples"] = serde_json::json!([]);
     empty["sources"] = serde_json::json!([{ "name": "late", "material": "apple", "diameter_m": 0.08,
         "position_m": [0, 0, 0.5], "rate_per_s": 1, "start_s": 10, "count": 1 }]);
-    let empty_path = dir.join("empty.json");
-    std::fs::write(&empty_path, serde_json::to_string_pretty(&empty).unwrap()).unwrap();
-    let empty_dir = dir.join("empty");
-    run(&[
-        "run",
-        empty_path.to_str().unwrap(),
-        "--out",
-        empty_dir.to_str().unwrap(),
-        "--view",
-    ]);
+    let empty_dir = run_scenario(&dir, "empty", "empty", &empty, &["--view"]);
     let text = std::fs::read_to_string(empty_dir.join("bodies.csv")).unwrap();
     assert_eq!(
         text.lines().count(),
@@ -829,15 +838,7 @@ fn a_moving_box_follows_its_motion() {
               "motion": { "translation": { "keyframes": [[keys[0].0, keys[0].1], [keys[1].0, keys[1].1]] } } }
         ]
     });
-    let sc_path = dir.join("moving.json");
-    std::fs::write(&sc_path, serde_json::to_string_pretty(&scenario).unwrap()).unwrap();
-    let run_dir = dir.join("run");
-    run(&[
-        "run",
-        sc_path.to_str().unwrap(),
-        "--out",
-        run_dir.to_str().unwrap(),
-    ]);
+    let run_dir = run_scenario(&dir, "moving", "run", &scenario, &[]);
     run(&["view", run_dir.to_str().unwrap(), "--max-frames", "21"]);
 
     let s = launch("moving");
