@@ -262,6 +262,29 @@ fn run(args: &[&str]) -> std::process::Output {
     o
 }
 
+/// Writes `scenario` to `dir/NAME.json` and runs it into `dir/OUT` with `extra` arguments;
+/// returns the run folder.
+fn run_scenario(
+    dir: &Path,
+    name: &str,
+    out: &str,
+    scenario: &serde_json::Value,
+    extra: &[&str],
+) -> PathBuf {
+    let sc_path = dir.join(format!("{name}.json"));
+    std::fs::write(&sc_path, serde_json::to_string_pretty(scenario).unwrap()).unwrap();
+    let run_dir = dir.join(out);
+    let mut args = vec![
+        "run",
+        sc_path.to_str().unwrap(),
+        "--out",
+        run_dir.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    run(&args);
+    run_dir
+}
+
 /// bodies.csv as the test reads it: per sample time, per apple name, the centre.
 type Samples = BTreeMap<u64, BTreeMap<String, [f64; 3]>>;
 
@@ -654,18 +677,13 @@ fn every_surface_kind_and_a_run_without_apples() {
         dir.join("floor_two_triangles.obj"),
     )
     .unwrap();
-    let sc_path = dir.join("kinds.json");
-    std::fs::write(&sc_path, serde_json::to_string_pretty(&scenario).unwrap()).unwrap();
-    let run_dir = dir.join("run");
-    run(&[
+    let run_dir = run_scenario(
+        &dir,
+        "kinds",
         "run",
-        sc_path.to_str().unwrap(),
-        "--out",
-        run_dir.to_str().unwrap(),
-        "--view",
-        "--max-frames",
-        "20",
-    ]);
+        &scenario,
+        &["--view", "--max-frames", "20"],
+    );
     let (samples, names) = bodies(&run_dir);
     assert_eq!(names.len(), 5);
 
@@ -674,16 +692,7 @@ fn every_surface_kind_and_a_run_without_apples() {
     empty["apples"] = serde_json::json!([]);
     empty["sources"] = serde_json::json!([{ "name": "late", "material": "apple", "diameter_m": 0.08,
         "position_m": [0, 0, 0.5], "rate_per_s": 1, "start_s": 10, "count": 1 }]);
-    let empty_path = dir.join("empty.json");
-    std::fs::write(&empty_path, serde_json::to_string_pretty(&empty).unwrap()).unwrap();
-    let empty_dir = dir.join("empty");
-    run(&[
-        "run",
-        empty_path.to_str().unwrap(),
-        "--out",
-        empty_dir.to_str().unwrap(),
-        "--view",
-    ]);
+    let empty_dir = run_scenario(&dir, "empty", "empty", &empty, &["--view"]);
     let text = std::fs::read_to_string(empty_dir.join("bodies.csv")).unwrap();
     assert_eq!(
         text.lines().count(),
@@ -695,7 +704,7 @@ fn every_surface_kind_and_a_run_without_apples() {
     s.open(&run_dir.join("view.html"), "");
     let v = s.eval(
         "JSON.stringify({ apples: applesimView.apples.userData.count, kinds: applesimView.surfaces.map(m => m.userData.kind), \
-           frames: applesimView.frameTimes.length, arrows: applesimView.scene.children.filter(c => c.type === 'ArrowHelper').length, \
+           frames: applesimView.frameTimes.length, arrows: applesimView.scene.getObjectsByProperty('type', 'ArrowHelper').length, \
            notes: [...document.querySelectorAll('#notes-list li')].map(l => l.textContent) })",
     );
     assert_eq!(v["apples"], 5);
@@ -794,4 +803,112 @@ fn every_surface_kind_and_a_run_without_apples() {
 
     let errors = s.errors();
     assert!(errors.is_empty(), "the pages reported errors: {errors:?}");
+}
+
+/// A moving part is drawn where its motion has it at each frame: a box lowered by translation
+/// keyframes is carried, in the page's scene, by the prescribed offset at the slider's frame's
+/// time (within f32 rounding), with its edges; the fixed floor stays put.
+#[test]
+fn a_moving_box_follows_its_motion() {
+    let dir = tmp("moving");
+    // Keyframes: 0.2 m up at t = 0 (the body starts there), down to 0 and 0.1 m along x at
+    // 0.3 s, held after. The page's frames are samples every 0.01 s, thinned to 21.
+    let keys = [(0.0, [0.0, 0.0, 0.2]), (0.3, [0.1, 0.0, 0.0])];
+    let offset = |t: f64| -> [f64; 3] {
+        let a = (t / 0.3).clamp(0.0, 1.0);
+        [0, 1, 2].map(|k| keys[0].1[k] + a * (keys[1].1[k] - keys[0].1[k]))
+    };
+    let scenario = serde_json::json!({
+        "duration_s": 0.4,
+        "time_step_s": 2e-5,
+        "gravity_m_s2": [0, 0, -9.81],
+        "output": { "sample_interval_s": 0.01 },
+        "materials": {
+            "apple": { "shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800 },
+            "steel": { "youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.28 }
+        },
+        "contact": { "friction": 0.3, "ke": 0.09, "lambda_s_m": 1000 },
+        "apples": [
+            { "name": "a", "material": "apple", "diameter_m": 0.08, "position_m": [0, 0, 0.45] },
+            { "name": "b", "material": "apple", "diameter_m": 0.07, "position_m": [0.5, 0, 0.1] }
+        ],
+        "surfaces": [
+            { "name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1] },
+            { "name": "lift", "type": "box", "material": "steel", "size_m": [0.3, 0.3, 0.05], "position_m": [0, 0, 0.1],
+              "motion": { "translation": { "keyframes": [[keys[0].0, keys[0].1], [keys[1].0, keys[1].1]] } } }
+        ]
+    });
+    let run_dir = run_scenario(&dir, "moving", "run", &scenario, &[]);
+    run(&["view", run_dir.to_str().unwrap(), "--max-frames", "21"]);
+
+    let s = launch("moving");
+    s.open(&run_dir.join("view.html"), "");
+    let notes = s.eval(
+        "JSON.stringify([...document.querySelectorAll('#notes-list li')].map(l => l.textContent))",
+    );
+    assert!(!notes.to_string().contains("where it starts"), "{notes}");
+    assert!(
+        notes.to_string().contains("moving surface(s) 'lift'"),
+        "{notes}"
+    );
+    // Slider to frame k (as a person's input does), then the meshes' poses.
+    let at = |k: usize| {
+        s.eval(&format!(
+            "(() => {{ const V = applesimView, e = document.getElementById('slider'); \
+               e.value = '{k}'; e.dispatchEvent(new Event('input')); \
+               const m = V.surfaces.map(x => [x.userData.surface, x.position.toArray(), x.quaternion.toArray(), \
+                 x.children.filter(c => c.type === 'LineSegments').length]); \
+               return JSON.stringify({{ t: String(V.frameTimes[{k}]), frames: V.frameTimes.length, m }}); }})()"
+        ))
+    };
+    let mut worst = 0.0f64;
+    let mut seen = Vec::new();
+    for k in [4usize, 10, 20] {
+        let v = at(k);
+        assert_eq!(v["frames"], 21);
+        let t: f64 = v["t"].as_str().unwrap().parse().unwrap();
+        let want = offset(t);
+        let m = v["m"].as_array().unwrap();
+        assert_eq!(m.len(), 2);
+        assert_eq!(m[0][0], "floor");
+        assert_eq!(m[1][0], "lift");
+        for (name, mesh, moved) in [("floor", &m[0], [0.0; 3]), ("lift", &m[1], want)] {
+            for a in 0..3 {
+                let got = mesh[1][a].as_f64().unwrap();
+                let err = (got - moved[a]).abs();
+                worst = worst.max(err);
+                // The poses are embedded as f32: one f32 epsilon of the offset.
+                assert!(
+                    err <= f32::EPSILON as f64 * moved[a].abs(),
+                    "{name} at t = {t} s, axis {a}: drawn offset {got} m, prescribed {} m",
+                    moved[a]
+                );
+            }
+            assert_eq!(mesh[2], serde_json::json!([0, 0, 0, 1]), "{name} turned");
+            assert_eq!(mesh[3], 1, "{name}'s edges are not its child");
+        }
+        seen.push((t, want));
+    }
+    // Two distinct poses were checked, the box between its keyframes and past the last.
+    assert!(
+        seen[0].0 > 0.0 && seen[0].0 < 0.3 && seen[2].0 > 0.3,
+        "{seen:?}"
+    );
+    assert!((seen[0].1[2] - seen[2].1[2]).abs() > 0.1);
+    // Colour by impact still works on the moving box: grey at t = 0, coloured once apple a
+    // has landed on it (contacts.csv has that contact).
+    let contacts = std::fs::read_to_string(run_dir.join("contacts.csv")).unwrap();
+    assert!(contacts.lines().any(|l| l.contains(",lift,")), "{contacts}");
+    let colour = |k: usize| {
+        at(k);
+        s.eval("JSON.stringify(applesimView.surfaces[1].material.color.getHex())")
+    };
+    assert_ne!(
+        colour(0),
+        colour(20),
+        "the moving box's colour did not change with its impact"
+    );
+    eprintln!("moving box: worst drawn offset error {worst:.2e} m over frames {seen:?}");
+    let errors = s.errors();
+    assert!(errors.is_empty(), "the page reported errors: {errors:?}");
 }

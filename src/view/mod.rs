@@ -234,6 +234,9 @@ struct Page {
     /// Where the states come from.
     states_source: &'static str,
     surfaces: Vec<SurfaceInfo>,
+    /// The moving bodies that carry surfaces away from where the scenario puts them (a
+    /// translation or rotation `motion`; not a roller only turning about its own axis).
+    movers: Vec<MoverInfo>,
     /// The names of [`ContactInfo`]'s fields, in the order of each row of `contacts`.
     contact_fields: &'static [&'static str],
     /// One array per contact (rows rather than objects: a tenth of the size for a big run),
@@ -280,6 +283,20 @@ struct SurfaceInfo {
     /// A belt: its direction of travel (world unit vector) and speed (m/s).
     #[serde(skip_serializing_if = "Option::is_none")]
     belt: Option<Belt>,
+    /// The index in `movers` of the body that carries it, if it moves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mover: Option<usize>,
+}
+
+/// A moving body: per frame, the rigid move from the rest pose (where the scenario puts its
+/// parts, where their triangles are) to its pose at the frame's time.
+#[derive(Debug, Serialize)]
+struct MoverInfo {
+    /// The surface (a roller bed's roller) whose motion it is.
+    name: String,
+    /// Per frame, translation x y z (m) then rotation quaternion x y z w, f32 little-endian,
+    /// base64.
+    poses_b64: String,
 }
 
 #[derive(Debug, Serialize)]
@@ -720,7 +737,8 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         .asset_dir
         .clone()
         .unwrap_or_else(|| run_dir.to_path_buf());
-    let (surfaces, bounded_lo, bounded_hi) = surfaces_of(&sc, &base, lo, hi, n > 0, &mut notes);
+    let (surfaces, movers, bounded_lo, bounded_hi) =
+        surfaces_of(&sc, &base, lo, hi, n > 0, &times, &mut notes);
     let mut scene_lo = lo;
     let mut scene_hi = hi;
     if n > 0 {
@@ -784,6 +802,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         states_b64,
         states_source,
         surfaces,
+        movers,
         contact_fields: &CONTACT_FIELDS,
         contacts: contacts.iter().map(ContactInfo::row).collect(),
         curves,

@@ -161,6 +161,14 @@ impl Motion {
         pose
     }
 
+    /// The rigid move that takes a part from where the scenario puts it (the rest pose) to where
+    /// its body carries it at `t_s`, without a roller's own turn: `pose_spun(t_s, 0) *
+    /// rest_pose()^-1`, the same for every part of the body. The viewer ([`crate::view`]) moves
+    /// a surface's mesh, tessellated at the rest pose, by it.
+    pub fn carry(&self, t_s: f64) -> Pose {
+        self.pose_spun(t_s, 0.0) * self.rest_pose().inverse()
+    }
+
     /// Velocity of the body's origin and its angular velocity at `t_s` (right-hand slopes at
     /// keyframes): the velocity the body starts with, before rapier derives it from the poses.
     pub fn velocity(&self, t_s: f64) -> (Vec3, Vec3) {
