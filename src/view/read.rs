@@ -31,6 +31,22 @@ pub(super) fn csv_reader(path: &Path) -> Result<csv::Reader<std::fs::File>, View
     Ok(csv::ReaderBuilder::new().has_headers(true).from_reader(f))
 }
 
+/// A run's CSV file and its header; an empty file (no header: the run was stopped before it
+/// wrote it, or the file was cut) is refused naming it.
+pub(super) fn open_csv(
+    path: &Path,
+) -> Result<(csv::Reader<std::fs::File>, csv::StringRecord), ViewError> {
+    let mut r = csv_reader(path)?;
+    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    if h.is_empty() || h.iter().all(|x| x.is_empty()) {
+        return Err(bad(
+            path,
+            "empty file: the run was stopped before it wrote it, or the file was cut",
+        ));
+    }
+    Ok((r, h))
+}
+
 pub(super) fn csv_err(path: &Path, e: csv::Error) -> ViewError {
     let line = e.position().map(|p| p.line());
     let msg = match e.kind() {
@@ -98,14 +114,7 @@ pub(super) fn body_cols(path: &Path, h: &csv::StringRecord) -> Result<BodyCols, 
 }
 
 pub(super) fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewError> {
-    let mut r = csv_reader(path)?;
-    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
-    if h.is_empty() || h.iter().all(|x| x.is_empty()) {
-        return Err(bad(
-            path,
-            "empty file: the run was stopped before it wrote it, or the file was cut",
-        ));
-    }
+    let (mut r, h) = open_csv(path)?;
     let cols = body_cols(path, &h)?;
     let mut s = BodiesScan {
         times: Vec::new(),
@@ -231,8 +240,7 @@ pub(super) fn read_transitions(
     path: &Path,
     index: &HashMap<String, u32>,
 ) -> Result<HashMap<u32, Track>, ViewError> {
-    let mut r = csv_reader(path)?;
-    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (mut r, h) = open_csv(path)?;
     let (ca, cf, ct, cti) = (
         column(path, &h, "apple")?,
         column(path, &h, "from")?,
@@ -277,8 +285,7 @@ pub(super) fn read_curves(
     path: &Path,
     wanted: &BTreeMap<usize, f64>,
 ) -> Result<BTreeMap<usize, [Vec<serde_json::Value>; 2]>, ViewError> {
-    let mut r = csv_reader(path)?;
-    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (mut r, h) = open_csv(path)?;
     let (cc, ct, cf) = (
         column(path, &h, "contact")?,
         column(path, &h, "time_s")?,
@@ -321,8 +328,7 @@ pub(super) fn read_curves(
 }
 
 pub(super) fn read_bruise(path: &Path) -> Result<Risks, ViewError> {
-    let mut r = csv_reader(path)?;
-    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
+    let (mut r, h) = open_csv(path)?;
     let (cc, ca, cr, ce, cf) = (
         column(path, &h, "contact")?,
         column(path, &h, "apple")?,
@@ -368,14 +374,7 @@ pub(super) fn read_contacts(
     risks: Option<&BTreeMap<(usize, String), String>>,
     default_threshold: f64,
 ) -> Result<Vec<ContactInfo>, ViewError> {
-    let mut r = csv_reader(path)?;
-    let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
-    if h.is_empty() || h.iter().all(|x| x.is_empty()) {
-        return Err(bad(
-            path,
-            "empty file: the run was stopped before it wrote it, or the file was cut",
-        ));
-    }
+    let (mut r, h) = open_csv(path)?;
     let c = |n: &str| column(path, &h, n);
     let cid = c("impact_duration_s")?;
     let (ca, cb, cs, ce, cp, ctp, cpr, cpt, ci) = (
