@@ -239,17 +239,25 @@ fn decode(bytes: &[u8]) -> (Vec<u8>, u32, u32) {
     (rgba, info.width, info.height)
 }
 
-/// Pixels whose colour differs by more than 24 (sum over channels) between two screenshots.
+/// Whether two RGBA pixels differ by more than 24 (sum over the colour channels).
+fn differs(p: &[u8], q: &[u8]) -> bool {
+    (0..3)
+        .map(|k| (p[k] as i32 - q[k] as i32).abs())
+        .sum::<i32>()
+        > 24
+}
+
+/// Pixels whose colour differs between two screenshots.
 fn changed_pixels(a: &[u8], b: &[u8]) -> usize {
     a.chunks(4)
         .zip(b.chunks(4))
-        .filter(|(p, q)| {
-            (0..3)
-                .map(|k| (p[k] as i32 - q[k] as i32).abs())
-                .sum::<i32>()
-                > 24
-        })
+        .filter(|(p, q)| differs(p, q))
         .count()
+}
+
+/// Pixels of a screenshot not of its background (the colour of its first pixel).
+fn drawn_pixels(px: &[u8]) -> usize {
+    px.chunks(4).filter(|p| differs(p, &px[..4])).count()
 }
 
 fn run(args: &[&str]) -> std::process::Output {
@@ -460,17 +468,13 @@ fn handling_line_in_chromium() {
     assert_eq!(one[5], true, "apple {} is under a panel", names[i]);
     let (px, w, _) = s.screenshot();
     let dpr = w as f64 / one[4].as_f64().unwrap();
-    let bg = [px[0], px[1], px[2]];
     let (mut inside, mut outside) = (0usize, 0usize);
     for (k, p) in px.chunks(4).enumerate() {
-        let d = (0..3)
-            .map(|c| (p[c] as i32 - bg[c] as i32).abs())
-            .sum::<i32>();
         let (qx, qy) = (
             (k % w as usize) as f64 / dpr + 0.5,
             (k / w as usize) as f64 / dpr + 0.5,
         );
-        if d > 24 && (qx - x).abs() < 3.0 * rpx && (qy - y).abs() < 3.0 * rpx {
+        if differs(p, &px[..4]) && (qx - x).abs() < 3.0 * rpx && (qy - y).abs() < 3.0 * rpx {
             if (qx - x).hypot(qy - y) <= 1.1 * rpx + 1.5 {
                 inside += 1;
             } else {
@@ -548,16 +552,7 @@ fn handling_line_in_chromium() {
         ));
         let (px, w, h) = s.screenshot();
         assert!(w >= 800 && h >= 500, "a {w} x {h} viewport");
-        let bg = [px[0], px[1], px[2]];
-        let non_bg = px
-            .chunks(4)
-            .filter(|p| {
-                (0..3)
-                    .map(|k| (p[k] as i32 - bg[k] as i32).abs())
-                    .sum::<i32>()
-                    > 24
-            })
-            .count();
+        let non_bg = drawn_pixels(&px);
         let distinct: std::collections::BTreeSet<[u8; 3]> = px
             .chunks(4)
             .map(|p| [p[0] / 8, p[1] / 8, p[2] / 8])
@@ -786,16 +781,7 @@ fn every_surface_kind_and_a_run_without_apples() {
         v["notes"]
     );
     let (px, w, h) = s.screenshot();
-    let bg = [px[0], px[1], px[2]];
-    let drawn = px
-        .chunks(4)
-        .filter(|p| {
-            (0..3)
-                .map(|k| (p[k] as i32 - bg[k] as i32).abs())
-                .sum::<i32>()
-                > 24
-        })
-        .count();
+    let drawn = drawn_pixels(&px);
     assert!(
         drawn > (w * h / 50) as usize,
         "the empty run's page is blank"
