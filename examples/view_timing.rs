@@ -129,21 +129,17 @@ fn main() {
         let (x, y) = (info[2][0].as_f64().unwrap(), info[2][1].as_f64().unwrap());
         tab.click_point(Point { x, y }).unwrap();
         let t0 = Instant::now();
-        let f0 = tab
-            .evaluate("window.__frames", false)
-            .unwrap()
-            .value
-            .unwrap()
-            .as_f64()
-            .unwrap();
+        let frames = || {
+            tab.evaluate("window.__frames", false)
+                .unwrap()
+                .value
+                .unwrap()
+                .as_f64()
+                .unwrap()
+        };
+        let f0 = frames();
         std::thread::sleep(Duration::from_secs(5));
-        let f1 = tab
-            .evaluate("window.__frames", false)
-            .unwrap()
-            .value
-            .unwrap()
-            .as_f64()
-            .unwrap();
+        let f1 = frames();
         let fps = (f1 - f0) / t0.elapsed().as_secs_f64();
         println!(
             "| {} | {:.1} | {} | {} | {:.0} ({:.0}-{:.0}) | {:.1} | {:.1} | {:.1} | {} | {} | {} |",
