@@ -318,24 +318,39 @@ fn johnson_ellipse(r1: f64, r2: f64, e_star: f64, p: f64) -> (f64, f64) {
     (a, x * a)
 }
 
-/// Item 1: an apple asleep on a fixed floor is woken by a pusher (a box moving by a keyframed
-/// translation) that reaches it at about 1.1 s: without the wake it would pass through it.
-#[test]
-fn a_sleeping_apple_wakes_when_a_part_moves_into_it() {
-    let r = 0.04;
-    let sc = parse(&json!({
-        "duration_s": 1.6, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+/// Radius of the apple of [`apple_on_floor`] (m).
+const FLOOR_APPLE_R: f64 = 0.04;
+
+/// The paper's Figs. 6-7 apple (0.107 kg) set 0.1 mm into a steel floor, with the surfaces
+/// `parts` (a JSON array) beside the floor, for `duration_s`.
+fn apple_on_floor(duration_s: f64, parts: Value) -> Scenario {
+    let r = FLOOR_APPLE_R;
+    let mut surfaces = vec![
+        json!({"name": "floor", "type": "plane", "material": "steel",
+        "point_m": [0, 0, 0], "normal": [0, 0, 1]}),
+    ];
+    surfaces.extend(parts.as_array().unwrap().iter().cloned());
+    parse(&json!({
+        "duration_s": duration_s, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
         "output": {"sample_interval_s": 1e-2, "force_history": false},
         "materials": materials(),
         "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
         "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * r, "mass_kg": 0.107,
             "position_m": [0, 0, r - 1e-4]}],
-        "surfaces": [
-            {"name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1]},
-            {"name": "pusher", "type": "box", "material": "steel", "size_m": [0.02, 0.2, 0.1],
-             "position_m": [-0.2, 0, 0.06],
-             "motion": {"translation": {"keyframes": [[0.8, [0, 0, 0]], [1.5, [0.2, 0, 0]]]}}}]
-    }));
+        "surfaces": surfaces
+    }))
+}
+
+/// Item 1: an apple asleep on a fixed floor is woken by a pusher (a box moving by a keyframed
+/// translation) that reaches it at about 1.1 s: without the wake it would pass through it.
+#[test]
+fn a_sleeping_apple_wakes_when_a_part_moves_into_it() {
+    let sc = apple_on_floor(
+        1.6,
+        json!([{"name": "pusher", "type": "box", "material": "steel", "size_m": [0.02, 0.2, 0.1],
+            "position_m": [-0.2, 0, 0.06],
+            "motion": {"translation": {"keyframes": [[0.8, [0, 0, 0]], [1.5, [0.2, 0, 0]]]}}}]),
+    );
     let mut sim = applesim::sim::Simulation::new(&sc, &repo("scenarios")).unwrap();
     let mut series = MemorySeries::default();
     let mut was_asleep = false;
@@ -350,7 +365,7 @@ fn a_sleeping_apple_wakes_when_a_part_moves_into_it() {
     let x = series.of(0).last().unwrap().1.position.x;
     println!("pushed to x = {x:.4} m");
     // The pusher's face ends at -0.2 + 0.01 + 0.2 = 0.01 m: the apple's centre is beyond it.
-    assert!(x > 0.01 + r - 2e-3, "pushed: x = {x}");
+    assert!(x > 0.01 + FLOOR_APPLE_R - 2e-3, "pushed: x = {x}");
 }
 
 /// Item 1: mistakes in a motion or a roller are refused with the field named.
@@ -464,22 +479,16 @@ fn the_roller_singulator_turns_each_apple_under_the_camera() {
 /// half the radius, `model.max_overlap_ratio`) stops the run.
 #[test]
 fn a_part_that_crushes_an_apple_against_another_is_refused_naming_the_pair() {
-    let r = 0.04;
-    let sc = parse(&json!({
-        "duration_s": 1.0, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
-        "output": {"sample_interval_s": 1e-2, "force_history": false},
-        "materials": materials(),
-        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
-        "apples": [{"name": "a1", "material": "apple", "diameter_m": 2.0 * r, "mass_kg": 0.107,
-            "position_m": [0, 0, r - 1e-4]}],
-        "surfaces": [
-            {"name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1]},
+    let r = FLOOR_APPLE_R;
+    let sc = apple_on_floor(
+        1.0,
+        json!([
             {"name": "wall", "type": "box", "material": "steel", "size_m": [0.02, 0.2, 0.1],
              "position_m": [r + 0.01, 0, 0.06]},
             {"name": "pusher", "type": "box", "material": "steel", "size_m": [0.02, 0.2, 0.1],
              "position_m": [-r - 0.02, 0, 0.06],
-             "motion": {"translation": {"keyframes": [[0.1, [0, 0, 0]], [0.9, [0.058, 0, 0]]]}}}]
-    }));
+             "motion": {"translation": {"keyframes": [[0.1, [0, 0, 0]], [0.9, [0.058, 0, 0]]]}}}]),
+    );
     scenario::validate(&sc).unwrap();
     let mut series = MemorySeries::default();
     let e = applesim::sim::run(&sc, &repo("scenarios"), &mut series)
