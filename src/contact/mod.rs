@@ -431,7 +431,8 @@ pub fn rolling_torque(
 /// The twisting torque on body 1 of a contact (see [`twisting`]); body 2 gets the opposite.
 /// `rel_angular_velocity` is w1 - w2, `resp` the contact's response this step, `kill_rate` the
 /// share of 1/dt that bounds the torque (as for the friction dashpot): the spin stops within a
-/// step at most, about the centres (the moment `spin_inertia_kg_m2`).
+/// step at most, about the centres (the moment `spin_inertia_kg_m2`). The patch is the true
+/// contact area's circle (sqrt(a b) on a roller's ellipse, the same radius on a circle).
 #[inline]
 pub fn twisting_torque(
     law: &PairLaw,
@@ -444,7 +445,7 @@ pub fn twisting_torque(
     match law.models.twisting {
         TwistingModel::None => Vec3::ZERO,
         TwistingModel::Coulomb => twisting::coulomb_torque(
-            twisting::coulomb_limit(law.friction, resp.contact_radius_m, resp.normal_force_n),
+            twisting::coulomb_limit(law.friction, resp.area_radius_m, resp.normal_force_n),
             rel_angular_velocity,
             n,
             kill_rate * k.spin_inertia_kg_m2,
