@@ -209,7 +209,7 @@ fn documented_results_of_the_line() {
         0.4,
         1,
     );
-    // They leave the chute at about 2.1 m/s horizontally (transitions.csv: airborne from the
+    // They leave the chute at about 2.0 m/s horizontally (transitions.csv: airborne from the
     // chute, moving along its 20 degree slope).
     for r in rows("transitions.csv")
         .iter()

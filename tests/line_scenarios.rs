@@ -236,7 +236,7 @@ fn belt_carries_apples_at_belt_speed() {
             "{}: {peaks:?}",
             a.name
         );
-        // Every apple ends riding: its speed within 0.1 % of V (docs/lines.md: 0.02 %).
+        // Every apple ends riding: its speed within 0.1 % of V (docs/lines.md: 0.041 % at worst).
         let (_, v_end) = *s.last().unwrap();
         assert!(
             (v_end - V).abs() <= 1e-3 * V,
@@ -885,8 +885,8 @@ fn closed_form_figures_of_the_doc() {
 /// Issue 22's bin filler (scenarios/lines/bin_filler.json): the same pour into a bin that starts
 /// 0.2 m higher, 0.1 m under the pour, and is lowered as it fills (keyframed translation) takes
 /// the hardest floor impacts out of the fixed bin's (docs/lines.md, "A bin filler"). Golden
-/// values of the shipped runs (the piles are chaotic): largest apple-floor peak force 173.1 N
-/// against 255.2 N, floor contacts above 80 N 40 against 106.
+/// values of the shipped runs (the piles are chaotic): largest apple-floor peak force 165.0 N
+/// against 279.2 N, floor contacts above 80 N 39 against 107.
 #[test]
 fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
     let fixed = shipped("scenarios/lines/bin_filling.json");
