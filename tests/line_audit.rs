@@ -180,6 +180,36 @@ fn every_transfer_point_of_the_handling_line_is_audited() {
             }
         }
     }
+    // docs/analysis.md (golden, printed digits): feed-4 lands on the bin floor at 2.03 m/s
+    // while an apple lands on it; its velocity change reads 2.35 m/s, where the contact's impulse
+    // over its mass would read 4.69 m/s over the impact pulse (4.79 over the whole contact).
+    let landing = contacts
+        .iter()
+        .find(|c| {
+            c["a"] == "feed-4"
+                && c["b"] == "bin/floor"
+                && (num(c, "approach_speed_m_s") - 2.03).abs() <= 0.005
+        })
+        .expect("feed-4's landing on the bin floor");
+    let m = num(landing, "a_mass_kg");
+    for (what, got, doc) in [
+        (
+            "velocity change",
+            num(landing, "a_velocity_change_m_s"),
+            2.35,
+        ),
+        (
+            "impact impulse / m",
+            num(landing, "impact_impulse_n_s") / m,
+            4.69,
+        ),
+        ("impulse / m", num(landing, "impulse_n_s") / m, 4.79),
+    ] {
+        assert!(
+            (got - doc).abs() <= 0.01,
+            "{what}: {got}, docs/analysis.md {doc}"
+        );
+    }
     // Hardest first.
     let peaks: Vec<f64> = audit.iter().map(|r| num(r, "peak_force_n_max")).collect();
     assert!(peaks.windows(2).all(|w| w[0] >= w[1]), "{peaks:?}");
