@@ -234,8 +234,8 @@ struct Page {
     /// Where the states come from.
     states_source: &'static str,
     surfaces: Vec<SurfaceInfo>,
-    /// The moving bodies that carry surfaces away from where the scenario puts them (a
-    /// translation or rotation `motion`; not a roller only turning about its own axis).
+    /// The moving bodies: those that carry surfaces away from where the scenario puts them (a
+    /// translation or rotation `motion`) and powered rollers turning about their own axes.
     movers: Vec<MoverInfo>,
     /// The names of [`ContactInfo`]'s fields, in the order of each row of `contacts`.
     contact_fields: &'static [&'static str],
@@ -280,6 +280,9 @@ struct SurfaceInfo {
     material: String,
     /// Triangle vertices, f32 little-endian x y z, base64 (three per triangle, unindexed).
     triangles_b64: String,
+    /// A roller: per triangle, 1 on a dark stripe and 0 on a light one, so that its turn shows.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    stripes_b64: Option<String>,
     /// A belt: its direction of travel (world unit vector) and speed (m/s).
     #[serde(skip_serializing_if = "Option::is_none")]
     belt: Option<Belt>,
