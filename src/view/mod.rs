@@ -291,14 +291,18 @@ struct SurfaceInfo {
     mover: Option<usize>,
 }
 
-/// A moving body: per frame, the rigid move from the rest pose (where the scenario puts its
-/// parts, where their triangles are) to its pose at the frame's time.
+/// A moving body: its origin at rest (a roller's centre, else the world's origin) and its pose
+/// per frame. The page draws its parts' triangles (at their rest poses) relative to the origin
+/// and moves them by the pose, interpolated between frames: the origin in a straight line, the
+/// rotation about it, so that a roller turns in place between frames.
 #[derive(Debug, Serialize)]
 struct MoverInfo {
     /// The surface (a roller bed's roller) whose motion it is.
     name: String,
-    /// Per frame, translation x y z (m) then rotation quaternion x y z w, f32 little-endian,
-    /// base64.
+    /// The body's origin at rest (m).
+    origin_m: [f64; 3],
+    /// Per frame, the body's pose ([`crate::world::motion::Motion::pose`]): translation x y z
+    /// (m) then rotation quaternion x y z w, f32 little-endian, base64.
     poses_b64: String,
 }
 

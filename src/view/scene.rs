@@ -41,10 +41,10 @@ struct PartMeta {
     roller: Option<Pose>,
 }
 
-/// A moving body: its name, its drawn move from the rest pose per frame (with a powered
-/// roller's turn), and its place per frame without the turn (for the scene's extent: a roller
-/// is round, and its turned bounding box would widen the scene).
-type Carried = (String, Vec<Pose>, Vec<Pose>);
+/// A moving body: its name; its pose per frame as drawn (with a powered roller's turn); its
+/// move from the rest pose per frame without the turn (for the scene's extent: a roller is
+/// round, and its turned bounding box would widen the scene); its origin at rest.
+type Carried = (String, Vec<Pose>, Vec<Pose>, Vec3);
 
 /// The surfaces of the scenario, tessellated at their rest poses; the bodies that carry the
 /// moving ones, posed at each frame's time (`times`); the extent of the bounded surfaces over
@@ -119,14 +119,23 @@ pub(super) fn surfaces_of(
                 if !(m.displaces() || turned) {
                     return None;
                 }
-                let rest = m.rest_pose().inverse();
                 let place: Vec<Pose> = times.iter().map(|&t| m.carry(t)).collect();
-                let drawn = if turned {
-                    times.iter().map(|&t| m.pose(t) * rest).collect()
-                } else {
-                    place.clone()
-                };
-                carried.push((u.name().to_string(), drawn, place));
+                let drawn = times
+                    .iter()
+                    .map(|&t| {
+                        if turned {
+                            m.pose(t)
+                        } else {
+                            m.pose_spun(t, 0.0)
+                        }
+                    })
+                    .collect();
+                carried.push((
+                    u.name().to_string(),
+                    drawn,
+                    place,
+                    m.rest_pose().translation,
+                ));
                 Some(carried.len() - 1)
             })
             .collect();
@@ -270,7 +279,7 @@ pub(super) fn surfaces_of(
         .collect();
     let movers = carried
         .into_iter()
-        .map(|(name, poses, _)| {
+        .map(|(name, poses, _, origin)| {
             let mut bytes = Vec::with_capacity(poses.len() * 28);
             for p in &poses {
                 let (t, q) = (p.translation, p.rotation);
@@ -280,6 +289,7 @@ pub(super) fn surfaces_of(
             }
             MoverInfo {
                 name,
+                origin_m: [origin.x, origin.y, origin.z],
                 poses_b64: b64(&bytes),
             }
         })
@@ -421,9 +431,9 @@ mod tests {
     }
 
     /// A roller bed carried by a `motion` is one body per roller, as the world builds it: each
-    /// roller's part has its own mover, posed per frame by the translation and its own turn w t
-    /// about its axis through its centre; a powered roller that only turns has a mover too,
-    /// turning in place. A free-turning roller (angle not recorded) and one turning more than
+    /// roller's part has its own mover, its origin the roller's centre, posed per frame by the
+    /// translation and its own turn w t about its axis; a powered roller that only turns has a
+    /// mover too, turning in place. A free-turning roller (angle not recorded) and one turning more than
     /// [`MAX_TURN_PER_FRAME_RAD`] between frames have none, and the notes say why. Every roller
     /// is striped: half of its side's triangles dark, its caps light.
     #[test]
@@ -463,15 +473,16 @@ mod tests {
         let bodies: Vec<Option<usize>> = surfaces.iter().map(|s| s.mover).collect();
         assert_eq!(bodies, [Some(0), Some(1), Some(2), Some(3), None, None]);
         assert_eq!(movers.len(), 4);
-        // Frame 1 (t = 0.2 s): turned 1 rad about y through the roller's centre c, and the bed
-        // 0.1 m along x: the move is T(d + c - R c) R.
+        // Each body's origin is its roller's centre c, where its pose puts it at t = 0; at
+        // frame 1 (t = 0.2 s) turned 1 rad about y, and the bed's 0.1 m along x: T(c + d) R.
         let q = rapier3d_f64::math::Rotation::from_axis_angle(Vec3::Y, 1.0);
         let centres = [(0.0, 0.1), (0.08, 0.1), (0.16, 0.1), (0.0, 0.0)];
         for (m, &(x, d)) in movers.iter().zip(&centres) {
             let f = poses(m);
-            assert_eq!(f[0], [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
             let c = Vec3::new(x, if d == 0.0 { 1.0 } else { 0.0 }, 0.0);
-            let p = Vec3::new(d, 0.0, 0.0) + c - q * c;
+            assert_eq!(m.origin_m, [c.x, c.y, c.z]);
+            assert_eq!(f[0], [c.x as f32, c.y as f32, 0.0, 0.0, 0.0, 0.0, 1.0]);
+            let p = c + Vec3::new(d, 0.0, 0.0);
             let want = [p.x, p.y, p.z, q.x, q.y, q.z, q.w];
             for k in 0..7 {
                 assert!(
