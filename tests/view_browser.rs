@@ -898,3 +898,169 @@ fn a_moving_box_follows_its_motion() {
     let errors = s.errors();
     assert!(errors.is_empty(), "the page reported errors: {errors:?}");
 }
+
+/// The rotation quaternion [x, y, z, w] of `angle` (rad) about the unit `axis`.
+fn quat(axis: [f64; 3], angle: f64) -> [f64; 4] {
+    let s = (angle / 2.0).sin();
+    [axis[0] * s, axis[1] * s, axis[2] * s, (angle / 2.0).cos()]
+}
+
+/// The angle (rad) of the rotation that takes the unit quaternion `a` to `b` (either sign):
+/// 2 atan2(|v|, |w|) of a^-1 b, well conditioned near 0 (unlike acos of the dot product).
+fn quat_angle(a: [f64; 4], b: [f64; 4]) -> f64 {
+    let [ax, ay, az, aw] = [-a[0], -a[1], -a[2], a[3]];
+    let [bx, by, bz, bw] = b;
+    let x = aw * bx + ax * bw + ay * bz - az * by;
+    let y = aw * by - ax * bz + ay * bw + az * bx;
+    let z = aw * bz + ax * by - ay * bx + az * bw;
+    let w = aw * bw - ax * bx - ay * by - az * bz;
+    2.0 * (x * x + y * y + z * z).sqrt().atan2(w.abs())
+}
+
+/// `v` turned by the unit quaternion `q`.
+fn quat_rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
+    let (u, w) = ([q[0], q[1], q[2]], q[3]);
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let t = cross(u, v).map(|x| 2.0 * x);
+    let c = cross(u, t);
+    [0, 1, 2].map(|k| v[k] + w * t[k] + c[k])
+}
+
+/// A powered roller is drawn turning about its own axis: at 3 slider frames (0.08, 0.2 and
+/// 0.4 s, turned 0.8, 2 and 4 rad) and between two frames (t = 0.21 s from the link, the page
+/// interpolating), its drawn quaternion is the closed-form turn w t about its (tilted) axis
+/// with w = surface speed / radius = 0.25 / 0.025 = 10 rad/s, and the roller's centre c stays
+/// where it is (between frames too: the page turns it about its centre, not the world's
+/// origin). Tolerance: the poses are embedded as f32, each quaternion component rounded to half
+/// an f32 epsilon of itself, which turns the rotation by at most one f32 epsilon (1.19e-7
+/// rad); the centre to one f32 epsilon of |c| = 0.1 m. Measured: worst angle error 7.5e-8 rad,
+/// worst centre error 1.5e-9 m (the f32 rounding of 0.1). It is striped (a
+/// colour attribute, half of its side's triangles dark), the page's note says it turns, and
+/// the turn shows: the rendered pixels change between two frames while the one apple rests.
+#[test]
+fn a_powered_roller_turns_at_its_rate() {
+    let dir = tmp("roller");
+    let (speed, radius) = (0.25, 0.025);
+    let w = speed / radius;
+    let n = 0.6f64.hypot(0.8);
+    let axis = [0.6 / n, 0.8 / n, 0.0];
+    let centre = [0.0, 0.0, 0.1];
+    let scenario = serde_json::json!({
+        "duration_s": 0.4,
+        "time_step_s": 2e-5,
+        "gravity_m_s2": [0, 0, -9.81],
+        "output": { "sample_interval_s": 0.01 },
+        "materials": {
+            "apple": { "shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800 },
+            "steel": { "youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.28 }
+        },
+        "contact": { "friction": 0.3, "ke": 0.09, "lambda_s_m": 1000 },
+        "apples": [
+            { "name": "a", "material": "apple", "diameter_m": 0.08, "position_m": [0.3, 0, 0.04] }
+        ],
+        "surfaces": [
+            { "name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1] },
+            { "name": "drive", "type": "roller", "material": "steel", "radius_m": radius, "length_m": 0.3,
+              "position_m": centre, "axis": [0.6, 0.8, 0], "angular_velocity_rad_s": w }
+        ]
+    });
+    let run_dir = run_scenario(&dir, "roller", "run", &scenario, &[]);
+    run(&["view", run_dir.to_str().unwrap(), "--max-frames", "21"]);
+
+    let s = launch("roller");
+    let (mut worst_angle, mut worst_pos) = (0.0f64, 0.0f64);
+    let mut check = |v: &serde_json::Value, t: f64| {
+        let got_q: Vec<f64> = (0..4).map(|k| v["q"][k].as_f64().unwrap()).collect();
+        let want_q = quat(axis, w * t);
+        let err = quat_angle(want_q, [got_q[0], got_q[1], got_q[2], got_q[3]]);
+        worst_angle = worst_angle.max(err);
+        assert!(
+            err <= f32::EPSILON as f64,
+            "at t = {t} s the roller is drawn {err:e} rad off its turn w t = {} rad: {got_q:?} vs {want_q:?}",
+            w * t
+        );
+        // Where the drawn mesh puts the roller's centre: its pose applied to the centre taken
+        // relative to the body's origin.
+        let origin: Vec<f64> = (0..3).map(|k| v["origin"][k].as_f64().unwrap()).collect();
+        let local = [0, 1, 2].map(|k| centre[k] - origin[k]);
+        let turned = quat_rotate([got_q[0], got_q[1], got_q[2], got_q[3]], local);
+        for a in 0..3 {
+            let got = v["p"][a].as_f64().unwrap() + turned[a];
+            worst_pos = worst_pos.max((got - centre[a]).abs());
+            assert!(
+                (got - centre[a]).abs() <= f32::EPSILON as f64 * 0.1,
+                "at t = {t} s, axis {a}: the roller's centre drawn at {got} m, not at {} m",
+                centre[a]
+            );
+        }
+    };
+    let pose_js = "const m = V.surfaces.find(x => x.userData.surface === 'drive'); \
+                   const p = V.apples.userData.at(0); \
+                   return JSON.stringify({ t: String(V.state.t), q: m.quaternion.toArray(), p: m.position.toArray(), \
+                     origin: V.data.movers[V.data.surfaces.find(x => x.name === 'drive').mover].origin_m, apple: [p[0], p[1], p[2]], \
+                     frames: V.frameTimes.length, colours: !!m.geometry.getAttribute('color'), vc: m.material.vertexColors, \
+                     notes: document.getElementById('notes-list').textContent });";
+    // Between frames 10 and 11 (0.2 and 0.22 s), from the link.
+    s.open(&run_dir.join("view.html"), "#t=0.21");
+    let v = s.eval(&format!(
+        "(() => {{ const V = applesimView; {pose_js} }})()"
+    ));
+    assert_eq!(v["frames"], 21);
+    assert_eq!(v["t"], "0.21");
+    assert_eq!(v["colours"], true, "the roller has no stripes");
+    assert_eq!(v["vc"], true);
+    let notes = v["notes"].as_str().unwrap();
+    assert!(
+        notes.contains("roller(s) 'drive' drawn turning about their own axes"),
+        "{notes}"
+    );
+    assert!(!notes.contains("without its turn"), "{notes}");
+    check(&v, 0.21);
+    // Half the side's triangles (96 of 48 segments) are dark: colour 0.4 on each vertex.
+    let dark = s.eval(
+        "(() => { const c = applesimView.surfaces.find(x => x.userData.surface === 'drive').geometry.getAttribute('color'); \
+           let n = 0; for (let i = 0; i < c.count; i += 3) if (c.getX(i) < 0.5) n++; return JSON.stringify([n, c.count / 3]); })()",
+    );
+    assert_eq!(dark, serde_json::json!([48, 96 + 92]));
+    // Slider to frame k (as a person's input does), then the roller's pose.
+    let at = |k: usize| {
+        s.eval(&format!(
+            "(() => {{ const V = applesimView, e = document.getElementById('slider'); \
+               e.value = '{k}'; e.dispatchEvent(new Event('input')); {pose_js} }})()"
+        ))
+    };
+    let mut seen = Vec::new();
+    for k in [4usize, 10, 20] {
+        let v = at(k);
+        let t: f64 = v["t"].as_str().unwrap().parse().unwrap();
+        check(&v, t);
+        seen.push(t);
+    }
+    assert_eq!(seen, [0.08, 0.2, 0.4]);
+    // The turn shows: frames 10 and 11 differ on screen, and the apple (the only other thing
+    // that could move) stands still between them.
+    let a10 = at(10)["apple"].clone();
+    let (p10, _, _) = s.screenshot();
+    let a11 = at(11)["apple"].clone();
+    let (p11, _, _) = s.screenshot();
+    for k in 0..3 {
+        let d = (a10[k].as_f64().unwrap() - a11[k].as_f64().unwrap()).abs();
+        assert!(d < 1e-5, "the apple moved {d} m between frames 10 and 11");
+    }
+    let changed = changed_pixels(&p10, &p11);
+    assert!(
+        changed > 100,
+        "only {changed} pixels changed as the roller turned 0.2 rad"
+    );
+    eprintln!(
+        "powered roller: worst angle error {worst_angle:.2e} rad, worst position error {worst_pos:.2e} m, {changed} pixels changed over one frame"
+    );
+    let errors = s.errors();
+    assert!(errors.is_empty(), "the page reported errors: {errors:?}");
+}

@@ -234,8 +234,8 @@ struct Page {
     /// Where the states come from.
     states_source: &'static str,
     surfaces: Vec<SurfaceInfo>,
-    /// The moving bodies that carry surfaces away from where the scenario puts them (a
-    /// translation or rotation `motion`; not a roller only turning about its own axis).
+    /// The moving bodies: those that carry surfaces away from where the scenario puts them (a
+    /// translation or rotation `motion`) and powered rollers turning about their own axes.
     movers: Vec<MoverInfo>,
     /// The names of [`ContactInfo`]'s fields, in the order of each row of `contacts`.
     contact_fields: &'static [&'static str],
@@ -280,6 +280,9 @@ struct SurfaceInfo {
     material: String,
     /// Triangle vertices, f32 little-endian x y z, base64 (three per triangle, unindexed).
     triangles_b64: String,
+    /// A roller: per triangle, 1 on a dark stripe and 0 on a light one, so that its turn shows.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    stripes_b64: Option<String>,
     /// A belt: its direction of travel (world unit vector) and speed (m/s).
     #[serde(skip_serializing_if = "Option::is_none")]
     belt: Option<Belt>,
@@ -288,14 +291,18 @@ struct SurfaceInfo {
     mover: Option<usize>,
 }
 
-/// A moving body: per frame, the rigid move from the rest pose (where the scenario puts its
-/// parts, where their triangles are) to its pose at the frame's time.
+/// A moving body: its origin at rest (a roller's centre, else the world's origin) and its pose
+/// per frame. The page draws its parts' triangles (at their rest poses) relative to the origin
+/// and moves them by the pose, interpolated between frames: the origin in a straight line, the
+/// rotation about it, so that a roller turns in place between frames.
 #[derive(Debug, Serialize)]
 struct MoverInfo {
     /// The surface (a roller bed's roller) whose motion it is.
     name: String,
-    /// Per frame, translation x y z (m) then rotation quaternion x y z w, f32 little-endian,
-    /// base64.
+    /// The body's origin at rest (m).
+    origin_m: [f64; 3],
+    /// Per frame, the body's pose ([`crate::world::motion::Motion::pose`]): translation x y z
+    /// (m) then rotation quaternion x y z w, f32 little-endian, base64.
     poses_b64: String,
 }
 

@@ -2,10 +2,49 @@
 //! tessellated as the ParaView output draws them; planes cut to the scene's extent. A moving
 //! part is tessellated at its rest pose and carried per frame by its body's motion, compiled
 //! from the scenario as the run compiled it ([`Motion::of`] per unit, as `World` builds them).
+//!
+//! A roller is drawn with stripes along it (a two-tone band pattern, [`roller_stripes`]) so that
+//! its own turn shows, and a powered roller's body is posed with its turn: w t at each frame's
+//! time, [`Motion::pose`], through the same per-frame poses as every moving body. The page
+//! interpolates a body's rotation between frames by the shorter way round (quaternion slerp),
+//! which is the roller's true way only while it turns less than half a turn between frames: a
+//! roller that turns more than [`MAX_TURN_PER_FRAME_RAD`] between two frames is drawn without
+//! its turn and the page says so, rather than turning it the wrong way. A free-turning roller's
+//! angle is the run's state ([`crate::world::free_roller`]), not recorded per frame: it is drawn
+//! without its turn, and the page says so.
 
 use super::*;
 use crate::world::motion::Motion;
 use rapier3d_f64::math::Pose;
+
+/// The largest turn of a roller about its own axis between two frames that the page draws
+/// (rad): the quaternion slerp between frames takes the shorter way round, the true way for a
+/// turn under half a turn (pi); a tenth of it is kept as margin, so that f32 poses and a turn
+/// close to half a turn (which the eye cannot tell from its opposite anyway) are not drawn.
+pub(super) const MAX_TURN_PER_FRAME_RAD: f64 = 0.9 * std::f64::consts::PI;
+
+/// Number of stripes around a roller (half of them dark): with the 48 segments of its
+/// tessellation, 6 segments a stripe.
+const ROLLER_STRIPES: usize = 8;
+
+/// What the page needs of one surface part besides its triangles.
+struct PartMeta {
+    name: String,
+    kind: &'static str,
+    material: String,
+    belt: Option<Belt>,
+    /// A plane's point and unit normal.
+    plane: Option<(Vec3, Vec3)>,
+    /// The index of the body that carries it, in `carried`.
+    body: Option<usize>,
+    /// A roller's pose (its axis is the pose's y axis), to stripe it.
+    roller: Option<Pose>,
+}
+
+/// A moving body: its name; its pose per frame as drawn (with a powered roller's turn); its
+/// move from the rest pose per frame without the turn (for the scene's extent: a roller is
+/// round, and its turned bounding box would widen the scene); its origin at rest.
+type Carried = (String, Vec<Pose>, Vec<Pose>, Vec3);
 
 /// The surfaces of the scenario, tessellated at their rest poses; the bodies that carry the
 /// moving ones, posed at each frame's time (`times`); the extent of the bounded surfaces over
@@ -22,18 +61,10 @@ pub(super) fn surfaces_of(
     notes: &mut Vec<String>,
 ) -> (Vec<SurfaceInfo>, Vec<MoverInfo>, Option<Vec3>, Option<Vec3>) {
     let mut items = Vec::new();
-    // (name, kind, material, belt, the plane's point and normal, the body that carries it).
-    let mut meta: Vec<(
-        String,
-        &'static str,
-        String,
-        Option<Belt>,
-        Option<(Vec3, Vec3)>,
-        Option<usize>,
-    )> = Vec::new();
-    // The moving bodies: the rigid move from the rest pose at each frame.
-    let mut carried: Vec<(String, Vec<Pose>)> = Vec::new();
+    let mut meta: Vec<PartMeta> = Vec::new();
+    let mut carried: Vec<Carried> = Vec::new();
     let mut moving = Vec::new();
+    let mut turning = Vec::new();
     for (k, s) in sc.surfaces.iter().enumerate() {
         let field = format!("surfaces[{k}]");
         let parts = match crate::world::surfaces::parts(s, &field, base) {
@@ -67,26 +98,52 @@ pub(super) fn surfaces_of(
         // One body per unit (a roller bed's rollers), as the world builds them.
         let units = s.units();
         let motions: Vec<Option<Motion>> = units.iter().map(Motion::of).collect();
-        if motions.iter().flatten().any(|m| m.spin_axis().is_some()) {
-            notes.push(format!(
-                "roller '{}' turns about its own axis in the run: drawn without its turn (a cylinder looks the same turned)",
+        let turn = roller_turn(s, times);
+        match turn {
+            RollerTurn::None | RollerTurn::Drawn => {}
+            RollerTurn::TooFast(per_frame) => notes.push(format!(
+                "roller '{}' turns {per_frame:.2} rad about its own axis between two frames, more than the page can draw the right way round ({MAX_TURN_PER_FRAME_RAD:.2} rad, nine tenths of half a turn): drawn without its turn; a smaller output.sample_interval_s (or a larger --max-frames, up to the samples) shows it",
                 s.name()
-            ));
+            )),
+            RollerTurn::Free => notes.push(format!(
+                "roller '{}' turns freely in the run: its angle is the run's state, not recorded per frame, so it is drawn without its turn (its final rate and angle are in summary.json, free_rollers)",
+                s.name()
+            )),
         }
         let bodies: Vec<Option<usize>> = units
             .iter()
             .zip(&motions)
             .map(|(u, m)| {
-                let m = m.as_ref().filter(|m| m.displaces())?;
+                let m = m.as_ref()?;
+                let turned = turn == RollerTurn::Drawn && m.spin_axis().is_some();
+                if !(m.displaces() || turned) {
+                    return None;
+                }
+                let place: Vec<Pose> = times.iter().map(|&t| m.carry(t)).collect();
+                let drawn = times
+                    .iter()
+                    .map(|&t| {
+                        if turned {
+                            m.pose(t)
+                        } else {
+                            m.pose_spun(t, 0.0)
+                        }
+                    })
+                    .collect();
                 carried.push((
                     u.name().to_string(),
-                    times.iter().map(|&t| m.carry(t)).collect(),
+                    drawn,
+                    place,
+                    m.rest_pose().translation,
                 ));
                 Some(carried.len() - 1)
             })
             .collect();
-        if bodies.iter().any(Option::is_some) {
+        if motions.iter().flatten().any(Motion::displaces) {
             moving.push(format!("'{}'", s.name()));
+        }
+        if turn == RollerTurn::Drawn {
+            turning.push(format!("'{}'", s.name()));
         }
         let belt = match s {
             SurfaceSpec::Conveyor(c) => rotation_of(&c.rotation, &field).ok().map(|rot| {
@@ -124,7 +181,16 @@ pub(super) fn surfaces_of(
                 p.collider.position,
                 p.shape.clone(),
             ));
-            meta.push((name, kind, material, belt.take(), plane, body));
+            meta.push(PartMeta {
+                name,
+                kind,
+                material,
+                belt: belt.take(),
+                plane,
+                body,
+                roller: matches!(s, SurfaceSpec::Roller(_) | SurfaceSpec::RollerBed(_))
+                    .then_some(p.collider.position),
+            });
         }
     }
     if !moving.is_empty() {
@@ -133,12 +199,20 @@ pub(super) fn surfaces_of(
             moving.join(", ")
         ));
     }
+    if !turning.is_empty() {
+        let gap = max_gap(times);
+        notes.push(format!(
+            "roller(s) {} drawn turning about their own axes (w t at each frame's time; the stripes show the turn), by the shorter way round between frames ({} frames, at most {gap:.3} s apart)",
+            turning.join(", "),
+            times.len()
+        ));
+    }
     let scene = SceneSurfaces::from_parts(items);
     // Bounded surfaces' extent first, so that a plane is cut to the whole scene.
     let (mut blo, mut bhi) = (None::<Vec3>, None::<Vec3>);
     let (probe, _) = scene.tessellate(lo, hi);
     for (m, info) in probe.iter().zip(&meta) {
-        if info.4.is_some() || m.points.is_empty() {
+        if info.plane.is_some() || m.points.is_empty() {
             continue;
         }
         let (a, b) = m
@@ -149,7 +223,7 @@ pub(super) fn surfaces_of(
             });
         // A moving one over every frame: its box's corners carried.
         let rest = [Pose::IDENTITY];
-        let poses = info.5.map_or(&rest[..], |k| &carried[k].1[..]);
+        let poses = info.body.map_or(&rest[..], |k| &carried[k].2[..]);
         for pose in poses {
             for k in 0..8 {
                 let c = Vec3::new(
@@ -178,8 +252,8 @@ pub(super) fn surfaces_of(
     let surfaces = meshes
         .into_iter()
         .zip(meta)
-        .map(|(m, (name, kind, material, belt, plane, mover))| {
-            let m = match plane {
+        .map(|(m, info)| {
+            let m = match info.plane {
                 Some((p0, n)) => plane_patch(p0, n, clo, chi),
                 None => m,
             };
@@ -193,18 +267,19 @@ pub(super) fn surfaces_of(
                 }
             }
             SurfaceInfo {
-                name,
-                kind,
-                material,
+                name: info.name,
+                kind: info.kind,
+                material: info.material,
                 triangles_b64: b64(&bytes),
-                belt,
-                mover,
+                stripes_b64: info.roller.map(|pose| b64(&roller_stripes(&m, &pose))),
+                belt: info.belt,
+                mover: info.body,
             }
         })
         .collect();
     let movers = carried
         .into_iter()
-        .map(|(name, poses)| {
+        .map(|(name, poses, _, origin)| {
             let mut bytes = Vec::with_capacity(poses.len() * 28);
             for p in &poses {
                 let (t, q) = (p.translation, p.rotation);
@@ -214,11 +289,78 @@ pub(super) fn surfaces_of(
             }
             MoverInfo {
                 name,
+                origin_m: [origin.x, origin.y, origin.z],
                 poses_b64: b64(&bytes),
             }
         })
         .collect();
     (surfaces, movers, blo, bhi)
+}
+
+/// How a roller spec's own turn is drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum RollerTurn {
+    /// Not a roller, or one that does not turn.
+    None,
+    /// Powered: posed with its turn w t at each frame.
+    Drawn,
+    /// Powered, but turning this much (rad) between two frames: more than
+    /// [`MAX_TURN_PER_FRAME_RAD`].
+    TooFast(f64),
+    /// Free-turning: its angle is the run's state, not recorded per frame.
+    Free,
+}
+
+/// How the rollers of `s` (a roller, or a bed's rollers, all turning alike) are drawn turning
+/// over the frames at `times`.
+fn roller_turn(s: &SurfaceSpec, times: &[f64]) -> RollerTurn {
+    let (w, free) = match s {
+        SurfaceSpec::Roller(r) => (r.angular_velocity_rad_s, r.free_turning.is_some()),
+        SurfaceSpec::RollerBed(b) => (b.angular_velocity_rad_s, b.free_turning.is_some()),
+        _ => return RollerTurn::None,
+    };
+    if free {
+        return RollerTurn::Free;
+    }
+    if w == 0.0 || !w.is_finite() {
+        return RollerTurn::None;
+    }
+    let per_frame = w.abs() * max_gap(times);
+    if per_frame > MAX_TURN_PER_FRAME_RAD {
+        RollerTurn::TooFast(per_frame)
+    } else {
+        RollerTurn::Drawn
+    }
+}
+
+/// The longest time between two consecutive frames (s; 0 for one frame).
+fn max_gap(times: &[f64]) -> f64 {
+    times.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max)
+}
+
+/// One byte per triangle of a roller's mesh `m` (at its rest pose `pose`, axis along the
+/// pose's y): 1 for a triangle of a dark stripe, 0 for a light one. The side is cut into
+/// [`ROLLER_STRIPES`] bands along the axis, alternately dark and light, by the angle of each
+/// triangle's centroid about the axis from the pose's x axis (where the tessellation's first
+/// segment starts, so that the bands' edges fall on segment edges); the end caps (triangles
+/// facing along the axis, fanned from a rim point rather than the centre) are light.
+pub(super) fn roller_stripes(m: &crate::output::vtk::Mesh, pose: &Pose) -> Vec<u8> {
+    let (c, axis) = (pose.translation, pose.rotation * Vec3::Y);
+    let (u, v) = (pose.rotation * Vec3::X, pose.rotation * Vec3::Z);
+    let band = std::f64::consts::TAU / ROLLER_STRIPES as f64;
+    m.triangles
+        .iter()
+        .map(|t| {
+            let [a, b, d] = t.map(|k| m.points[k as usize]);
+            let n = (b - a).cross(d - a).normalize_or_zero();
+            if n.dot(axis).abs() > 0.5 {
+                return 0;
+            }
+            let r = (a + b + d) / 3.0 - c;
+            let angle = r.dot(v).atan2(r.dot(u)).rem_euclid(std::f64::consts::TAU);
+            ((angle / band) as usize % 2) as u8
+        })
+        .collect()
 }
 
 /// The rectangle of the plane through `p0` with unit normal `n` that the box [lo, hi] covers
@@ -278,11 +420,24 @@ mod tests {
         out
     }
 
+    /// Frame poses of a mover, as f32: per frame translation x y z, quaternion x y z w.
+    fn poses(m: &MoverInfo) -> Vec<[f32; 7]> {
+        unb64(&m.poses_b64)
+            .chunks(28)
+            .map(|p| {
+                std::array::from_fn(|k| f32::from_le_bytes(p[4 * k..4 * k + 4].try_into().unwrap()))
+            })
+            .collect()
+    }
+
     /// A roller bed carried by a `motion` is one body per roller, as the world builds it: each
-    /// roller's part has its own mover, posed per frame by the translation (its own turn left
-    /// out, and said); a roller that only turns has none.
+    /// roller's part has its own mover, its origin the roller's centre, posed per frame by the
+    /// translation and its own turn w t about its axis; a powered roller that only turns has a
+    /// mover too, turning in place. A free-turning roller (angle not recorded) and one turning more than
+    /// [`MAX_TURN_PER_FRAME_RAD`] between frames have none, and the notes say why. Every roller
+    /// is striped: half of its side's triangles dark, its caps light.
     #[test]
-    fn a_carried_roller_bed_has_a_body_per_roller_and_a_turning_roller_none() {
+    fn a_roller_bed_has_a_body_per_roller_and_powered_rollers_turn() {
         let sc: Scenario = crate::scenario::from_json(
             r#"{"duration_s": 1, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
                 "materials": {"steel": {"youngs_modulus_pa": 2e11, "poisson_ratio": 0.28}},
@@ -294,7 +449,13 @@ mod tests {
                    "motion": {"translation": {"velocity_m_s": [0.5, 0, 0]}}},
                   {"type": "roller", "name": "spin", "material": "steel", "radius_m": 0.03,
                    "length_m": 0.4, "position_m": [0, 1, 0], "axis": [0, 1, 0],
-                   "angular_velocity_rad_s": 5}
+                   "angular_velocity_rad_s": 5},
+                  {"type": "roller", "name": "fast", "material": "steel", "radius_m": 0.03,
+                   "length_m": 0.4, "position_m": [0, 2, 0], "axis": [0, 1, 0],
+                   "angular_velocity_rad_s": 15},
+                  {"type": "roller", "name": "free", "material": "steel", "radius_m": 0.03,
+                   "length_m": 0.4, "position_m": [0, 3, 0], "axis": [0, 1, 0],
+                   "free_turning": {"moment_of_inertia_kg_m2": 1e-3}}
                 ]}"#,
             "test",
         )
@@ -310,27 +471,45 @@ mod tests {
             &mut notes,
         );
         let bodies: Vec<Option<usize>> = surfaces.iter().map(|s| s.mover).collect();
-        assert_eq!(bodies, [Some(0), Some(1), Some(2), None]);
-        assert_eq!(movers.len(), 3);
-        for m in &movers {
-            // Frame 1 (t = 0.2 s): 0.1 m along x, not turned.
-            let f: Vec<f32> = unb64(&m.poses_b64)
-                .chunks(4)
-                .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
-                .collect();
-            assert_eq!(f[..7], [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
-            assert_eq!(f[7..], [0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(bodies, [Some(0), Some(1), Some(2), Some(3), None, None]);
+        assert_eq!(movers.len(), 4);
+        // Each body's origin is its roller's centre c, where its pose puts it at t = 0; at
+        // frame 1 (t = 0.2 s) turned 1 rad about y, and the bed's 0.1 m along x: T(c + d) R.
+        let q = rapier3d_f64::math::Rotation::from_axis_angle(Vec3::Y, 1.0);
+        let centres = [(0.0, 0.1), (0.08, 0.1), (0.16, 0.1), (0.0, 0.0)];
+        for (m, &(x, d)) in movers.iter().zip(&centres) {
+            let f = poses(m);
+            let c = Vec3::new(x, if d == 0.0 { 1.0 } else { 0.0 }, 0.0);
+            assert_eq!(m.origin_m, [c.x, c.y, c.z]);
+            assert_eq!(f[0], [c.x as f32, c.y as f32, 0.0, 0.0, 0.0, 0.0, 1.0]);
+            let p = c + Vec3::new(d, 0.0, 0.0);
+            let want = [p.x, p.y, p.z, q.x, q.y, q.z, q.w];
+            for k in 0..7 {
+                assert!(
+                    (f[1][k] as f64 - want[k]).abs() < 1e-7,
+                    "{}: {:?} vs {want:?}",
+                    m.name,
+                    f[1]
+                );
+            }
+        }
+        for s in &surfaces {
+            let st = unb64(s.stripes_b64.as_ref().unwrap());
+            // 48 segments: 96 side triangles, 2 x 46 cap triangles.
+            assert_eq!(st.len(), 96 + 92, "{}", s.name);
+            assert_eq!(st.iter().filter(|&&x| x == 1).count(), 48, "{}", s.name);
         }
         let notes = notes.join("\n");
         assert!(
-            notes.contains("roller 'bed' turns about its own axis"),
+            notes.contains("roller(s) 'bed', 'spin' drawn turning about their own axes"),
             "{notes}"
         );
         assert!(
-            notes.contains("roller 'spin' turns about its own axis"),
+            notes.contains("roller 'fast' turns 3.00 rad about its own axis between two frames"),
             "{notes}"
         );
+        assert!(notes.contains("roller 'free' turns freely"), "{notes}");
         assert!(notes.contains("moving surface(s) 'bed' drawn"), "{notes}");
-        assert!(!notes.contains("'spin' drawn"), "{notes}");
+        assert!(!notes.contains("a cylinder looks the same"), "{notes}");
     }
 }

@@ -163,8 +163,8 @@ impl Motion {
 
     /// The rigid move that takes a part from where the scenario puts it (the rest pose) to where
     /// its body carries it at `t_s`, without a roller's own turn: `pose_spun(t_s, 0) *
-    /// rest_pose()^-1`, the same for every part of the body. The viewer ([`crate::view`]) moves
-    /// a surface's mesh, tessellated at the rest pose, by it.
+    /// rest_pose()^-1`, the same for every part of the body. The viewer ([`crate::view`]) takes
+    /// the scene's extent over the frames with it (a roller is round: its turn does not widen it).
     pub fn carry(&self, t_s: f64) -> Pose {
         self.pose_spun(t_s, 0.0) * self.rest_pose().inverse()
     }
