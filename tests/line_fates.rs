@@ -82,9 +82,7 @@ fn a_source_overlapping_the_chute_is_refused_naming_both() {
     // The library says the same, as a typed error, before any step.
     let scen = applesim::scenario::load(&sc).expect("the scenario itself is valid");
     let mut series = applesim::record::series::MemorySeries::default();
-    let e = applesim::sim::run(&scen, &repo("scenarios"), &mut series)
-        .err()
-        .expect("refused");
+    let e = applesim::sim::run(&scen, &repo("scenarios"), &mut series).expect_err("refused");
     assert!(
         e.to_string()
             .contains("source 'feed' overlaps surface 'chute'"),

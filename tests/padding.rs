@@ -12,8 +12,8 @@ use serde_json::{json, Value};
 const G: f64 = 9.81;
 
 /// Dimitriadis, Horkay, Maresca, Kachar & Chadwick (2002), Biophys. J. 82:2798-2810, bonded
-/// layer: F = 4/3 E/(1 - nu^2) R^(1/2) delta^(3/2) [1 - 2 a0/pi chi + 4 a0^2/pi^2 chi^2
-/// - 8/pi^3 (a0^3 + 4 pi^2 b0/15) chi^3 + 16 a0/pi^4 (a0^3 + 3 pi^2 b0/5) chi^4],
+/// layer: F = 4/3 E/(1 - nu^2) R^(1/2) delta^(3/2) [1 - 2 a0/pi chi + 4 a0^2/pi^2 chi^2 -
+/// 8/pi^3 (a0^3 + 4 pi^2 b0/15) chi^3 + 16 a0/pi^4 (a0^3 + 3 pi^2 b0/5) chi^4],
 /// chi = sqrt(R delta)/h. Written from the paper, nothing of the crate's padding code.
 fn dimitriadis_bonded(e: f64, nu: f64, r: f64, h: f64, delta: f64) -> f64 {
     let pi = std::f64::consts::PI;

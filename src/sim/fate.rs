@@ -309,8 +309,7 @@ impl Tracker {
                 continue;
             }
             let bin = world.bins.iter().position(|b| b.contains(p));
-            if bin.is_some() && bin != track.inside {
-                let b = bin.expect("checked");
+            if let Some(b) = bin.filter(|&b| Some(b) != track.inside) {
                 let when = match track.prev {
                     // Present from the start: not an arrival.
                     None if !matches!(world.roster.apples()[k].origin, Origin::Fed { .. }) => None,

@@ -510,7 +510,7 @@ impl World {
         }
         for feed in &mut out {
             // Most apples held up first; ties in order of appearance (a stable sort).
-            feed.blocked_by.sort_by(|a, b| b.apples.cmp(&a.apples));
+            feed.blocked_by.sort_by_key(|b| std::cmp::Reverse(b.apples));
         }
         out
     }
