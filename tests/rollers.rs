@@ -388,7 +388,9 @@ fn csv_rows(path: &std::path::Path) -> Vec<csv::StringRecord> {
 /// times the radius 0.03 m (to 1e-15 m/s). The rows are at exactly the sample times of
 /// `bodies.csv`, one per roller per sample, named as the contacts name them (`r`, `bed/0`,
 /// `bed/1`); the last rows are the end state of `summary.json` `free_rollers`; and the file is
-/// the same bytes with one thread and with two.
+/// the same bytes with one thread and with two (a weak check here: one resting contact is below
+/// the parallel force pass's threshold; the spins are summed per roller in the layer's fixed
+/// reaction order either way, tests/determinism.rs covers the parallel pass).
 #[test]
 fn rollers_csv_records_the_free_rollers_spin_at_every_sample() {
     let (w0, inertia, bearing, rr, dt) = (10.0, 2e-4, 1e-3, 0.03, 1e-4);
