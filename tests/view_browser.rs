@@ -1064,3 +1064,120 @@ fn a_powered_roller_turns_at_its_rate() {
     let errors = s.errors();
     assert!(errors.is_empty(), "the page reported errors: {errors:?}");
 }
+
+/// A free-turning roller is drawn at the angle the run recorded (rollers.csv): the bearing
+/// spin-down of tests/rollers.rs (I 2e-4 kg m^2, bearing torque 1e-3 N m, from 10 rad/s, no
+/// apple on it), on a tilted axis. At 3 slider frames (0.08, 0.2 and 0.4 s) its drawn
+/// quaternion is the turn by rollers.csv's `angle_rad` at that frame's time about its axis (0.78,
+/// 1.90 and 3.60 rad, where a powered roller at 10 rad/s would be at 0.8, 2 and 4: the page
+/// draws the recorded angle, not w t), and its centre stays put. Tolerance as for the powered
+/// roller: one f32 epsilon of rotation (the f32 quaternion) and of |c| = 0.1 m. Measured: worst
+/// angle error 2.7e-8 rad, worst centre error 1.5e-9 m. The page's note says it turns at the
+/// recorded angles, and the turn shows on screen between two frames while the apple rests.
+#[test]
+fn a_free_roller_turns_at_its_recorded_angle() {
+    let dir = tmp("free_roller");
+    let n = 0.6f64.hypot(0.8);
+    let axis = [0.6 / n, 0.8 / n, 0.0];
+    let centre = [0.0, 0.0, 0.1];
+    let scenario = serde_json::json!({
+        "duration_s": 0.4,
+        "time_step_s": 2e-5,
+        "gravity_m_s2": [0, 0, -9.81],
+        "output": { "sample_interval_s": 0.01 },
+        "materials": {
+            "apple": { "shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800 },
+            "steel": { "youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.28 }
+        },
+        "contact": { "friction": 0.3, "ke": 0.09, "lambda_s_m": 1000 },
+        "apples": [
+            { "name": "a", "material": "apple", "diameter_m": 0.08, "position_m": [0.3, 0, 0.04] }
+        ],
+        "surfaces": [
+            { "name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1] },
+            { "name": "idler", "type": "roller", "material": "steel", "radius_m": 0.025, "length_m": 0.3,
+              "position_m": centre, "axis": [0.6, 0.8, 0], "angular_velocity_rad_s": 10,
+              "free_turning": { "moment_of_inertia_kg_m2": 2e-4, "bearing_torque_n_m": 1e-3 } }
+        ]
+    });
+    let run_dir = run_scenario(&dir, "free_roller", "run", &scenario, &[]);
+    run(&["view", run_dir.to_str().unwrap(), "--max-frames", "21"]);
+    // rollers.csv: time_s -> angle_rad.
+    let recorded: BTreeMap<String, f64> = csv::Reader::from_path(run_dir.join("rollers.csv"))
+        .unwrap()
+        .records()
+        .map(|r| {
+            let r = r.unwrap();
+            (r[0].to_string(), r[2].parse().unwrap())
+        })
+        .collect();
+
+    let s = launch("free_roller");
+    let (mut worst_angle, mut worst_pos) = (0.0f64, 0.0f64);
+    let pose_js = "const m = V.surfaces.find(x => x.userData.surface === 'idler'); \
+                   const p = V.apples.userData.at(0); \
+                   return JSON.stringify({ t: String(V.state.t), q: m.quaternion.toArray(), p: m.position.toArray(), \
+                     origin: V.data.movers[V.data.surfaces.find(x => x.name === 'idler').mover].origin_m, apple: [p[0], p[1], p[2]], \
+                     notes: document.getElementById('notes-list').textContent });";
+    s.open(&run_dir.join("view.html"), "");
+    let at = |k: usize| {
+        s.eval(&format!(
+            "(() => {{ const V = applesimView, e = document.getElementById('slider'); \
+               e.value = '{k}'; e.dispatchEvent(new Event('input')); {pose_js} }})()"
+        ))
+    };
+    let mut seen = Vec::new();
+    for k in [4usize, 10, 20] {
+        let v = at(k);
+        let t = v["t"].as_str().unwrap().to_string();
+        let angle = recorded[&t];
+        let got: Vec<f64> = (0..4).map(|j| v["q"][j].as_f64().unwrap()).collect();
+        let got = [got[0], got[1], got[2], got[3]];
+        let err = quat_angle(quat(axis, angle), got);
+        worst_angle = worst_angle.max(err);
+        assert!(
+            err <= f32::EPSILON as f64,
+            "at t = {t} s the free roller is drawn {err:e} rad off its recorded angle {angle} rad"
+        );
+        let origin: Vec<f64> = (0..3).map(|j| v["origin"][j].as_f64().unwrap()).collect();
+        let turned = quat_rotate(got, [0, 1, 2].map(|j| centre[j] - origin[j]));
+        for a in 0..3 {
+            let c = v["p"][a].as_f64().unwrap() + turned[a];
+            worst_pos = worst_pos.max((c - centre[a]).abs());
+            assert!(
+                (c - centre[a]).abs() <= f32::EPSILON as f64 * 0.1,
+                "at t = {t} s, axis {a}: the roller's centre drawn at {c} m"
+            );
+        }
+        seen.push((t, angle));
+    }
+    let times: Vec<&str> = seen.iter().map(|x| x.0.as_str()).collect();
+    assert_eq!(times, ["0.08", "0.2", "0.4"]);
+    // The spin-down, not w0 t: 10 x 0.4 - 5 x 0.4^2 / 2 = 3.6 rad at the end.
+    assert!((seen[2].1 - 3.6).abs() < 1e-3, "{seen:?}");
+    let notes = at(10)["notes"].as_str().unwrap().to_string();
+    assert!(
+        notes.contains("free-turning roller(s) 'idler' drawn turning about their own axes at the angles rollers.csv recorded"),
+        "{notes}"
+    );
+    assert!(!notes.contains("without its turn"), "{notes}");
+    // The turn shows: frames 10 and 11 differ on screen while the apple rests.
+    let a10 = at(10)["apple"].clone();
+    let (p10, _, _) = s.screenshot();
+    let a11 = at(11)["apple"].clone();
+    let (p11, _, _) = s.screenshot();
+    for k in 0..3 {
+        let d = (a10[k].as_f64().unwrap() - a11[k].as_f64().unwrap()).abs();
+        assert!(d < 1e-5, "the apple moved {d} m between frames 10 and 11");
+    }
+    let changed = changed_pixels(&p10, &p11);
+    assert!(
+        changed > 100,
+        "only {changed} pixels changed as the free roller turned"
+    );
+    eprintln!(
+        "free roller: recorded angles {seen:?}; worst angle error {worst_angle:.2e} rad, worst position error {worst_pos:.2e} m, {changed} pixels changed over one frame"
+    );
+    let errors = s.errors();
+    assert!(errors.is_empty(), "the page reported errors: {errors:?}");
+}

@@ -171,6 +171,133 @@ fn truncated_csv_files() {
     assert!(dir.join("view.html").is_file());
 }
 
+/// A run of a free-turning roller (the bearing spin-down of tests/rollers.rs, item 1a) in
+/// `dir/run`: it writes rollers.csv.
+fn free_roller_run(dir: &Path) -> PathBuf {
+    let sc = serde_json::json!({
+        "duration_s": 0.2, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
+        "output": {"sample_interval_s": 0.02, "force_history": false},
+        "materials": {
+            "apple": {"youngs_modulus_pa": 3e6, "poisson_ratio": 0.3, "density_kg_m3": 800},
+            "steel": {"youngs_modulus_pa": 2e11, "poisson_ratio": 0.28}},
+        "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+        "apples": [{"name": "far", "material": "apple", "diameter_m": 0.075,
+            "position_m": [0, 1, -0.5 + 0.0374]}],
+        "surfaces": [
+            {"name": "r", "type": "roller", "material": "steel", "radius_m": 0.03,
+             "length_m": 0.3, "position_m": [0, 0, 0], "axis": [1, 0, 0],
+             "angular_velocity_rad_s": 10,
+             "free_turning": {"moment_of_inertia_kg_m2": 2e-4, "bearing_torque_n_m": 1e-3}},
+            {"name": "floor", "type": "plane", "material": "steel",
+             "point_m": [0, 0, -0.5], "normal": [0, 0, 1]}]
+    });
+    let path = dir.join("free.json");
+    std::fs::write(&path, sc.to_string()).unwrap();
+    let run = dir.join("run");
+    let o = Command::new(exe())
+        .arg("run")
+        .arg(&path)
+        .args(["-q", "--out"])
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(run.join("rollers.csv").is_file());
+    run
+}
+
+/// A truncated or damaged rollers.csv is refused naming it (no HTML written), rather than
+/// drawing the free roller at wrong angles; without the file (a run from before it was
+/// written) the page is written, the roller drawn without its turn and a note saying why.
+#[test]
+fn a_truncated_rollers_csv() {
+    let dir = tmp("rollers");
+    let run = free_roller_run(&dir);
+    let path = run.join("rollers.csv");
+    let rollers = std::fs::read(&path).unwrap();
+    let named = |err: &str| {
+        assert!(err.contains(&format!("{}: ", path.display())), "{err}");
+    };
+
+    // Cut in the middle of a row (after its second field).
+    let last_nl = rollers[..rollers.len() - 1]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .unwrap();
+    let second_comma = last_nl
+        + 1
+        + rollers[last_nl + 1..]
+            .iter()
+            .enumerate()
+            .filter(|(_, &b)| b == b',')
+            .nth(1)
+            .unwrap()
+            .0;
+    std::fs::write(&path, &rollers[..second_comma + 2]).unwrap();
+    let err = view_fails(&run, &dir.join("view.html"));
+    named(&err);
+    assert!(
+        err.contains("fields where the header has 5: the file is truncated"),
+        "{err}"
+    );
+
+    // Cut at the end of a row: whole rows, but the last sample (the run's end) has none.
+    std::fs::write(&path, &rollers[..last_nl + 1]).unwrap();
+    let err = view_fails(&run, &dir.join("view.html"));
+    named(&err);
+    assert!(
+        err.contains(
+            "no row of roller 'r' at t = 0.2 s (a sample of bodies.csv): the file is truncated"
+        ),
+        "{err}"
+    );
+
+    // A number damaged.
+    let text = String::from_utf8(rollers.clone()).unwrap();
+    std::fs::write(&path, text.replacen(",r,0,10,", ",r,x,10,", 1)).unwrap();
+    let err = view_fails(&run, &dir.join("view.html"));
+    named(&err);
+    assert!(
+        err.contains("line 2: angle_rad = 'x' is not a finite number"),
+        "{err}"
+    );
+
+    // Empty (cut before its header).
+    std::fs::write(&path, b"").unwrap();
+    let err = view_fails(&run, &dir.join("view.html"));
+    assert!(err.contains("rollers.csv: empty file"), "{err}");
+
+    // Without it: viewed, the roller drawn without its turn, and the page says why.
+    std::fs::remove_file(&path).unwrap();
+    let o = Command::new(exe())
+        .arg("view")
+        .arg(&run)
+        .arg("--out")
+        .arg(dir.join("old.html"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("roller 'r' turns freely in the run, and the run folder has no rollers.csv"),
+        "{out}"
+    );
+    std::fs::write(&path, &rollers).unwrap();
+    let o = Command::new(exe())
+        .arg("view")
+        .arg(&run)
+        .arg("--out")
+        .arg(dir.join("new.html"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("free-turning roller(s) 'r' drawn turning"),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+}
+
 #[test]
 fn bad_options() {
     let dir = tmp("options");

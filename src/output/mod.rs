@@ -1,5 +1,5 @@
 //! Outputs of a run: `summary.json`, `contacts.csv`, `bodies.csv`, `transitions.csv` (and the
-//! scenario as run);
+//! scenario as run); with free-turning rollers `rollers.csv` ([`rollers`]);
 //! with force histories `forces.csv` and `pulse_fits.csv`; always `bruise.csv`; on request the
 //! ParaView files ([`vtk`]) and the charts ([`plot`]).
 //!
@@ -13,6 +13,7 @@ pub mod audit;
 pub mod plot;
 pub mod probe;
 pub mod report;
+pub mod rollers;
 pub mod vtk;
 
 use crate::analysis::bruise::{AppleAssessment, ContactAssessment};
@@ -24,6 +25,7 @@ use crate::record::transitions::{Transition, TransitionSummary};
 use crate::scenario::Scenario;
 use crate::sim::{AppleFinal, RunResult};
 use atomic::AtomicFile;
+pub use rollers::{RollersCsv, ROLLERS_CSV};
 use serde::Serialize;
 use std::path::Path;
 
@@ -647,7 +649,8 @@ pub fn run_to_dir_with(
 
 /// Runs a validated scenario and writes into the folder `out_dir` (created if missing; use
 /// [`run_to_dir`] for a result folder the user sees, this one writes in place):
-/// `summary.json`, `contacts.csv`, `bodies.csv`, `scenario.json`, `bruise.csv`; with force
+/// `summary.json`, `contacts.csv`, `bodies.csv`, `scenario.json`, `bruise.csv`; in a scene with
+/// a free-turning roller `rollers.csv` ([`rollers`]); with force
 /// histories (`output.force_history`) `forces.csv` and `pulse_fits.csv`; with `output.vtk` the
 /// ParaView files ([`vtk`]). The analysis ([`crate::analysis::analyse`]) adds its headline
 /// figures to the returned `metrics`. `summary.json` comes last.
@@ -666,8 +669,20 @@ pub fn run_into(
         .map(|_| vtk::SceneSurfaces::capture(sim.world()));
     let bodies_path = out_dir.join("bodies.csv");
     let mut bodies = BodiesCsv::create(&bodies_path).map_err(io_at(&bodies_path))?;
-    let mut result = sim.run(&mut bodies, progress)?;
+    let rollers_path = out_dir.join(ROLLERS_CSV);
+    let mut rollers = match sim.world().has_free_rollers() {
+        true => Some(RollersCsv::create(&rollers_path).map_err(io_at(&rollers_path))?),
+        false => None,
+    };
+    let mut sink = rollers::RunSamples {
+        bodies: &mut bodies,
+        rollers: rollers.as_mut(),
+    };
+    let mut result = sim.run(&mut sink, progress)?;
     bodies.commit().map_err(io_at(&bodies_path))?;
+    if let Some(r) = rollers {
+        r.commit().map_err(io_at(&rollers_path))?;
+    }
     let analysis = crate::analysis::analyse(sc, &result);
     analysis.add_metrics(&mut result.metrics);
     if let (Some(v), Some(surfaces)) = (&sc.output.vtk, &surfaces) {

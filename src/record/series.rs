@@ -1,6 +1,7 @@
 //! Time series of the apples, sampled by the driver at the scenario's output interval.
 
 use crate::math::Vec3;
+use crate::world::free_roller::RollerSample;
 use std::sync::Arc;
 
 /// The state of one apple at a sample time.
@@ -31,6 +32,13 @@ pub struct AppleState {
 pub trait SampleSink {
     /// One sample of every apple at time `time_s`.
     fn sample(&mut self, time_s: f64, apples: &[AppleState]) -> std::io::Result<()>;
+
+    /// The free-turning rollers' spins at the same sample time, right after [`Self::sample`];
+    /// called only in a scene that has some. Ignored by default: only the run's files keep
+    /// them (`rollers.csv`), the apples' sinks need not know about rollers.
+    fn sample_rollers(&mut self, _time_s: f64, _rollers: &[RollerSample]) -> std::io::Result<()> {
+        Ok(())
+    }
 }
 
 /// Drops every sample.

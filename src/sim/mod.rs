@@ -236,6 +236,9 @@ pub struct Simulation {
     /// Warnings of pads that bottomed out (docs/physics.md section 13), in the order they did.
     pad_warnings: Vec<String>,
     states: Vec<AppleState>,
+    /// The free-turning rollers' spins at the last sample (copied from the world, their owner;
+    /// empty in a scene without them).
+    rollers: Vec<crate::world::free_roller::RollerSample>,
     gravity: crate::math::Vec3,
     energy: Option<EnergyGuard>,
     detector: Option<Detector>,
@@ -305,6 +308,7 @@ impl Simulation {
             events: Vec::new(),
             pad_warnings: Vec::new(),
             states: Vec::new(),
+            rollers: Vec::new(),
             gravity: crate::math::vec3(sc.gravity_m_s2),
             energy: energy.map(|e| EnergyGuard { v_bound, ..e }),
             detector: (sc.output.transitions.enabled && !world.layer.config().passive)
@@ -487,8 +491,7 @@ impl Simulation {
             .force_pass(&self.request(false))
             .map_err(|e| self.guard(e))?;
         if self.sample_due() {
-            self.refresh_states();
-            sink.sample(self.time_s, &self.states)?;
+            self.emit_sample(sink)?;
             self.next_sample += 1;
             self.check_energy()?;
             self.track();
@@ -530,6 +533,18 @@ impl Simulation {
             }
         };
         self.world.set_time(self.time_s);
+        Ok(())
+    }
+
+    /// One output sample: the apples' states, then (in a scene that has them) the free-turning
+    /// rollers' spins at the same time, copied from the world that owns them.
+    fn emit_sample(&mut self, sink: &mut dyn SampleSink) -> std::io::Result<()> {
+        self.refresh_states();
+        sink.sample(self.time_s, &self.states)?;
+        if self.world.has_free_rollers() {
+            self.world.sample_free_rollers(&mut self.rollers);
+            sink.sample_rollers(self.time_s, &self.rollers)?;
+        }
         Ok(())
     }
 
@@ -627,8 +642,7 @@ impl Simulation {
         // The final poses: close contacts that parted in the last step, sample the end state.
         self.force_pass(&self.request(true))
             .map_err(|e| self.guard(e))?;
-        self.refresh_states();
-        sink.sample(self.time_s, &self.states)?;
+        self.emit_sample(sink)?;
         self.check_energy()?;
         self.track();
         let wall = start.elapsed().as_secs_f64();

@@ -14,6 +14,8 @@
 //!   ParaView output draws them);
 //! - `bruise.csv`, `transitions.csv` (optional: which contacts are over a bruise threshold, and
 //!   when apples slide, roll or fly; without them the page says what it falls back to).
+//! - `rollers.csv` (optional: the free-turning rollers' angles per sample, to draw them turning;
+//!   a run from before it was written draws them without their turn, and says so).
 //!
 //! The page embeds three.js (vendored in `assets/three/`, MIT) and the hand-written template
 //! `assets/view/view.html`. The run's data goes in as JSON with the bulky arrays base64-encoded:
@@ -744,8 +746,21 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         .asset_dir
         .clone()
         .unwrap_or_else(|| run_dir.to_path_buf());
-    let (surfaces, movers, bounded_lo, bounded_hi) =
-        surfaces_of(&sc, &base, lo, hi, n > 0, &times, &mut notes);
+    let rollers_path = run_dir.join(crate::output::ROLLERS_CSV);
+    let spins = match rollers_path.is_file() {
+        true => Some(read_rollers(&rollers_path, &times, &sc)?),
+        false => None,
+    };
+    let (surfaces, movers, bounded_lo, bounded_hi) = surfaces_of(
+        &sc,
+        &base,
+        lo,
+        hi,
+        n > 0,
+        &times,
+        spins.as_ref(),
+        &mut notes,
+    );
     let mut scene_lo = lo;
     let mut scene_hi = hi;
     if n > 0 {

@@ -442,3 +442,88 @@ fn contact_index(path: &Path, line: u64, s: &str) -> Result<usize, ViewError> {
         )
     })
 }
+
+/// The free-turning rollers' angles at the page's frames, from `rollers.csv`: roller name (a
+/// bed's rollers `BED/k`) -> angle turned since the start at each frame (rad).
+pub(super) type RollerAngles = HashMap<String, Vec<f64>>;
+
+/// The names of the free-turning rollers of a scenario, as the run names them (one per unit: a
+/// bed's rollers `BED/k`), in scenario order.
+fn free_roller_names(sc: &Scenario) -> Vec<String> {
+    sc.surfaces
+        .iter()
+        .flat_map(|s| s.units())
+        .filter_map(|u| match u {
+            SurfaceSpec::Roller(r) if r.free_turning.is_some() => Some(r.name),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Reads `rollers.csv` (the free-turning rollers' spin per sample, [`crate::output::rollers`])
+/// for the frames at `times` (sample times of bodies.csv, or the run's end time when it holds
+/// none). Every free-turning roller of `sc` must have a row at every frame's time and every row
+/// must name one of them: a file cut short (the last frame is the run's end) or of another run
+/// is refused naming it, as a damaged row is, rather than drawn at wrong angles.
+pub(super) fn read_rollers(
+    path: &Path,
+    times: &[f64],
+    sc: &Scenario,
+) -> Result<RollerAngles, ViewError> {
+    let names = free_roller_names(sc);
+    let mut out: RollerAngles = names
+        .iter()
+        .map(|n| (n.clone(), vec![f64::NAN; times.len()]))
+        .collect();
+    let (mut r, h) = open_csv(path)?;
+    let c = |n: &str| column(path, &h, n);
+    let (ct, cr, ca, cw, cv) = (
+        c("time_s")?,
+        c("roller")?,
+        c("angle_rad")?,
+        c("spin_rad_s")?,
+        c("surface_speed_m_s")?,
+    );
+    let mut last = f64::NEG_INFINITY;
+    let mut rec = csv::StringRecord::new();
+    while r.read_record(&mut rec).map_err(|e| csv_err(path, e))? {
+        let line = rec.position().map_or(0, |p| p.line());
+        let t = num(path, line, "time_s", &rec[ct])?;
+        if t < last {
+            return Err(bad(
+                path,
+                format!("line {line}: time_s = {t} goes back from {last}: not in time order"),
+            ));
+        }
+        last = t;
+        let angle = num(path, line, "angle_rad", &rec[ca])?;
+        num(path, line, "spin_rad_s", &rec[cw])?;
+        num(path, line, "surface_speed_m_s", &rec[cv])?;
+        let Some(v) = out.get_mut(&rec[cr]) else {
+            return Err(bad(
+                path,
+                format!(
+                    "line {line}: roller '{}' is not a free-turning roller of scenario.json: the files are of different runs",
+                    &rec[cr]
+                ),
+            ));
+        };
+        // Frame times are sample times read from bodies.csv, printed as this file prints them:
+        // the same numbers exactly.
+        if let Ok(f) = times.binary_search_by(|x| x.total_cmp(&t)) {
+            v[f] = angle;
+        }
+    }
+    for n in &names {
+        if let Some(f) = out[n].iter().position(|a| a.is_nan()) {
+            return Err(bad(
+                path,
+                format!(
+                    "no row of roller '{n}' at t = {} s (a sample of bodies.csv): the file is truncated, or of another run",
+                    times[f]
+                ),
+            ));
+        }
+    }
+    Ok(out)
+}

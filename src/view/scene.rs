@@ -10,8 +10,11 @@
 //! which is the roller's true way only while it turns less than half a turn between frames: a
 //! roller that turns more than [`MAX_TURN_PER_FRAME_RAD`] between two frames is drawn without
 //! its turn and the page says so, rather than turning it the wrong way. A free-turning roller's
-//! angle is the run's state ([`crate::world::free_roller`]), not recorded per frame: it is drawn
-//! without its turn, and the page says so.
+//! angle is the run's state ([`crate::world::free_roller`]), not a function of time: it is
+//! posed with the angle the run recorded at each frame's sample (`rollers.csv`,
+//! [`Motion::pose_spun`]), under the same limit on the turn between frames, taken from the
+//! recorded angles. A run without `rollers.csv` (from before the file was written) draws its
+//! free rollers without their turn, and the page says so.
 
 use super::*;
 use crate::world::motion::Motion;
@@ -50,7 +53,8 @@ type Carried = (String, Vec<Pose>, Vec<Pose>, Vec3);
 /// moving ones, posed at each frame's time (`times`); the extent of the bounded surfaces over
 /// the frames. A surface that cannot be rebuilt (a mesh file not found from `base`) is left out
 /// with a note.
-#[allow(clippy::type_complexity)]
+/// `spins` holds the free-turning rollers' recorded angles at the frames, if the run wrote them.
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
 pub(super) fn surfaces_of(
     sc: &Scenario,
     base: &Path,
@@ -58,6 +62,7 @@ pub(super) fn surfaces_of(
     hi: Vec3,
     have_apples: bool,
     times: &[f64],
+    spins: Option<&RollerAngles>,
     notes: &mut Vec<String>,
 ) -> (Vec<SurfaceInfo>, Vec<MoverInfo>, Option<Vec3>, Option<Vec3>) {
     let mut items = Vec::new();
@@ -65,6 +70,7 @@ pub(super) fn surfaces_of(
     let mut carried: Vec<Carried> = Vec::new();
     let mut moving = Vec::new();
     let mut turning = Vec::new();
+    let mut turning_free = Vec::new();
     for (k, s) in sc.surfaces.iter().enumerate() {
         let field = format!("surfaces[{k}]");
         let parts = match crate::world::surfaces::parts(s, &field, base) {
@@ -98,15 +104,19 @@ pub(super) fn surfaces_of(
         // One body per unit (a roller bed's rollers), as the world builds them.
         let units = s.units();
         let motions: Vec<Option<Motion>> = units.iter().map(Motion::of).collect();
-        let turn = roller_turn(s, times);
+        let turn = roller_turn(s, times, spins);
         match turn {
-            RollerTurn::None | RollerTurn::Drawn => {}
+            RollerTurn::None | RollerTurn::Drawn | RollerTurn::Recorded => {}
             RollerTurn::TooFast(per_frame) => notes.push(format!(
                 "roller '{}' turns {per_frame:.2} rad about its own axis between two frames, more than the page can draw the right way round ({MAX_TURN_PER_FRAME_RAD:.2} rad, nine tenths of half a turn): drawn without its turn; a smaller output.sample_interval_s (or a larger --max-frames, up to the samples) shows it",
                 s.name()
             )),
+            RollerTurn::RecordedTooFast(per_frame) => notes.push(format!(
+                "roller '{}' turns freely and, by the angles of rollers.csv, {per_frame:.2} rad about its own axis between two frames, more than the page can draw the right way round ({MAX_TURN_PER_FRAME_RAD:.2} rad, nine tenths of half a turn): drawn without its turn; a larger --max-frames (up to the samples) or a smaller output.sample_interval_s shows it",
+                s.name()
+            )),
             RollerTurn::Free => notes.push(format!(
-                "roller '{}' turns freely in the run: its angle is the run's state, not recorded per frame, so it is drawn without its turn (its final rate and angle are in summary.json, free_rollers)",
+                "roller '{}' turns freely in the run, and the run folder has no rollers.csv (its angle per sample; runs of applesim before it was written have none): drawn without its turn (its final rate and angle are in summary.json, free_rollers)",
                 s.name()
             )),
         }
@@ -115,19 +125,25 @@ pub(super) fn surfaces_of(
             .zip(&motions)
             .map(|(u, m)| {
                 let m = m.as_ref()?;
-                let turned = turn == RollerTurn::Drawn && m.spin_axis().is_some();
+                // A free roller's recorded angle per frame (read_rollers checked it has one).
+                let angles = match turn {
+                    RollerTurn::Recorded => spins.and_then(|sp| sp.get(u.name())),
+                    _ => None,
+                }
+                .filter(|a| a.len() == times.len());
+                let turned =
+                    (turn == RollerTurn::Drawn || angles.is_some()) && m.spin_axis().is_some();
                 if !(m.displaces() || turned) {
                     return None;
                 }
                 let place: Vec<Pose> = times.iter().map(|&t| m.carry(t)).collect();
                 let drawn = times
                     .iter()
-                    .map(|&t| {
-                        if turned {
-                            m.pose(t)
-                        } else {
-                            m.pose_spun(t, 0.0)
-                        }
+                    .enumerate()
+                    .map(|(f, &t)| match angles {
+                        Some(a) if turned => m.pose_spun(t, a[f]),
+                        _ if turned => m.pose(t),
+                        _ => m.pose_spun(t, 0.0),
                     })
                     .collect();
                 carried.push((
@@ -142,8 +158,10 @@ pub(super) fn surfaces_of(
         if motions.iter().flatten().any(Motion::displaces) {
             moving.push(format!("'{}'", s.name()));
         }
-        if turn == RollerTurn::Drawn {
-            turning.push(format!("'{}'", s.name()));
+        match turn {
+            RollerTurn::Drawn => turning.push(format!("'{}'", s.name())),
+            RollerTurn::Recorded => turning_free.push(format!("'{}'", s.name())),
+            _ => {}
         }
         let belt = match s {
             SurfaceSpec::Conveyor(c) => rotation_of(&c.rotation, &field).ok().map(|rot| {
@@ -204,6 +222,14 @@ pub(super) fn surfaces_of(
         notes.push(format!(
             "roller(s) {} drawn turning about their own axes (w t at each frame's time; the stripes show the turn), by the shorter way round between frames ({} frames, at most {gap:.3} s apart)",
             turning.join(", "),
+            times.len()
+        ));
+    }
+    if !turning_free.is_empty() {
+        let gap = max_gap(times);
+        notes.push(format!(
+            "free-turning roller(s) {} drawn turning about their own axes at the angles rollers.csv recorded at each frame's time (the stripes show the turn), by the shorter way round between frames ({} frames, at most {gap:.3} s apart)",
+            turning_free.join(", "),
             times.len()
         ));
     }
@@ -307,20 +333,40 @@ enum RollerTurn {
     /// Powered, but turning this much (rad) between two frames: more than
     /// [`MAX_TURN_PER_FRAME_RAD`].
     TooFast(f64),
-    /// Free-turning: its angle is the run's state, not recorded per frame.
+    /// Free-turning, and the run recorded no angle per sample (no `rollers.csv`).
     Free,
+    /// Free-turning: posed with its angle recorded at each frame (`rollers.csv`).
+    Recorded,
+    /// Free-turning, but a roller of it turned this much (rad) between two frames by its
+    /// recorded angles: more than [`MAX_TURN_PER_FRAME_RAD`].
+    RecordedTooFast(f64),
 }
 
-/// How the rollers of `s` (a roller, or a bed's rollers, all turning alike) are drawn turning
-/// over the frames at `times`.
-fn roller_turn(s: &SurfaceSpec, times: &[f64]) -> RollerTurn {
+/// How the rollers of `s` (a roller, or a bed's rollers: powered ones all turning alike, free
+/// ones each at its recorded angles in `spins`) are drawn turning over the frames at `times`.
+fn roller_turn(s: &SurfaceSpec, times: &[f64], spins: Option<&RollerAngles>) -> RollerTurn {
     let (w, free) = match s {
         SurfaceSpec::Roller(r) => (r.angular_velocity_rad_s, r.free_turning.is_some()),
         SurfaceSpec::RollerBed(b) => (b.angular_velocity_rad_s, b.free_turning.is_some()),
         _ => return RollerTurn::None,
     };
     if free {
-        return RollerTurn::Free;
+        // The largest recorded step between two frames of any of its rollers.
+        let mut per_frame = 0.0f64;
+        for u in s.units() {
+            let Some(a) = spins.and_then(|sp| sp.get(u.name())) else {
+                return RollerTurn::Free;
+            };
+            per_frame = a
+                .windows(2)
+                .map(|w| (w[1] - w[0]).abs())
+                .fold(per_frame, f64::max);
+        }
+        return if per_frame > MAX_TURN_PER_FRAME_RAD {
+            RollerTurn::RecordedTooFast(per_frame)
+        } else {
+            RollerTurn::Recorded
+        };
     }
     if w == 0.0 || !w.is_finite() {
         return RollerTurn::None;
@@ -468,6 +514,7 @@ mod tests {
             Vec3::ONE,
             false,
             &[0.0, 0.2],
+            None,
             &mut notes,
         );
         let bodies: Vec<Option<usize>> = surfaces.iter().map(|s| s.mover).collect();

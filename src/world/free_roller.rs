@@ -26,6 +26,7 @@ use super::motion::Motion;
 use crate::layer::SurfaceId;
 use crate::math::Vec3;
 use serde::Serialize;
+use std::sync::Arc;
 
 /// A free-turning roller's spin (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
@@ -34,8 +35,12 @@ pub struct FreeRoller {
     pub name: String,
     /// Its surface in the layer.
     pub surface: SurfaceId,
+    /// The name as written in `rollers.csv` each sample (shared, not copied per row).
+    label: Arc<str>,
     /// Its axis (unit, world).
     axis: Vec3,
+    /// Its radius (m): the surface speed of `rollers.csv` is the rate times it.
+    radius_m: f64,
     /// Moment of inertia about the axis (kg m^2).
     inertia_kg_m2: f64,
     /// Bearing friction torque (N m).
@@ -44,6 +49,22 @@ pub struct FreeRoller {
     rate_rad_s: f64,
     /// Angle turned since the start (rad).
     angle_rad: f64,
+}
+
+/// A free-turning roller's spin at one output sample: a row of `rollers.csv`
+/// ([`crate::output::RollersCsv`]). A copy of the [`FreeRoller`]'s state, taken by the driver
+/// when it samples the apples, so that the file's angles and rates are the run's own, at the
+/// same times as `bodies.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RollerSample {
+    /// The roller's name as the contacts name it (a bed's rollers `BED/k`).
+    pub name: Arc<str>,
+    /// The angle turned since the start (rad; right-hand rule about the axis).
+    pub angle_rad: f64,
+    /// Its rate about its axis over the step that ended at the sample (rad/s).
+    pub spin_rad_s: f64,
+    /// The speed of its surface, rate times radius (m/s; signed as the rate).
+    pub surface_speed_m_s: f64,
 }
 
 /// A free-turning roller's state at the end of a run (`summary.json`, `free_rollers`).
@@ -59,19 +80,22 @@ pub struct FreeRollerState {
 
 impl FreeRoller {
     /// A free roller on `surface` of the motion `m` (its spin axis and initial rate), with its
-    /// inertia and bearing torque (validated).
+    /// radius, inertia and bearing torque (validated).
     pub fn new(
         name: &str,
         surface: SurfaceId,
         m: &Motion,
+        radius_m: f64,
         rate_rad_s: f64,
         inertia_kg_m2: f64,
         bearing_torque_n_m: f64,
     ) -> Self {
         Self {
             name: name.to_string(),
+            label: Arc::from(name),
             surface,
             axis: m.spin_axis().unwrap_or(Vec3::X),
+            radius_m,
             inertia_kg_m2,
             bearing_torque_n_m,
             rate_rad_s,
@@ -90,6 +114,16 @@ impl FreeRoller {
             name: self.name.clone(),
             angular_velocity_rad_s: self.rate_rad_s,
             angle_turned_rad: self.angle_rad,
+        }
+    }
+
+    /// Its spin now, for `rollers.csv` (see [`RollerSample`]).
+    pub fn sample(&self) -> RollerSample {
+        RollerSample {
+            name: self.label.clone(),
+            angle_rad: self.angle_rad,
+            spin_rad_s: self.rate_rad_s,
+            surface_speed_m_s: self.rate_rad_s * self.radius_m,
         }
     }
 
@@ -130,8 +164,10 @@ mod tests {
     fn roller(i: f64, tb: f64, w0: f64) -> FreeRoller {
         FreeRoller {
             name: "r".into(),
+            label: Arc::from("r"),
             surface: SurfaceId(0),
             axis: Vec3::X,
+            radius_m: 0.03,
             inertia_kg_m2: i,
             bearing_torque_n_m: tb,
             rate_rad_s: w0,

@@ -378,6 +378,18 @@ impl World {
         self.free_rollers.iter().map(|f| f.state()).collect()
     }
 
+    /// Whether the scene has a free-turning roller (then the run writes `rollers.csv`).
+    pub fn has_free_rollers(&self) -> bool {
+        !self.free_rollers.is_empty()
+    }
+
+    /// The free-turning rollers' spins now, into `out` (cleared first; scenario order): what
+    /// the driver copies at each output sample ([`free_roller::RollerSample`]).
+    pub fn sample_free_rollers(&self, out: &mut Vec<free_roller::RollerSample>) {
+        out.clear();
+        out.extend(self.free_rollers.iter().map(|f| f.sample()));
+    }
+
     /// Sets the time of the current poses (s): the driver's clock, from which the next step's
     /// poses of moving parts are computed ([`World::advance`]).
     pub fn set_time(&mut self, time_s: f64) {

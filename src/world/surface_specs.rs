@@ -82,6 +82,7 @@ impl World {
                             &r.name,
                             id,
                             &m,
+                            r.radius_m,
                             r.angular_velocity_rad_s,
                             f.moment_of_inertia_kg_m2,
                             f.bearing_torque_n_m,

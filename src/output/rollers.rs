@@ -1,0 +1,86 @@
+//! `rollers.csv`: the free-turning rollers' spin at every output sample, one row per roller per
+//! sample, at the same times as `bodies.csv` ([`ROLLERS_HEADER`]). A free roller's angle is
+//! simulation state ([`crate::world::free_roller`]), not a function of time like a powered
+//! roller's w t: without this file its turn between the start and the end (`summary.json`,
+//! `free_rollers`) is lost, and the viewer could not draw it turning.
+//!
+//! Written only by a run of a scene that has a free-turning roller, so that every other run's
+//! set of files stays what it was; streamed to a temporary file and renamed on
+//! [`RollersCsv::commit`], as `bodies.csv` ([`super::atomic`]).
+
+use super::atomic::AtomicFile;
+use super::BodiesCsv;
+use crate::record::series::{AppleState, SampleSink};
+use crate::world::free_roller::RollerSample;
+use std::path::Path;
+
+/// The file's name in a run folder.
+pub const ROLLERS_CSV: &str = "rollers.csv";
+
+/// Header of `rollers.csv`: the sample time, the roller's name (as in `contacts.csv`, a bed's
+/// rollers `BED/k`), the angle it turned since the start (right-hand rule about its axis), its
+/// rate over the step that ended at the sample, and its surface speed (rate times radius).
+pub const ROLLERS_HEADER: [&str; 5] = [
+    "time_s",
+    "roller",
+    "angle_rad",
+    "spin_rad_s",
+    "surface_speed_m_s",
+];
+
+/// Streams `rollers.csv` to a temporary file, renamed on [`RollersCsv::commit`].
+pub struct RollersCsv {
+    w: csv::Writer<AtomicFile>,
+}
+
+impl RollersCsv {
+    /// Starts `path`.
+    pub fn create(path: &Path) -> std::io::Result<Self> {
+        let mut w = csv::Writer::from_writer(AtomicFile::create(path)?);
+        w.write_record(ROLLERS_HEADER)?;
+        Ok(Self { w })
+    }
+
+    /// Finishes the file under its final name.
+    pub fn commit(self) -> std::io::Result<()> {
+        let f = self.w.into_inner().map_err(|e| e.into_error())?;
+        f.commit()
+    }
+
+    /// The rows of one sample (numbers in the shortest round-trip form, as every output).
+    fn write(&mut self, time_s: f64, rollers: &[RollerSample]) -> std::io::Result<()> {
+        let t = time_s.to_string();
+        for r in rollers {
+            self.w.write_record([
+                t.as_str(),
+                &r.name,
+                &r.angle_rad.to_string(),
+                &r.spin_rad_s.to_string(),
+                &r.surface_speed_m_s.to_string(),
+            ])?;
+        }
+        Ok(())
+    }
+}
+
+/// The run's sample sink: the apples into `bodies.csv`, the free-turning rollers (when the scene
+/// has some) into `rollers.csv`, one sample feeding both.
+pub struct RunSamples<'a> {
+    /// `bodies.csv`.
+    pub bodies: &'a mut BodiesCsv,
+    /// `rollers.csv`, if the scene has a free-turning roller.
+    pub rollers: Option<&'a mut RollersCsv>,
+}
+
+impl SampleSink for RunSamples<'_> {
+    fn sample(&mut self, time_s: f64, apples: &[AppleState]) -> std::io::Result<()> {
+        self.bodies.sample(time_s, apples)
+    }
+
+    fn sample_rollers(&mut self, time_s: f64, rollers: &[RollerSample]) -> std::io::Result<()> {
+        match self.rollers.as_mut() {
+            Some(r) => r.write(time_s, rollers),
+            None => Ok(()),
+        }
+    }
+}
