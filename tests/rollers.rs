@@ -524,7 +524,7 @@ fn csv_table(path: &std::path::Path) -> (Vec<String>, Vec<csv::StringRecord>) {
     (h, rd.records().map(|r| r.unwrap()).collect())
 }
 
-/// Item 3: the shipped gravity roller ramp (scenarios/lines/gravity_roller_conveyor.json,
+/// Item 3: the shipped gravity roller ramp (scenarios/lines/gravity_roller_ramp.json,
 /// docs/lines.md section 7): 36 free-turning steel rollers (R_r 25 mm, I 2.58e-4 kg m^2,
 /// bearing torque M 1e-3 N m, pitch 60 mm) inclined 30 degrees, four apples released at rest in
 /// pockets. Checked from the run's files (the CLI's, one thread):
@@ -559,7 +559,7 @@ fn csv_table(path: &std::path::Path) -> (Vec<String>, Vec<csv::StringRecord>) {
 fn the_gravity_roller_ramp_balances_its_energy_and_its_rollers_spin_down_at_m_over_i() {
     let (inertia, bearing, mu_r, g) = (2.58e-4, 1e-3, 0.03, G);
     let v: Value = serde_json::from_slice(
-        &std::fs::read(repo("scenarios/lines/gravity_roller_conveyor.json")).unwrap(),
+        &std::fs::read(repo("scenarios/lines/gravity_roller_ramp.json")).unwrap(),
     )
     .unwrap();
     assert_eq!(
