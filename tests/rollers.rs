@@ -516,3 +516,219 @@ fn no_rollers_csv_without_a_free_roller() {
     );
     let _ = std::fs::remove_dir_all(out.parent().unwrap());
 }
+
+/// A column of a CSV file's rows by name.
+fn csv_table(path: &std::path::Path) -> (Vec<String>, Vec<csv::StringRecord>) {
+    let mut rd = csv::Reader::from_path(path).unwrap();
+    let h = rd.headers().unwrap().iter().map(String::from).collect();
+    (h, rd.records().map(|r| r.unwrap()).collect())
+}
+
+/// Item 3: the shipped gravity roller ramp (scenarios/lines/gravity_roller_ramp.json,
+/// docs/lines.md section 7): 36 free-turning steel rollers (R_r 25 mm, I 2.58e-4 kg m^2,
+/// bearing torque M 1e-3 N m, pitch 60 mm) inclined 30 degrees, four apples released at rest in
+/// pockets. Checked from the run's files (the CLI's, one thread):
+///
+/// - energy balance at the end: the apples' potential energy lost = their kinetic energy
+///   (1/2 m v^2 + 1/2 (2/5 m R^2) w^2, bodies.csv) + the rollers' (1/2 I w^2, rollers.csv) +
+///   the bearings' work (M times the angle turned, the sum of |angle change| between samples,
+///   rollers.csv) + the normal hysteresis of every contact (contacts.csv `absorbed_energy_j`)
+///   plus a residual, the friction and rolling-resistance work, which no file records. Nothing may
+///   be created: residual >= -0.1 % of the energy lost (the samples' kinetic energy, taken with
+///   the velocities of the step that ended at the pose, is off by at most about m v a dt a
+///   apple: 2e-4 J, 0.02 % of the 4.56 J lost; five times that allowed). And the residual must
+///   be below the most the rolling resistance could take, mu_r R sum_c J_c Omega: each contact's
+///   torque at most mu_r R* F_n (R* <= R the apple's radius), J_c its recorded normal impulse
+///   (contacts.csv `impulse_n_s`), Omega the largest relative rolling rate, bounded by the
+///   largest sampled apple spin plus roller spin (friction's slip work is not in this bound: the
+///   check says it is small, the apples rolling over the rollers rather than sliding);
+/// - each apple's speed stays under sqrt(2 g dh), every joule of its drop in translation (the
+///   apples touch each other twice, apple-3 catching apple-4, and pass little energy on:
+///   checked per apple all the same);
+/// - every roller ends turned along the apples' travel (angle >= 0: a positive spin about the
+///   axis +y carries the top of the roller down the slope), and each roller the apples passed
+///   over turned;
+/// - once its last contact has ended a roller slows down at exactly M/I = 3.876 rad/s^2 (the
+///   bearing alone: constant deceleration, exact in the scheme, section 12.5; from sample to
+///   sample, 100 steps of 1e-4 s, to 1e-9 relative, the rounding of 100 additions) until it
+///   stops, and then stays at rest;
+/// - one thread and two write the same bytes in every file but summary.json (its wall time),
+///   rollers.csv included (a weak check of the parallel pass here: a few contacts a step, below
+///   its threshold; tests/determinism.rs covers it).
+#[test]
+fn the_gravity_roller_ramp_balances_its_energy_and_its_rollers_spin_down_at_m_over_i() {
+    let (inertia, bearing, mu_r, g) = (2.58e-4, 1e-3, 0.03, G);
+    let v: Value = serde_json::from_slice(
+        &std::fs::read(repo("scenarios/lines/gravity_roller_ramp.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(
+        v["surfaces"][0]["free_turning"]["moment_of_inertia_kg_m2"],
+        json!(inertia)
+    );
+    assert_eq!(
+        v["surfaces"][0]["free_turning"]["bearing_torque_n_m"],
+        json!(bearing)
+    );
+    let out = run_cli(&v, "gravity", &["--threads", "1"]);
+    // bodies.csv: per apple, the rows in time order.
+    let (bh, bodies) = csv_table(&out.join("bodies.csv"));
+    let col = |h: &[String], n: &str| h.iter().position(|c| c == n).unwrap();
+    let f = |r: &csv::StringRecord, c: usize| r[c].parse::<f64>().unwrap();
+    let (ca, cz, cm, cd) = (
+        col(&bh, "apple"),
+        col(&bh, "z_m"),
+        col(&bh, "mass_kg"),
+        col(&bh, "diameter_m"),
+    );
+    let cv = [col(&bh, "vx_m_s"), col(&bh, "vy_m_s"), col(&bh, "vz_m_s")];
+    let cw = [
+        col(&bh, "wx_rad_s"),
+        col(&bh, "wy_rad_s"),
+        col(&bh, "wz_rad_s"),
+    ];
+    let mut apples: std::collections::BTreeMap<String, Vec<&csv::StringRecord>> =
+        Default::default();
+    for r in &bodies {
+        apples.entry(r[ca].to_string()).or_default().push(r);
+    }
+    assert_eq!(apples.len(), 4);
+    let (mut pe, mut ke_t, mut ke_r, mut worst_2, mut worst_107, mut w_apple) =
+        (0.0, 0.0, 0.0, 0.0f64, 0.0f64, 0.0f64);
+    let mut radius = 0.0;
+    for rows in apples.values() {
+        let (m, r) = (f(rows[0], cm), f(rows[0], cd) / 2.0);
+        radius = r;
+        let z0 = f(rows[0], cz);
+        for row in rows {
+            let dh = z0 - f(row, cz);
+            let speed = cv.iter().map(|&c| f(row, c).powi(2)).sum::<f64>().sqrt();
+            w_apple = w_apple.max(cw.iter().map(|&c| f(row, c).powi(2)).sum::<f64>().sqrt());
+            if dh > 1e-3 {
+                worst_2 = worst_2.max(speed / (2.0 * g * dh).sqrt());
+                worst_107 = worst_107.max(speed / (10.0 / 7.0 * g * dh).sqrt());
+            }
+        }
+        let last = rows.last().unwrap();
+        pe += m * g * (z0 - f(last, cz));
+        ke_t += 0.5 * m * cv.iter().map(|&c| f(last, c).powi(2)).sum::<f64>();
+        ke_r += 0.5 * 0.4 * m * r * r * cw.iter().map(|&c| f(last, c).powi(2)).sum::<f64>();
+    }
+    // rollers.csv: per roller, (time, angle, spin) in time order.
+    let (_, rrows) = csv_table(&out.join("rollers.csv"));
+    let mut rollers: std::collections::BTreeMap<String, Vec<(f64, f64, f64)>> = Default::default();
+    for r in &rrows {
+        rollers
+            .entry(r[1].to_string())
+            .or_default()
+            .push((f(r, 0), f(r, 2), f(r, 3)));
+    }
+    assert_eq!(rollers.len(), 36);
+    let ke_rollers: f64 = rollers
+        .values()
+        .map(|s| 0.5 * inertia * s.last().unwrap().2.powi(2))
+        .sum();
+    let bearing_work: f64 = rollers
+        .values()
+        .map(|s| bearing * s.windows(2).map(|p| (p[1].1 - p[0].1).abs()).sum::<f64>())
+        .sum();
+    let w_roller = rrows.iter().map(|r| f(r, 3).abs()).fold(0.0, f64::max);
+    // contacts.csv: the hysteresis, the impulses, and each roller's last contact.
+    let (chd, contacts) = csv_table(&out.join("contacts.csv"));
+    let (cb, cend, cabs, cimp) = (
+        col(&chd, "b"),
+        col(&chd, "t_end_s"),
+        col(&chd, "absorbed_energy_j"),
+        col(&chd, "impulse_n_s"),
+    );
+    let between_apples = contacts
+        .iter()
+        .filter(|c| c[cb].starts_with("apple-"))
+        .count();
+    let absorbed: f64 = contacts.iter().map(|c| f(c, cabs)).sum();
+    let impulse: f64 = contacts.iter().map(|c| f(c, cimp)).sum();
+    let residual = pe - ke_t - ke_r - ke_rollers - bearing_work - absorbed;
+    let roll_bound = mu_r * radius * impulse * (w_apple + w_roller);
+    println!(
+        "energy lost {pe:.5} J = apples' translation {ke_t:.5} + rotation {ke_r:.5} + rollers {ke_rollers:.6} + bearings {bearing_work:.6} + contact hysteresis {absorbed:.5} ({between_apples} contacts between apples) + residual {residual:.5} J ({:.2} %); rolling-resistance bound {roll_bound:.4} J (sum of impulses {impulse:.3} N s, Omega {:.1} rad/s)",
+        100.0 * residual / pe,
+        w_apple + w_roller
+    );
+    println!(
+        "largest speed / sqrt(2 g dh) {worst_2:.4}; / sqrt(10/7 g dh) {worst_107:.4}; largest apple spin {w_apple:.2} rad/s, roller spin {w_roller:.3} rad/s"
+    );
+    assert!(residual >= -1e-3 * pe, "energy created: {residual} J");
+    assert!(
+        residual <= roll_bound,
+        "residual {residual} J above the rolling bound {roll_bound} J"
+    );
+    assert!(
+        worst_2 <= 1.0,
+        "an apple faster than sqrt(2 g dh): {worst_2}"
+    );
+    // Direction, and the spin-down at M/I once a roller's last contact has ended.
+    let decel = bearing / inertia;
+    let (mut intervals, mut worst_rel, mut turned) = (0, 0.0f64, 0);
+    for (name, s) in &rollers {
+        let last = s.last().unwrap();
+        assert!(
+            last.1 >= 0.0,
+            "{name} turned against the travel: {}",
+            last.1
+        );
+        let free_from = contacts
+            .iter()
+            .filter(|c| &c[cb] == name)
+            // A contact open at the end (an apple still on it): never free.
+            .map(|c| c[cend].parse::<f64>().unwrap_or(f64::INFINITY))
+            .fold(f64::NAN, f64::max);
+        if free_from.is_nan() {
+            assert!(
+                s.iter().all(|p| p.2 == 0.0),
+                "{name}: untouched yet turning"
+            );
+            continue;
+        }
+        turned += 1;
+        assert!(last.1 > 0.0, "{name}: touched, never turned");
+        for p in s.windows(2).filter(|p| p[0].0 > free_from) {
+            if p[1].2 > 0.0 {
+                let slope = (p[1].2 - p[0].2) / (p[1].0 - p[0].0);
+                let rel = (slope + decel).abs() / decel;
+                worst_rel = worst_rel.max(rel);
+                assert!(
+                    rel <= 1e-9,
+                    "{name} at {} s: {slope} rad/s^2 against -{decel}",
+                    p[1].0
+                );
+                intervals += 1;
+            } else {
+                assert_eq!(p[1].2, 0.0, "{name} at {} s: turned back", p[1].0);
+            }
+        }
+    }
+    println!(
+        "{turned} rollers touched, all turned along the travel; spin-down over {intervals} sample intervals at M/I = {decel:.4} rad/s^2, worst {worst_rel:.1e} relative"
+    );
+    assert!(intervals >= 50, "only {intervals} spin-down intervals");
+    let two = run_cli(&v, "gravity2", &["--threads", "2"]);
+    // Every file the run wrote, rollers.csv included, but summary.json (its wall time).
+    let mut compared = 0;
+    for e in std::fs::read_dir(&out).unwrap() {
+        let file = e.unwrap().file_name();
+        if file != "summary.json" {
+            assert_eq!(
+                std::fs::read(out.join(&file)).unwrap(),
+                std::fs::read(two.join(&file)).unwrap(),
+                "{file:?} differs between one thread and two"
+            );
+            compared += 1;
+        }
+    }
+    assert!(
+        out.join("rollers.csv").exists() && compared >= 8,
+        "{compared} files"
+    );
+    let _ = std::fs::remove_dir_all(out.parent().unwrap());
+    let _ = std::fs::remove_dir_all(two.parent().unwrap());
+}
