@@ -9,7 +9,7 @@
 
 use super::manifest::{self, FailedRun, Manifest};
 use super::BatchError;
-use crate::output::atomic::AtomicFile;
+use crate::output::atomic::AtomicCsv;
 use serde::Deserialize;
 use serde_json::value::RawValue;
 use serde_json::Value;
@@ -118,7 +118,6 @@ pub fn merge(out: &Path) -> Result<MergeReport, BatchError> {
         path: report.csv.clone(),
         source,
     };
-    let mut w = csv::Writer::from_writer(AtomicFile::create(&report.csv).map_err(io)?);
     let csv_err = |e: csv::Error| BatchError::Io {
         path: report.csv.clone(),
         source: std::io::Error::other(e),
@@ -127,7 +126,7 @@ pub fn merge(out: &Path) -> Result<MergeReport, BatchError> {
     header.extend(manifest.parameters.iter().map(|p| p.name.as_str()));
     header.extend(keys.iter().map(|k| k.as_str()));
     header.push("error");
-    w.write_record(&header).map_err(csv_err)?;
+    let mut w = AtomicCsv::create(&report.csv, &header).map_err(io)?;
     for (run, (status, metrics, error)) in manifest.runs.iter().zip(&rows) {
         let mut rec: Vec<String> = vec![
             run.index.to_string(),
@@ -149,7 +148,6 @@ pub fn merge(out: &Path) -> Result<MergeReport, BatchError> {
         rec.push(error.clone());
         w.write_record(&rec).map_err(csv_err)?;
     }
-    let f = w.into_inner().map_err(|e| io(e.into_error()))?;
-    f.commit().map_err(io)?;
+    w.commit().map_err(io)?;
     Ok(report)
 }

@@ -69,6 +69,41 @@ impl Write for AtomicFile {
     }
 }
 
+/// A CSV file written whole or not at all: a [`csv::Writer`] (reached through `Deref`, so rows
+/// are `write_record`s) over an [`AtomicFile`], its header written first, and the file under its
+/// final name only on [`AtomicCsv::commit`]. Every CSV output is one, so each writes its rows
+/// and nothing of the temporary-file protocol.
+pub struct AtomicCsv {
+    w: csv::Writer<AtomicFile>,
+}
+
+impl AtomicCsv {
+    /// Starts writing `dest` (its folder must exist) with the row `header`.
+    pub fn create(dest: &Path, header: &[&str]) -> std::io::Result<Self> {
+        let mut w = csv::Writer::from_writer(AtomicFile::create(dest)?);
+        w.write_record(header)?;
+        Ok(Self { w })
+    }
+
+    /// Flushes the rows and renames the file to its final name ([`AtomicFile::commit`]).
+    pub fn commit(self) -> std::io::Result<()> {
+        self.w.into_inner().map_err(|e| e.into_error())?.commit()
+    }
+}
+
+impl std::ops::Deref for AtomicCsv {
+    type Target = csv::Writer<AtomicFile>;
+    fn deref(&self) -> &Self::Target {
+        &self.w
+    }
+}
+
+impl std::ops::DerefMut for AtomicCsv {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        &mut self.w
+    }
+}
+
 impl Drop for AtomicFile {
     fn drop(&mut self) {
         if !self.renamed {

@@ -1,7 +1,7 @@
 //! The line audit's files: `audit.csv` (written here, and read back by `applesim audit` to
 //! compare layouts) and `audit.md` ([`Audit::markdown`]).
 
-use super::atomic::AtomicFile;
+use super::atomic::AtomicCsv;
 use crate::analysis::audit::{Audit, OverThreshold, TransferPoint};
 use std::path::Path;
 
@@ -36,9 +36,7 @@ pub const AUDIT_MD: &str = "audit.md";
 
 /// Writes `audit.csv` (a figure without impacts to take it from is empty).
 pub fn write_audit(path: &Path, audit: &Audit) -> std::io::Result<()> {
-    let f = AtomicFile::create(path)?;
-    let mut w = csv::Writer::from_writer(f);
-    w.write_record(AUDIT_HEADER)?;
+    let mut w = AtomicCsv::create(path, &AUDIT_HEADER)?;
     let num = |x: f64| {
         if x.is_finite() {
             x.to_string()
@@ -60,8 +58,7 @@ pub fn write_audit(path: &Path, audit: &Audit) -> std::io::Result<()> {
         row.extend(t.apples_over.named().map(|(_, n)| n.to_string()));
         w.write_record(&row)?;
     }
-    let f = w.into_inner().map_err(|e| e.into_error())?;
-    f.commit()
+    w.commit()
 }
 
 /// Errors reading an `audit.csv`.

@@ -24,7 +24,7 @@ use crate::record::series::{AppleState, SampleSink};
 use crate::record::transitions::{Transition, TransitionSummary};
 use crate::scenario::Scenario;
 use crate::sim::{AppleFinal, RunResult};
-use atomic::AtomicFile;
+use atomic::AtomicCsv;
 pub use rollers::{RollersCsv, ROLLERS_CSV};
 use serde::Serialize;
 use std::path::Path;
@@ -164,9 +164,7 @@ pub fn write_contacts(
     points: &[String],
     roster: &crate::world::Roster,
 ) -> std::io::Result<()> {
-    let f = AtomicFile::create(path)?;
-    let mut w = csv::Writer::from_writer(f);
-    w.write_record(CONTACT_HEADER)?;
+    let mut w = AtomicCsv::create(path, &CONTACT_HEADER)?;
     let by_name = roster.by_name();
     let size = |name: &str| by_name.get(name).map(|a| (2.0 * a.radius_m, a.mass_kg));
     for (e, point) in events.iter().zip(points) {
@@ -230,8 +228,7 @@ pub fn write_contacts(
             point.clone(),
         ])?;
     }
-    let f = w.into_inner().map_err(|e| e.into_error())?;
-    f.commit()
+    w.commit()
 }
 
 /// Header of `transitions.csv`.
@@ -256,9 +253,7 @@ pub const TRANSITION_HEADER: [&str; 16] = [
 
 /// Writes `transitions.csv`: one row per slip/roll transition ([`TRANSITION_HEADER`]).
 pub fn write_transitions(path: &Path, rows: &[Transition]) -> std::io::Result<()> {
-    let f = AtomicFile::create(path)?;
-    let mut w = csv::Writer::from_writer(f);
-    w.write_record(TRANSITION_HEADER)?;
+    let mut w = AtomicCsv::create(path, &TRANSITION_HEADER)?;
     for e in rows {
         let name = |s: &Option<std::sync::Arc<str>>| s.as_deref().unwrap_or("").to_string();
         w.write_record([
@@ -280,8 +275,7 @@ pub fn write_transitions(path: &Path, rows: &[Transition]) -> std::io::Result<()
             e.since_previous_s.to_string(),
         ])?;
     }
-    let f = w.into_inner().map_err(|e| e.into_error())?;
-    f.commit()
+    w.commit()
 }
 
 /// Writes `summary.json`.
@@ -383,21 +377,19 @@ pub const BODIES_HEADER: [&str; 17] = [
 
 /// A sample sink streaming `bodies.csv` to a temporary file, renamed on [`BodiesCsv::commit`].
 pub struct BodiesCsv {
-    w: csv::Writer<AtomicFile>,
+    w: AtomicCsv,
 }
 
 impl BodiesCsv {
     /// Starts `path`.
     pub fn create(path: &Path) -> std::io::Result<Self> {
-        let mut w = csv::Writer::from_writer(AtomicFile::create(path)?);
-        w.write_record(BODIES_HEADER)?;
+        let w = AtomicCsv::create(path, &BODIES_HEADER)?;
         Ok(Self { w })
     }
 
     /// Finishes the file under its final name.
     pub fn commit(self) -> std::io::Result<()> {
-        let f = self.w.into_inner().map_err(|e| e.into_error())?;
-        f.commit()
+        self.w.commit()
     }
 }
 
@@ -436,9 +428,7 @@ impl SampleSink for BodiesCsv {
 /// Writes `forces.csv`: every recorded force sample of every contact with a history, one row
 /// each ([`plot::FORCES_HEADER`]; `contact` is the row index in `contacts.csv`).
 pub fn write_forces(path: &Path, events: &[ContactEvent]) -> std::io::Result<()> {
-    let f = AtomicFile::create(path)?;
-    let mut w = csv::Writer::from_writer(f);
-    w.write_record(plot::FORCES_HEADER)?;
+    let mut w = AtomicCsv::create(path, &plot::FORCES_HEADER)?;
     for (k, e) in events.iter().enumerate() {
         let Some(h) = &e.history else { continue };
         let k = k.to_string();
@@ -446,8 +436,7 @@ pub fn write_forces(path: &Path, events: &[ContactEvent]) -> std::io::Result<()>
             w.write_record([&k, &*e.a, &*e.b, &t.to_string(), &p.to_string()])?;
         }
     }
-    let f = w.into_inner().map_err(|e| e.into_error())?;
-    f.commit()
+    w.commit()
 }
 
 /// Header of `pulse_fits.csv` (fields of [`PulseFit`]).
@@ -476,9 +465,7 @@ pub const PULSE_FITS_HEADER: [&str; 19] = [
 /// Writes `pulse_fits.csv`: the fields of [`PulseFit`] (those of `summary.json`'s
 /// `pulse_fits`) plus `eq15_error`, eq15_peak_force_n / peak_force_n - 1.
 pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
-    let f = AtomicFile::create(path)?;
-    let mut w = csv::Writer::from_writer(f);
-    w.write_record(PULSE_FITS_HEADER)?;
+    let mut w = AtomicCsv::create(path, &PULSE_FITS_HEADER)?;
     for p in fits {
         w.write_record([
             p.contact.to_string(),
@@ -502,8 +489,7 @@ pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
             (p.eq15_peak_force_n / p.peak_force_n - 1.0).to_string(),
         ])?;
     }
-    let f = w.into_inner().map_err(|e| e.into_error())?;
-    f.commit()
+    w.commit()
 }
 
 /// Header of `bruise.csv`: one row per apple per contact.
@@ -535,9 +521,7 @@ pub const BRUISE_HEADER: [&str; 23] = [
 
 /// Writes `bruise.csv`.
 pub fn write_bruise(path: &Path, a: &Analysis) -> std::io::Result<()> {
-    let f = AtomicFile::create(path)?;
-    let mut w = csv::Writer::from_writer(f);
-    w.write_record(BRUISE_HEADER)?;
+    let mut w = AtomicCsv::create(path, &BRUISE_HEADER)?;
     for c in &a.bruise.contacts {
         let apple = a.bruise.apples.iter().find(|x| x.apple == c.apple);
         let p = c.contact_point_m;
@@ -569,8 +553,7 @@ pub fn write_bruise(path: &Path, a: &Analysis) -> std::io::Result<()> {
             opt(c.thresholds.static_pressure_pa),
         ])?;
     }
-    let f = w.into_inner().map_err(|e| e.into_error())?;
-    f.commit()
+    w.commit()
 }
 
 /// Errors of [`run_to_dir`].

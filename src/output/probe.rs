@@ -3,7 +3,7 @@
 //! per impact peak g and velocity change), plus the transfer point of each impact, which a real
 //! device leaves to the person who watched it pass.
 
-use super::atomic::AtomicFile;
+use super::atomic::AtomicCsv;
 use crate::record::events::{ContactEvent, Party};
 use crate::sim::ProbeRecord;
 use std::path::{Path, PathBuf};
@@ -90,21 +90,17 @@ pub fn write_probe(
         move |e: std::io::Error| (path.clone(), e)
     };
     let write_trace = || -> std::io::Result<()> {
-        let f = AtomicFile::create(&trace)?;
-        let mut w = csv::Writer::from_writer(f);
-        w.write_record(TRACE_HEADER)?;
+        let mut w = AtomicCsv::create(&trace, &TRACE_HEADER)?;
         for &(t, g) in &p.trace {
             w.write_record([t.to_string(), g.to_string()])?;
         }
-        w.into_inner().map_err(|e| e.into_error())?.commit()
+        w.commit()
     };
     write_trace().map_err(at(&trace))?;
     let impacts = dir.join(format!("{stem}_impacts.csv"));
     let pts = transfer_points(p, events, points);
     let write_impacts = || -> std::io::Result<()> {
-        let f = AtomicFile::create(&impacts)?;
-        let mut w = csv::Writer::from_writer(f);
-        w.write_record(IMPACTS_HEADER)?;
+        let mut w = AtomicCsv::create(&impacts, &IMPACTS_HEADER)?;
         for (k, (i, pt)) in p.impacts.iter().zip(&pts).enumerate() {
             w.write_record([
                 (k + 1).to_string(),
@@ -118,7 +114,7 @@ pub fn write_probe(
                 pt.clone(),
             ])?;
         }
-        w.into_inner().map_err(|e| e.into_error())?.commit()
+        w.commit()
     };
     write_impacts().map_err(at(&impacts))?;
     Ok([trace, impacts])

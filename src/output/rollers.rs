@@ -8,7 +8,7 @@
 //! set of files stays what it was; streamed to a temporary file and renamed on
 //! [`RollersCsv::commit`], as `bodies.csv` ([`super::atomic`]).
 
-use super::atomic::AtomicFile;
+use super::atomic::AtomicCsv;
 use super::BodiesCsv;
 use crate::record::series::{AppleState, SampleSink};
 use crate::world::free_roller::RollerSample;
@@ -30,21 +30,19 @@ pub const ROLLERS_HEADER: [&str; 5] = [
 
 /// Streams `rollers.csv` to a temporary file, renamed on [`RollersCsv::commit`].
 pub struct RollersCsv {
-    w: csv::Writer<AtomicFile>,
+    w: AtomicCsv,
 }
 
 impl RollersCsv {
     /// Starts `path`.
     pub fn create(path: &Path) -> std::io::Result<Self> {
-        let mut w = csv::Writer::from_writer(AtomicFile::create(path)?);
-        w.write_record(ROLLERS_HEADER)?;
+        let w = AtomicCsv::create(path, &ROLLERS_HEADER)?;
         Ok(Self { w })
     }
 
     /// Finishes the file under its final name.
     pub fn commit(self) -> std::io::Result<()> {
-        let f = self.w.into_inner().map_err(|e| e.into_error())?;
-        f.commit()
+        self.w.commit()
     }
 
     /// The rows of one sample (numbers in the shortest round-trip form, as every output).
