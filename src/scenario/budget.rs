@@ -26,6 +26,20 @@ pub const DEFAULT_MAX_OUTPUT_MB: f64 = 4096.0;
 /// line; rounded up).
 pub const BODIES_ROW_BYTES: f64 = 200.0;
 
+/// Bytes of one row of `rollers.csv` (a roller's name and three numbers in full precision: about
+/// 70; rounded up).
+pub const ROLLERS_ROW_BYTES: f64 = 100.0;
+
+/// How many free-turning rollers `sc` has (a bed counts each of its rollers): the rows of
+/// `rollers.csv` per sample.
+pub fn free_rollers(sc: &Scenario) -> f64 {
+    sc.surfaces
+        .iter()
+        .flat_map(|s| s.units())
+        .filter(|u| matches!(u, super::SurfaceSpec::Roller(r) if r.free_turning.is_some()))
+        .count() as f64
+}
+
 /// How many apples a run of `sc` can hold: the listed ones, every generator's count and every
 /// source's count (counted, not generated: this is what must be checked before generating).
 pub fn planned_apples(sc: &Scenario) -> f64 {
@@ -76,10 +90,11 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
 }
 
 /// The size of the output files a run of `sc` is estimated to write (bytes): `bodies.csv`, one
-/// row per apple per sample (the other files grow with the contacts, far less).
+/// row per apple per sample, and `rollers.csv`, one row per free-turning roller per sample (the
+/// other files grow with the contacts, far less).
 pub fn output_bytes(sc: &Scenario) -> f64 {
     let samples = (sc.duration_s / sc.output.sample_interval_s).floor() + 2.0;
-    samples * planned_apples(sc) * BODIES_ROW_BYTES
+    samples * (planned_apples(sc) * BODIES_ROW_BYTES + free_rollers(sc) * ROLLERS_ROW_BYTES)
 }
 
 /// Refuses a scenario whose output is estimated beyond `max_output_mb`, naming the field to
@@ -90,14 +105,81 @@ pub fn check_output(sc: &Scenario, max_output_mb: f64) -> Result<(), ScenarioErr
         return Err(ScenarioError::invalid(
             "output.sample_interval_s",
             format!(
-                "{} s over {} s for {:.3e} apples writes about {:.1} GiB of bodies.csv ({} bytes per apple per sample), more than model.max_output_mb = {max_output_mb} MiB: sample less often, or raise model.max_output_mb",
+                "{} s over {} s for {:.3e} apples{} writes about {:.1} GiB of bodies.csv ({} bytes per apple per sample){}, more than model.max_output_mb = {max_output_mb} MiB: sample less often, or raise model.max_output_mb",
                 sc.output.sample_interval_s,
                 sc.duration_s,
                 planned_apples(sc),
+                rollers_part(sc, " and {} free-turning rollers"),
                 bytes / (1024.0 * 1024.0 * 1024.0),
-                BODIES_ROW_BYTES
+                BODIES_ROW_BYTES,
+                rollers_part(sc, " and rollers.csv")
             ),
         ));
     }
     Ok(())
+}
+
+/// `text` (with `{}` replaced by the count) if `sc` has free-turning rollers, else nothing.
+fn rollers_part(sc: &Scenario, text: &str) -> String {
+    match free_rollers(sc) {
+        n if n > 0.0 => text.replace("{}", &n.to_string()),
+        _ => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `rollers.csv` counts in the output estimate: one apple sampled every 1e-6 s for 1 s writes
+    /// about 191 MiB of bodies.csv (under the default 4 GiB), but a bed of 1000 free-turning
+    /// rollers adds 1000 rows of rollers.csv a sample (about 93 GiB): refused, the message
+    /// naming both files and the rollers.
+    #[test]
+    fn free_rollers_count_in_the_output_estimate() {
+        let scenario = |free: bool| -> Scenario {
+            let turning = if free {
+                r#", "free_turning": {"moment_of_inertia_kg_m2": 1e-3}"#
+            } else {
+                ""
+            };
+            crate::scenario::from_json(
+                &format!(
+                    r#"{{"duration_s": 1, "time_step_s": 1e-6, "gravity_m_s2": [0, 0, -9.81],
+                    "output": {{"sample_interval_s": 1e-6}},
+                    "materials": {{"apple": {{"shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800}},
+                                   "steel": {{"youngs_modulus_pa": 2e11, "poisson_ratio": 0.28}}}},
+                    "contact": {{"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000}},
+                    "apples": [{{"name": "a", "material": "apple", "diameter_m": 0.08, "position_m": [0, -1, 1]}}],
+                    "surfaces": [{{"type": "roller_bed", "name": "bed", "material": "steel", "radius_m": 0.01,
+                      "length_m": 0.3, "position_m": [0, 0, 0], "axis": [0, 1, 0], "pitch_m": 0.03,
+                      "pitch_direction": [1, 0, 0], "count": 1000{turning}}}]}}"#
+                ),
+                "test",
+            )
+            .unwrap()
+        };
+        let (powered, free) = (scenario(false), scenario(true));
+        assert_eq!(free_rollers(&powered), 0.0);
+        assert_eq!(free_rollers(&free), 1000.0);
+        let samples = 1e6 + 2.0;
+        assert_eq!(output_bytes(&powered), samples * BODIES_ROW_BYTES);
+        assert_eq!(
+            output_bytes(&free),
+            samples * (BODIES_ROW_BYTES + 1000.0 * ROLLERS_ROW_BYTES)
+        );
+        assert!(check_output(&powered, DEFAULT_MAX_OUTPUT_MB).is_ok());
+        let e = check_output(&free, DEFAULT_MAX_OUTPUT_MB)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("output.sample_interval_s"), "{e}");
+        assert!(
+            e.contains("1.000e0 apples and 1000 free-turning rollers"),
+            "{e}"
+        );
+        assert!(
+            e.contains("of bodies.csv (200 bytes per apple per sample) and rollers.csv"),
+            "{e}"
+        );
+    }
 }

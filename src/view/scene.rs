@@ -559,4 +559,65 @@ mod tests {
         assert!(notes.contains("moving surface(s) 'bed' drawn"), "{notes}");
         assert!(!notes.contains("a cylinder looks the same"), "{notes}");
     }
+
+    /// Free-turning rollers with recorded angles (rollers.csv's, here given directly): one whose
+    /// angle steps stay under [`MAX_TURN_PER_FRAME_RAD`] gets a mover posed at the recorded
+    /// angle of each frame; one that turns 3 rad between two frames (more than the page can
+    /// draw the right way round) gets none, and the note gives its largest step.
+    #[test]
+    fn free_rollers_are_posed_at_their_recorded_angles_unless_too_fast() {
+        let sc: Scenario = crate::scenario::from_json(
+            r#"{"duration_s": 1, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
+                "materials": {"steel": {"youngs_modulus_pa": 2e11, "poisson_ratio": 0.28}},
+                "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
+                "surfaces": [
+                  {"type": "roller", "name": "slow", "material": "steel", "radius_m": 0.03,
+                   "length_m": 0.4, "position_m": [0, 0, 0], "axis": [0, 1, 0],
+                   "free_turning": {"moment_of_inertia_kg_m2": 1e-3}},
+                  {"type": "roller", "name": "quick", "material": "steel", "radius_m": 0.03,
+                   "length_m": 0.4, "position_m": [0, 1, 0], "axis": [0, 1, 0],
+                   "free_turning": {"moment_of_inertia_kg_m2": 1e-3}}
+                ]}"#,
+            "test",
+        )
+        .unwrap();
+        let spins: RollerAngles = [
+            ("slow".to_string(), vec![0.0, 0.5, 1.25]),
+            ("quick".to_string(), vec![0.0, 1.0, 4.0]),
+        ]
+        .into_iter()
+        .collect();
+        let mut notes = Vec::new();
+        let (surfaces, movers, _, _) = surfaces_of(
+            &sc,
+            Path::new("."),
+            Vec3::ZERO,
+            Vec3::ONE,
+            false,
+            &[0.0, 0.1, 0.2],
+            Some(&spins),
+            &mut notes,
+        );
+        let bodies: Vec<Option<usize>> = surfaces.iter().map(|s| s.mover).collect();
+        assert_eq!(bodies, [Some(0), None]);
+        assert_eq!(movers.len(), 1);
+        let f = poses(&movers[0]);
+        for (k, &angle) in [0.0f64, 0.5, 1.25].iter().enumerate() {
+            let q = rapier3d_f64::math::Rotation::from_axis_angle(Vec3::Y, angle);
+            let want = [0.0, 0.0, 0.0, q.x, q.y, q.z, q.w];
+            for j in 0..7 {
+                assert!(
+                    (f[k][j] as f64 - want[j]).abs() < 1e-7,
+                    "frame {k}: {:?} vs {want:?}",
+                    f[k]
+                );
+            }
+        }
+        let notes = notes.join("\n");
+        assert!(
+            notes.contains("roller 'quick' turns freely and, by the angles of rollers.csv, 3.00 rad about its own axis between two frames"),
+            "{notes}"
+        );
+        assert!(!notes.contains("roller 'slow' turns freely and"), "{notes}");
+    }
 }
