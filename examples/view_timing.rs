@@ -11,9 +11,10 @@
 //! `gl.finish()` does not wait in Chromium), the draw calls and triangles of that frame, then the frames drawn per second over 5 s of playback at 1x after a click on Play. Chromium renders WebGL on the CPU here
 //! (SwiftShader, no GPU): a desktop browser with a GPU draws at least as fast.
 
+#[path = "../tests/chromium_launch/mod.rs"]
+mod chromium_launch;
+
 use headless_chrome::browser::tab::point::Point;
-use headless_chrome::{Browser, LaunchOptions};
-use std::ffi::OsStr;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -23,36 +24,8 @@ fn main() {
         eprintln!("usage: view_timing PAGE.html ...");
         std::process::exit(2);
     }
-    let chromium = std::env::var_os("APPLESIM_CHROMIUM")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
     let profile = std::env::temp_dir().join(format!("applesim-view-timing-{}", std::process::id()));
-    let args: Vec<&OsStr> = [
-        "--disable-gpu",
-        "--disable-quic",
-        "--no-first-run",
-        "--disable-background-networking",
-        "--disable-component-update",
-        "--disable-sync",
-        "--use-angle=swiftshader",
-        "--enable-unsafe-swiftshader",
-    ]
-    .iter()
-    .map(OsStr::new)
-    .collect();
-    let browser = Browser::new(
-        LaunchOptions::default_builder()
-            .path(Some(chromium))
-            .headless(true)
-            .sandbox(false)
-            .window_size(Some((1280, 800)))
-            .user_data_dir(Some(profile.clone()))
-            .args(args)
-            .idle_browser_timeout(Duration::from_secs(300))
-            .build()
-            .unwrap(),
-    )
-    .expect("start chromium");
+    let browser = chromium_launch::start(&profile, 1280, 800, Duration::from_secs(300));
     println!("| page | size (MB) | apples | frames | load to first frame (ms, median of 3) | playback (frames/s) | update (ms) | draw (ms) | draw calls | triangles | load average |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for page in &pages {

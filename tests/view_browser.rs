@@ -12,9 +12,10 @@ use headless_chrome::browser::tab::point::Point;
 use headless_chrome::protocol::cdp::types::Event;
 use headless_chrome::protocol::cdp::Page::CaptureScreenshotFormatOption;
 use headless_chrome::protocol::cdp::{Log, Runtime};
-use headless_chrome::{Browser, LaunchOptions, Tab};
+use headless_chrome::{Browser, Tab};
+mod chromium_launch;
+
 use std::collections::BTreeMap;
-use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::{Arc, Mutex};
@@ -36,27 +37,6 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
-/// The Chromium binary, or a failure that says how to get it.
-fn chromium() -> PathBuf {
-    if let Some(p) = std::env::var_os("APPLESIM_CHROMIUM") {
-        return PathBuf::from(p);
-    }
-    for p in [
-        "/usr/bin/chromium",
-        "/usr/bin/chromium-browser",
-        "/usr/bin/google-chrome",
-    ] {
-        if Path::new(p).is_file() {
-            return PathBuf::from(p);
-        }
-    }
-    panic!(
-        "Chromium is needed for the viewer's browser test and was not found (/usr/bin/chromium). \
-         Install it with `apt-get update && apt-get install -y chromium` (as root; .ci/run does \
-         this), or set APPLESIM_CHROMIUM to a Chromium or Chrome binary."
-    );
-}
-
 /// A headless Chromium with a fresh profile, and the errors its pages report.
 struct Session {
     _browser: Browser,
@@ -67,35 +47,7 @@ struct Session {
 
 fn launch(name: &str) -> Session {
     let profile = tmp(&format!("profile-{name}"));
-    let path = chromium();
-    // The flags that work on this machine (no GPU, no sandbox as root, nothing from the
-    // network); WebGL runs on SwiftShader, the CPU renderer Chromium ships.
-    let args: Vec<&OsStr> = [
-        "--disable-gpu",
-        "--disable-quic",
-        "--no-first-run",
-        "--disable-background-networking",
-        "--disable-component-update",
-        "--disable-sync",
-        "--use-angle=swiftshader",
-        "--enable-unsafe-swiftshader",
-        "--hide-scrollbars",
-    ]
-    .iter()
-    .map(OsStr::new)
-    .collect();
-    let opts = LaunchOptions::default_builder()
-        .path(Some(path.clone()))
-        .headless(true)
-        .sandbox(false)
-        .window_size(Some((WIDTH, HEIGHT)))
-        .user_data_dir(Some(profile.clone()))
-        .args(args)
-        .idle_browser_timeout(Duration::from_secs(120))
-        .build()
-        .unwrap();
-    let browser = Browser::new(opts)
-        .unwrap_or_else(|e| panic!("could not start {} headless: {e}", path.display()));
+    let browser = chromium_launch::start(&profile, WIDTH, HEIGHT, Duration::from_secs(120));
     let tab = browser.new_tab().unwrap();
     tab.set_default_timeout(Duration::from_secs(60));
     let errors = Arc::new(Mutex::new(Vec::new()));

@@ -476,6 +476,20 @@ mod tests {
             .collect()
     }
 
+    /// A scenario of steel surfaces only: `surfaces`, the JSON of its surfaces list's items.
+    fn steel_scene(surfaces: &str) -> Scenario {
+        crate::scenario::from_json(
+            &format!(
+                r#"{{"duration_s": 1, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
+                "materials": {{"steel": {{"youngs_modulus_pa": 2e11, "poisson_ratio": 0.28}}}},
+                "contact": {{"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000}},
+                "surfaces": [{surfaces}]}}"#
+            ),
+            "test",
+        )
+        .unwrap()
+    }
+
     /// A roller bed carried by a `motion` is one body per roller, as the world builds it: each
     /// roller's part has its own mover, its origin the roller's centre, posed per frame by the
     /// translation and its own turn w t about its axis; a powered roller that only turns has a
@@ -484,11 +498,8 @@ mod tests {
     /// is striped: half of its side's triangles dark, its caps light.
     #[test]
     fn a_roller_bed_has_a_body_per_roller_and_powered_rollers_turn() {
-        let sc: Scenario = crate::scenario::from_json(
-            r#"{"duration_s": 1, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
-                "materials": {"steel": {"youngs_modulus_pa": 2e11, "poisson_ratio": 0.28}},
-                "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
-                "surfaces": [
+        let sc = steel_scene(
+            r#"
                   {"type": "roller_bed", "name": "bed", "material": "steel", "radius_m": 0.03,
                    "length_m": 0.4, "position_m": [0, 0, 0], "axis": [0, 1, 0], "pitch_m": 0.08,
                    "pitch_direction": [1, 0, 0], "count": 3, "angular_velocity_rad_s": 5,
@@ -502,10 +513,8 @@ mod tests {
                   {"type": "roller", "name": "free", "material": "steel", "radius_m": 0.03,
                    "length_m": 0.4, "position_m": [0, 3, 0], "axis": [0, 1, 0],
                    "free_turning": {"moment_of_inertia_kg_m2": 1e-3}}
-                ]}"#,
-            "test",
-        )
-        .unwrap();
+                "#,
+        );
         let mut notes = Vec::new();
         let (surfaces, movers, _, _) = surfaces_of(
             &sc,
@@ -566,21 +575,16 @@ mod tests {
     /// draw the right way round) gets none, and the note gives its largest step.
     #[test]
     fn free_rollers_are_posed_at_their_recorded_angles_unless_too_fast() {
-        let sc: Scenario = crate::scenario::from_json(
-            r#"{"duration_s": 1, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
-                "materials": {"steel": {"youngs_modulus_pa": 2e11, "poisson_ratio": 0.28}},
-                "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
-                "surfaces": [
+        let sc = steel_scene(
+            r#"
                   {"type": "roller", "name": "slow", "material": "steel", "radius_m": 0.03,
                    "length_m": 0.4, "position_m": [0, 0, 0], "axis": [0, 1, 0],
                    "free_turning": {"moment_of_inertia_kg_m2": 1e-3}},
                   {"type": "roller", "name": "quick", "material": "steel", "radius_m": 0.03,
                    "length_m": 0.4, "position_m": [0, 1, 0], "axis": [0, 1, 0],
                    "free_turning": {"moment_of_inertia_kg_m2": 1e-3}}
-                ]}"#,
-            "test",
-        )
-        .unwrap();
+                "#,
+        );
         let spins: RollerAngles = [
             ("slow".to_string(), vec![0.0, 0.5, 1.25]),
             ("quick".to_string(), vec![0.0, 1.0, 4.0]),
