@@ -12,13 +12,14 @@
 //! it at the current poses every step; the driver in [`sim`] steps it, refuses a run that went
 //! wrong and runs the slip/roll detector; what happened is kept in [`record`]s (contact events,
 //! time series, transitions); [`analysis`] says what it means for the fruit (pulse fit, bruise
-//! assessment) and [`output`] writes the run folder (summary, CSV, ParaView, charts). On top:
+//! assessment) and [`output`] writes the run folder (summary, CSV, ParaView, charts); [`run`]
+//! holds the order of those stages for one run, into a folder switched in whole. On top:
 //! [`batch`] (sweeps, shards, merge), [`validate`] (the paper's figures), [`bench`](mod@bench) (the cost of
 //! a run), [`view`] (a run folder as one HTML page) and the command line (a thin shell in `src/cli`).
 //!
 //! Code dependencies run one way, each module using only those listed before it: [`math`],
 //! [`contact`] (pure functions), [`scenario`], [`record`] (plain data), [`layer`], [`world`],
-//! [`sim`], [`analysis`], [`output`], then the top. One arrow runs back: scenario validation
+//! [`sim`], [`analysis`], [`output`], [`run`], then the top. One arrow runs back: scenario validation
 //! borrows the layer's cell grid ([`layer::grid`]) to find overlapping apples.
 #![warn(missing_docs)]
 
@@ -31,6 +32,7 @@ pub mod layer;
 pub mod math;
 pub mod output;
 pub mod record;
+pub mod run;
 pub mod scenario;
 pub mod sim;
 pub mod validate;

@@ -178,7 +178,7 @@ fn bruise_csv_and_summary_name_the_same_apples() {
     let want = expected();
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bruise_run");
     let _ = std::fs::remove_dir_all(&dir);
-    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let r = applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     assert_eq!(r.metrics["bruised_apples"], want.len() as f64);
     let mut rd = csv::Reader::from_path(dir.join("bruise.csv")).unwrap();
     let h = rd.headers().unwrap().clone();

@@ -151,7 +151,7 @@ fn files_carry_the_figures() {
     let sc = drop(v0, ke, 1000.0, true);
     let dir = std::env::temp_dir().join(format!("applesim-energy-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     let rk4 = reference(ke, 1000.0, true).impact(v0, 0.1);
     let c = &csv_rows(&dir.join("contacts.csv"))[0];
     let b = &csv_rows(&dir.join("bruise.csv"))[0];

@@ -23,7 +23,7 @@ fn scratch(name: &str) -> PathBuf {
 fn run_folder(sc: &Scenario, name: &str) -> PathBuf {
     applesim::scenario::validate(sc).unwrap_or_else(|e| panic!("{name}: {e}"));
     let out = scratch(name);
-    applesim::output::run_to_dir(sc, &repo("scenarios"), &out, &mut |_| {})
+    applesim::run::to_dir(sc, &repo("scenarios"), &out, &mut |_| {})
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     out
 }

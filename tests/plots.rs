@@ -17,7 +17,7 @@ fn tmp(name: &str) -> PathBuf {
 fn drop_run(v0: f64, dir: &Path) {
     let mut sc = shipped("scenarios/drop_on_steel.json");
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
-    applesim::output::run_to_dir(&sc, &repo("scenarios"), dir, &mut |_| {}).unwrap();
+    applesim::run::to_dir(&sc, &repo("scenarios"), dir, &mut |_| {}).unwrap();
 }
 
 struct Svg {
@@ -171,7 +171,7 @@ fn max_series_keeps_the_largest_peaks_and_says_so() {
     }
     let root = tmp("plots_max");
     let run = root.join("four");
-    applesim::output::run_to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
+    applesim::run::to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
     let out = root.join("charts");
     let opts = PlotOptions {
         max_series: 2,
@@ -251,7 +251,7 @@ fn force_chart_window_keeps_landing_pulses_visible() {
     sc.output.force_history = true;
     let root = tmp("plots_window");
     let run = root.join("line");
-    applesim::output::run_to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
+    applesim::run::to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
     let s = plot::plot_runs(std::slice::from_ref(&run), &run, &PlotOptions::default()).unwrap();
     println!("{:?}", s.notes);
     let window = force_window_end(&s.notes);
@@ -291,7 +291,7 @@ fn force_chart_default_window_is_around_the_impact_of_a_resting_apple() {
     sc.output.force_history = true;
     let root = tmp("plots_resting");
     let run = root.join("rest");
-    applesim::output::run_to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
+    applesim::run::to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
     let contacts = std::fs::read_to_string(run.join("contacts.csv")).unwrap();
     let mut rows = csv::Reader::from_reader(contacts.as_bytes());
     let h = rows.headers().unwrap().clone();

@@ -399,7 +399,7 @@ fn outputs_carry_the_transitions() {
     let sc = plate(0.5, 0.0, 0.3, 0.1);
     let dir = std::env::temp_dir().join(format!("applesim_transitions_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let r = applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     let csv = std::fs::read_to_string(dir.join("transitions.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(
@@ -430,7 +430,7 @@ fn outputs_carry_the_transitions() {
     let mut off = sc.clone();
     off.output.transitions.enabled = false;
     let dir2 = dir.join("off");
-    let r2 = applesim::output::run_to_dir(&off, &repo("scenarios"), &dir2, &mut |_| {}).unwrap();
+    let r2 = applesim::run::to_dir(&off, &repo("scenarios"), &dir2, &mut |_| {}).unwrap();
     assert!(r2.transitions.is_empty() && r2.transition_summary.is_none());
     assert!(!dir2.join("transitions.csv").exists());
     let bodies = std::fs::read_to_string(dir2.join("bodies.csv")).unwrap();
@@ -475,7 +475,7 @@ fn plots_mark_the_transitions() {
     let run_dir = root.join("run");
     let mut sc = belt(0.5, 0.3, 0.1);
     sc.output.sample_interval_s = 1e-3;
-    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &run_dir, &mut |_| {}).unwrap();
+    let r = applesim::run::to_dir(&sc, &repo("scenarios"), &run_dir, &mut |_| {}).unwrap();
     let out = root.join("charts");
     let s = plot::plot_runs(
         std::slice::from_ref(&run_dir),

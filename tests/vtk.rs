@@ -110,7 +110,7 @@ fn drops() -> Scenario {
 fn run_frames_read_back_with_vtkio() {
     let sc = drops();
     let dir = tmp("vtk_run");
-    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let r = applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     let index = pvd(&dir.join("scene.pvd"));
     let frames: Vec<&(f64, u32, String)> = index.iter().filter(|d| d.1 == 0).collect();
     // 0.03 s at 5 ms: frames at 0, 5, ..., 30 ms.
@@ -306,9 +306,9 @@ fn frames_follow_a_changing_apple_count_and_surfaces_are_tessellated() {
 fn rerun_with_fewer_frames_removes_stale_ones() {
     let mut sc = drops();
     let dir = tmp("vtk_rerun");
-    applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     sc.output.vtk = Some(VtkSpec { interval_s: 0.01 });
-    applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     let n = files_starting(&dir.join("vtk"), "apples_");
     assert_eq!(n, 4, "frames at 0, 10, 20, 30 ms only");
     assert_eq!(pvd(&dir.join("scene.pvd")).len(), 8);
@@ -331,7 +331,7 @@ fn analysis_files_are_byte_identical_across_runs() {
     let sc = drops();
     let (a, b) = (tmp("det_a"), tmp("det_b"));
     for d in [&a, &b] {
-        applesim::output::run_to_dir(&sc, &repo("scenarios"), d, &mut |_| {}).unwrap();
+        applesim::run::to_dir(&sc, &repo("scenarios"), d, &mut |_| {}).unwrap();
         applesim::output::plot::plot_runs(
             std::slice::from_ref(d),
             d,
@@ -370,7 +370,7 @@ fn handling_line_with_fed_apples_and_bin() {
     sc.output.sample_interval_s = 0.01;
     sc.output.vtk = Some(VtkSpec { interval_s: 0.1 });
     let dir = tmp("vtk_line");
-    let r = applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    let r = applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     let mut per_time: BTreeMap<String, usize> = BTreeMap::new();
     let mut rd = csv::Reader::from_path(dir.join("bodies.csv")).unwrap();
     for rec in rd.records() {
@@ -507,7 +507,7 @@ fn moving_box_is_drawn_per_frame_at_its_motion_offset() {
     );
     scenario::validate(&sc).unwrap();
     let dir = tmp("vtk_moving");
-    applesim::output::run_into(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    applesim::run::into_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     let index = pvd(&dir.join("scene.pvd"));
     let parts = |part: u32| -> Vec<(f64, String)> {
         index
@@ -561,7 +561,7 @@ fn moving_box_is_drawn_per_frame_at_its_motion_offset() {
     assert!(moving.last().unwrap().0 > BOX_KEYS[1].0);
     // The same folder rerun without the motion: the moving files are gone, the index is back to
     // two parts per frame.
-    applesim::output::run_into(&drops(), &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    applesim::run::into_dir(&drops(), &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     let left = files_starting(&dir.join("vtk"), "moving_");
     assert_eq!(left, 0);
     assert!(pvd(&dir.join("scene.pvd")).iter().all(|d| d.1 < 2));
@@ -602,7 +602,7 @@ fn without_motion_the_files_are_as_before() {
     // the apples and the surfaces per frame, in the form it had.
     let sc = drops();
     let dir = tmp("vtk_fixed");
-    applesim::output::run_to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
+    applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
     let mut names: Vec<String> = std::fs::read_dir(dir.join("vtk"))
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

@@ -2,7 +2,7 @@
 //! assessment ([`bruise`]), the line audit per transfer point ([`audit`]), and the calibration of the eq. 12 coefficient ke against a measured
 //! restitution ([`calibrate`]). User guide: docs/analysis.md.
 //!
-//! [`analyse`] runs the first three on a finished run; `output::run_to_dir` writes their files
+//! [`analyse`] runs the first three on a finished run; `run::to_dir` writes their files
 //! (`pulse_fits.csv`, `bruise.csv`, `audit.csv`, `audit.md`, `ird.svg`) and adds their headline figures to `RunResult::metrics`.
 
 pub mod audit;

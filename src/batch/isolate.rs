@@ -16,7 +16,7 @@
 //! machine or a Slurm job running out of memory.
 
 use super::manifest::{self, RunParams};
-use crate::output::{self, atomic};
+use crate::output::atomic;
 use crate::scenario;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -167,9 +167,10 @@ pub(crate) fn execute(
     let mut sc = scenario::from_json(&text, label).map_err(|e| e.to_string())?;
     sc.read_files(base_dir).map_err(|e| e.to_string())?;
     scenario::validate(&sc).map_err(|e| e.to_string())?;
-    let stage = atomic::StagedFolder::begin(lock).map_err(|e| e.to_string())?;
-    output::run_into(&sc, base_dir, stage.path(), &mut |_| {}).map_err(|e| match e {
-        output::RunError::Io { path, source } => output::RunError::Io {
+    let stage =
+        atomic::StagedFolder::begin(lock, crate::run::is_run_file).map_err(|e| e.to_string())?;
+    crate::run::into_dir(&sc, base_dir, stage.path(), &mut |_| {}).map_err(|e| match e {
+        crate::run::RunError::Io { path, source } => crate::run::RunError::Io {
             path: stage.final_path(&path),
             source,
         }

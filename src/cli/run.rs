@@ -2,7 +2,6 @@
 
 use applesim::batch::isolate;
 use applesim::math::{human, secs, step, step_range};
-use applesim::output;
 use applesim::output::plot::{self, PlotOptions};
 use applesim::sim::RunResult;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -81,7 +80,7 @@ pub fn main(a: Args) -> Result<(), String> {
     // notes and paths name the temporary folder, shown under the folder's own name.
     let mut plots: Option<(plot::PlotSummary, PathBuf)> = None;
     let mut viewed: Option<applesim::view::ViewStats> = None;
-    let mut draw = |dir: &Path, _: &RunResult| -> Result<(), output::RunError> {
+    let mut draw = |dir: &Path, _: &RunResult| -> Result<(), applesim::run::RunError> {
         if a.plots {
             let p = plot::plot_runs(&[dir.to_path_buf()], dir, &plot_options)?;
             plots = Some((p, dir.to_path_buf()));
@@ -96,7 +95,7 @@ pub fn main(a: Args) -> Result<(), String> {
             };
             let page = dir.join(super::view::VIEW_FILE);
             let stats = applesim::view::write_view(dir, &page, &opts).map_err(|e| {
-                output::RunError::Io {
+                applesim::run::RunError::Io {
                     path: page.clone(),
                     source: std::io::Error::other(format!("the viewer's page: {e}")),
                 }
@@ -106,7 +105,7 @@ pub fn main(a: Args) -> Result<(), String> {
         Ok(())
     };
     let r = super::with_threads(a.threads, || {
-        output::run_to_dir_with(&sc, &base, &a.out, &mut progress, &mut draw)
+        applesim::run::to_dir_with(&sc, &base, &a.out, &mut progress, &mut draw)
     })?
     .map_err(|e| e.to_string());
     if let Some(b) = &bar {

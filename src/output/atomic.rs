@@ -431,31 +431,13 @@ fn remove_any(p: &Path) -> std::io::Result<()> {
     }
 }
 
-/// Whether `name`, an entry of a result folder, is something an applesim run writes: its
-/// JSON, CSV, SVG and ParaView files, `audit.md`, the `vtk/` folder, the viewer's page
-/// (`view.html`, from `applesim run --view` or `applesim view`), and the hidden temporaries of
-/// earlier versions' killed writers (a user's own notes, say `notes.md`, are not).
-fn written_by_a_run(name: &str, is_dir: bool) -> bool {
-    if is_dir {
-        return name == super::vtk::VTK_DIR;
-    }
-    if name == super::audit::AUDIT_MD {
-        return true;
-    }
-    if name.starts_with('.') && name.contains(".tmp-") {
-        return true;
-    }
-    let ext = Path::new(name)
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    matches!(
-        ext.as_deref(),
-        Some("json" | "csv" | "svg" | "pvd" | "vtp" | "vtu" | "html")
-    )
-}
+/// Tells whether an entry of a result folder (its name, and whether it is a folder) is something
+/// a run writes: the caller's rule (`crate::run::is_run_file` for a run folder), so that this
+/// writer knows no output's name.
+pub type RunFileRule = fn(&str, bool) -> bool;
 
 /// Refuses to replace anything but a missing folder, an empty one or a previous run's set.
-fn check_replaceable(dest: &Path) -> Result<(), FolderError> {
+fn check_replaceable(dest: &Path, is_run_file: RunFileRule) -> Result<(), FolderError> {
     let not = |reason: String| FolderError::NotARunFolder {
         path: dest.to_path_buf(),
         reason,
@@ -491,7 +473,7 @@ fn check_replaceable(dest: &Path) -> Result<(), FolderError> {
             }
         )));
     }
-    if let Some((n, _)) = names.iter().find(|(n, d)| !written_by_a_run(n, *d)) {
+    if let Some((n, _)) = names.iter().find(|(n, d)| !is_run_file(n, *d)) {
         return Err(not(format!(
             "this result folder also holds '{n}', which applesim does not write (the whole \
              folder would be replaced)"
@@ -565,6 +547,7 @@ static STAGE_SEQ: AtomicU64 = AtomicU64::new(0);
 /// temporary folder is removed.
 pub struct StagedFolder<'a> {
     lock: &'a FolderLock,
+    is_run_file: RunFileRule,
     tmp: PathBuf,
     committed: bool,
 }
@@ -572,9 +555,13 @@ pub struct StagedFolder<'a> {
 impl<'a> StagedFolder<'a> {
     /// Checks that the locked folder may be replaced (missing, empty or a previous run's set),
     /// removes what killed writers left beside it, and creates the empty temporary folder.
-    pub fn begin(lock: &'a FolderLock) -> Result<StagedFolder<'a>, FolderError> {
+    /// `is_run_file` tells what a run writes: a folder holding anything else is not replaced.
+    pub fn begin(
+        lock: &'a FolderLock,
+        is_run_file: RunFileRule,
+    ) -> Result<StagedFolder<'a>, FolderError> {
         lock.remove_stale()?;
-        check_replaceable(&lock.dest)?;
+        check_replaceable(&lock.dest, is_run_file)?;
         let tmp = lock.dest.with_file_name(format!(
             ".{}.tmp-{}-{}",
             lock.name,
@@ -584,6 +571,7 @@ impl<'a> StagedFolder<'a> {
         std::fs::create_dir(&tmp).map_err(io_err(&tmp))?;
         Ok(StagedFolder {
             lock,
+            is_run_file,
             tmp,
             committed: false,
         })
@@ -612,7 +600,7 @@ impl<'a> StagedFolder<'a> {
     pub fn commit(mut self) -> Result<(), FolderError> {
         let dest = self.lock.dest.clone();
         sync_tree(&self.tmp).map_err(io_err(&self.tmp))?;
-        check_replaceable(&dest)?;
+        check_replaceable(&dest, self.is_run_file)?;
         let parent = dest.parent().unwrap_or(Path::new("/")).to_path_buf();
         let had_old = std::fs::symlink_metadata(&dest).is_ok();
         // After the switch the old set sits at `old` (the temporary name after an exchange).
@@ -674,6 +662,11 @@ mod tests {
         v
     }
 
+    /// The rule of these tests: a run writes CSV and JSON files only.
+    fn csv_or_json(name: &str, is_dir: bool) -> bool {
+        !is_dir && (name.ends_with(".csv") || name.ends_with(".json"))
+    }
+
     fn write_set(stage: &StagedFolder, tag: &str) {
         for f in ["bodies.csv", "summary.json"] {
             std::fs::write(stage.path().join(f), format!("{tag} {f}")).unwrap();
@@ -702,7 +695,7 @@ mod tests {
         let dest = d.join("run");
         for tag in ["first", "second"] {
             let lock = FolderLock::acquire(&dest).unwrap();
-            let stage = StagedFolder::begin(&lock).unwrap();
+            let stage = StagedFolder::begin(&lock, csv_or_json).unwrap();
             write_set(&stage, tag);
             assert_eq!(
                 stage.final_path(&stage.path().join("bodies.csv")),
@@ -718,7 +711,7 @@ mod tests {
         }
         // Dropped before commit: the old set stays, the temporary goes.
         let lock = FolderLock::acquire(&dest).unwrap();
-        let stage = StagedFolder::begin(&lock).unwrap();
+        let stage = StagedFolder::begin(&lock, csv_or_json).unwrap();
         write_set(&stage, "third");
         drop(stage);
         drop(lock);
@@ -765,19 +758,28 @@ mod tests {
         std::fs::create_dir_all(&mine).unwrap();
         std::fs::write(mine.join("thesis.tex"), "x").unwrap();
         let lock = FolderLock::acquire(&mine).unwrap();
-        let e = StagedFolder::begin(&lock).err().unwrap().to_string();
+        let e = StagedFolder::begin(&lock, csv_or_json)
+            .err()
+            .unwrap()
+            .to_string();
         assert!(
             e.contains("and no summary.json") && e.contains("leaves this one alone"),
             "{e}"
         );
         std::fs::write(mine.join("summary.json"), "{}").unwrap();
-        let e = StagedFolder::begin(&lock).err().unwrap().to_string();
+        let e = StagedFolder::begin(&lock, csv_or_json)
+            .err()
+            .unwrap()
+            .to_string();
         assert!(e.contains("'thesis.tex'"), "{e}");
         drop(lock);
         let file = d.join("file");
         std::fs::write(&file, "x").unwrap();
         let lock = FolderLock::acquire(&file).unwrap();
-        let e = StagedFolder::begin(&lock).err().unwrap().to_string();
+        let e = StagedFolder::begin(&lock, csv_or_json)
+            .err()
+            .unwrap()
+            .to_string();
         assert!(e.contains("is a file"), "{e}");
         drop(lock);
         assert_eq!(listing(&d), ["file", "mine"]);
