@@ -110,7 +110,8 @@ pub fn to_dir_with(
 
 /// Runs a validated scenario and writes into the folder `out_dir` (created if missing; use
 /// [`to_dir`] for a result folder the user sees, this one writes in place):
-/// `summary.json`, `contacts.csv`, `bodies.csv`, `scenario.json`, `bruise.csv`; in a scene with
+/// `summary.json`, `contacts.csv`, `bodies.csv`, `scenario.json`, `apple_contacts.csv`,
+/// `bruises.csv`, `audit.csv`, `audit.md`, `ird.svg` (with impacts), the probes' files; in a scene with
 /// a free-turning roller `rollers.csv` ([`rollers`]); with force
 /// histories (`output.force_history`) `forces.csv` and `pulse_fits.csv`; with `output.vtk` the
 /// ParaView files ([`vtk`]). The analysis ([`crate::analysis::analyse`]) adds its headline
@@ -146,6 +147,9 @@ pub fn into_dir(
     }
     let analysis = crate::analysis::analyse(sc, &result);
     analysis.add_metrics(&mut result.metrics);
+    result
+        .warnings
+        .extend(analysis.bruise.warnings.iter().cloned());
     if let (Some(v), Some(surfaces)) = (&sc.output.vtk, &surfaces) {
         let order: Vec<&str> = result.apples.iter().map(|a| a.name.as_str()).collect();
         let written = output::vtk::write_vtk(
@@ -167,8 +171,10 @@ pub fn into_dir(
         let p = out_dir.join("pulse_fits.csv");
         output::write_pulse_fits(&p, &analysis.pulse_fits).map_err(io_at(&p))?;
     }
-    let p = out_dir.join("bruise.csv");
-    output::write_bruise(&p, &analysis).map_err(io_at(&p))?;
+    let p = out_dir.join(output::APPLE_CONTACTS_CSV);
+    output::write_apple_contacts(&p, &analysis).map_err(io_at(&p))?;
+    let p = out_dir.join(output::BRUISES_CSV);
+    output::write_bruises(&p, &analysis).map_err(io_at(&p))?;
     let p = out_dir.join("audit.csv");
     output::audit::write_audit(&p, &analysis.audit).map_err(io_at(&p))?;
     let p = out_dir.join(output::audit::AUDIT_MD);

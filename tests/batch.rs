@@ -133,7 +133,9 @@ fn impact_sweep_gives_21_rows_with_peak_force_rising_with_speed_and_size() {
         "floor.max_peak_g",
         "floor.p95_peak_g",
         "floor.max_velocity_change_m_s",
-        "floor.apples_over_threshold",
+        "floor.apples_bruised",
+        "floor.bruise_volume_mm3",
+        "floor.apples_downgraded",
     ] {
         assert!(header.iter().any(|h| h == col), "no {col}: {header:?}");
     }

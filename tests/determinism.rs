@@ -2,7 +2,7 @@
 //! byte-identical files; only `wall_time_s` is a measurement"): every file a run writes, found by
 //! listing the run folders (sub-folders included), not a fixed list; in summary.json every field
 //! but `wall_time_s`. The runs cover every kind of file: summary.json, contacts.csv, bodies.csv,
-//! transitions.csv, bruise.csv, forces.csv, pulse_fits.csv, scenario.json, the charts of
+//! transitions.csv, apple_contacts.csv, bruises.csv, audit.csv, forces.csv, pulse_fits.csv, scenario.json, the charts of
 //! `--plots` and the ParaView series (scene.pvd, vtk/).
 
 use std::collections::BTreeSet;
@@ -117,7 +117,9 @@ fn two_runs_write_identical_files() {
         "contacts.csv",
         "bodies.csv",
         "transitions.csv",
-        "bruise.csv",
+        "apple_contacts.csv",
+        "bruises.csv",
+        "audit.csv",
         "forces.csv",
         "pulse_fits.csv",
         "scenario.json",

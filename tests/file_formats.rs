@@ -1,5 +1,5 @@
 //! The file promises of README ("Scenario format", "Outputs", "Slip and roll"), docs/analysis.md
-//! ("What a run writes", pulse fits, bruise) and docs/transitions.md ("Outputs", "Settings"):
+//! ("What a run writes", pulse fits), docs/damage.md (the damage files) and docs/transitions.md ("Outputs", "Settings"):
 //! every column and key as the docs list them, the documented defaults as they appear in the
 //! files a run writes (scenario.json is the scenario as run, defaults filled in), and the
 //! sampling rules. The lists below are the docs' own, in their order.
@@ -83,6 +83,8 @@ fn csv_columns_are_as_documented() {
             "separation_speed_m_s",
             "restitution",
             "absorbed_energy_j",
+            "a_absorbed_energy_j",
+            "b_absorbed_energy_j",
             "steps",
             "contact_point_m",
             "a_diameter_m",
@@ -94,6 +96,8 @@ fn csv_columns_are_as_documented() {
             "impact_duration_s",
             "impact_impulse_n_s",
             "impact_absorbed_energy_j",
+            "impact_a_absorbed_energy_j",
+            "impact_b_absorbed_energy_j",
             "impact_max_pressure_pa",
             "a_velocity_change_m_s",
             "a_peak_g",
@@ -126,12 +130,11 @@ fn csv_columns_are_as_documented() {
             "velocity_change_m_s_max",
             "absorbed_energy_j_total",
             "absorbed_energy_j_max",
-            "apples_over_any",
-            "apples_over_force",
-            "apples_over_pressure",
-            "apples_over_energy",
-            "apples_over_static_force",
-            "apples_over_static_pressure",
+            "apples_bruised",
+            "bruise_volume_mm3_p50",
+            "bruise_volume_mm3_p95",
+            "bruise_volume_mm3_total",
+            "apples_downgraded",
         ]
     );
     assert_eq!(
@@ -183,32 +186,53 @@ fn csv_columns_are_as_documented() {
         header(&drop.join("forces.csv")),
         ["contact", "a", "b", "time_s", "force_n"]
     );
+    // docs/damage.md.
     assert_eq!(
-        header(&drop.join("bruise.csv")),
+        header(&drop.join("apple_contacts.csv")),
         [
             "contact",
             "apple",
             "other",
+            "transfer_point",
             "t_start_s",
             "t_peak_s",
             "contact_point_m",
             "peak_force_n",
-            "force_threshold_n",
-            "mean_pressure_pa",
-            "pressure_threshold_pa",
+            "peak_pressure_pa",
             "absorbed_energy_j",
-            "energy_threshold_j",
+            "contact_absorbed_energy_j",
             "velocity_change_m_s",
-            "approach_speed_m_s",
-            "at_risk",
-            "exceeded",
-            "apple_at_risk",
-            "apple_peak_force_n",
             "peak_g",
+            "approach_speed_m_s",
+            "bruised",
+            "site",
+            "volume_mm3",
+            "apple_grade",
             "static_max_force_n",
-            "static_force_threshold_n",
             "static_max_pressure_pa",
-            "static_pressure_threshold_pa"
+            "exceeded",
+            "outside_validity"
+        ]
+    );
+    assert_eq!(
+        header(&drop.join("bruises.csv")),
+        [
+            "apple",
+            "site",
+            "x",
+            "y",
+            "z",
+            "first_hit_s",
+            "last_hit_s",
+            "hits",
+            "transfer_points",
+            "absorbed_energy_j",
+            "bruised",
+            "volume_mm3",
+            "area_mm2",
+            "depth_mm",
+            "diameter_mm",
+            "apple_grade"
         ]
     );
     assert_eq!(
@@ -262,7 +286,7 @@ fn csv_columns_are_as_documented() {
         f(12) / f(11),
         1e-12,
     );
-    let p: Vec<f64> = c[16].split(' ').map(|x| x.parse().unwrap()).collect();
+    let p: Vec<f64> = c[18].split(' ').map(|x| x.parse().unwrap()).collect();
     // (The plate takes 1e-5 of the overlap: the point is 32 nm below its surface.)
     assert!(
         p[0].abs() < 1e-9 && p[1].abs() < 1e-9 && p[2].abs() < 1e-6,
@@ -282,11 +306,13 @@ fn csv_columns_are_as_documented() {
     );
     // transitions.csv: along_m is empty on a plane (no running direction).
     assert_eq!(&rows(&slip.join("transitions.csv"))[0][9], "");
-    // bruise.csv: the default peak-force threshold is 80 N (docs/analysis.md).
-    assert_eq!(
-        rows(&drop.join("bruise.csv"))[0][7].parse::<f64>().unwrap(),
-        80.0
-    );
+    // apple_contacts.csv: the default damage model is the `generic` energy model, threshold
+    // 0.08 J (docs/damage.md): the shipped drop is elastic (ke = 1), its apple absorbs nothing
+    // and is not bruised; its one hit is one site of bruises.csv.
+    let row = &rows(&drop.join("apple_contacts.csv"))[0];
+    assert!(row[9].parse::<f64>().unwrap() < 1e-6);
+    assert_eq!((&row[14], &row[15]), ("false", "0"));
+    assert_eq!(rows(&drop.join("bruises.csv")).len(), 1);
     for d in [drop, slip] {
         let _ = std::fs::remove_dir_all(d);
     }
@@ -311,7 +337,7 @@ fn summary_keys_are_as_documented() {
             "apples",
             "warnings",
             "metrics",
-            "bruise",
+            "damage",
             "pulse_fits",
             "transitions",
             "fates",
@@ -331,34 +357,41 @@ fn summary_keys_are_as_documented() {
             "final_angular_velocity_rad_s",
             "peak_force_n",
             "peak_pressure_pa",
-            "contacts"
+            "contacts",
+            "absorbed_energy_j",
+            "bruises",
+            "bruise_volume_mm3",
+            "grade",
+            "grade_why"
         ])
     );
     // summary.json's contacts carry contacts.csv's columns, the impact and the resting load as
     // objects (the CSV flattens them, and adds each apple's size, mass, velocity change and
-    // peak g, which need the roster, and the transfer point, which the summary's audit section
-    // sums up).
+    // peak g, which need the roster, the other body's part of the loss, which follows from the
+    // apple's, and the transfer point, which the summary's audit section sums up).
     let mut h: Vec<String> = header(&slip.join("contacts.csv"))
         .into_iter()
         .filter(|c| {
-            !(c.starts_with("impact_")
-                || c.starts_with("resting_")
-                || c.starts_with("a_")
-                || c.starts_with("b_")
-                || c == "transfer_point")
+            c == "a_absorbed_energy_j"
+                || !(c.starts_with("impact_")
+                    || c.starts_with("resting_")
+                    || c.starts_with("a_")
+                    || c.starts_with("b_")
+                    || c == "transfer_point")
         })
         .chain(["impact".to_string(), "resting".to_string()])
         .collect();
     h.sort();
     assert_eq!(keys(&s["contacts"][0]), h);
-    // docs/analysis.md: metrics and the bruise section.
+    // docs/damage.md: metrics and the damage section.
     let m = keys(&s["metrics"]);
     has_all(
         "metrics",
         &m,
         &[
-            "bruised_apples",
-            "bruising_contacts",
+            "apples_bruised",
+            "apples_downgraded",
+            "total_bruise_volume_mm3",
             "max_absorbed_energy_j",
             "total_absorbed_energy_j",
             "max_velocity_change_m_s",
@@ -398,27 +431,48 @@ fn summary_keys_are_as_documented() {
         ],
     );
     assert_eq!(
-        keys(&s["bruise"]),
-        sorted(&["apples_at_risk", "apples", "contacts_at_risk"])
+        keys(&s["damage"]),
+        sorted(&[
+            "standard",
+            "grades",
+            "apples_bruised",
+            "apples_downgraded",
+            "total_bruise_volume_mm3",
+            "apples_per_grade",
+            "models"
+        ])
     );
+    // A drop that loses energy (ke 0.09) bruises its apple: its largest bruise and the hit that
+    // downgraded it.
+    let lossy =
+        std::env::temp_dir().join(format!("applesim-files-lossy-{}.json", std::process::id()));
+    std::fs::write(
+        &lossy,
+        std::fs::read_to_string(repo("scenarios/drop_on_steel.json"))
+            .unwrap()
+            .replace(r#""ke": 1.0"#, r#""ke": 0.09"#)
+            .replace(
+                r#""velocity_m_s": [0, 0, -1.4]"#,
+                r#""velocity_m_s": [0, 0, -3]"#,
+            ),
+    )
+    .unwrap();
+    let bruised = cli_run(&lossy, "summary-lossy");
+    let ds = json_file(&bruised.join("summary.json"));
+    let _ = std::fs::remove_dir_all(bruised);
+    let _ = std::fs::remove_file(lossy);
     has_all(
-        "bruise apples",
-        // The drop's apple is at risk (100 N > 80 N): it has the first_risk_* fields too.
-        &keys(&ds["bruise"]["apples"][0]),
-        &[
-            "material",
-            "thresholds",
-            "contacts",
-            "peak_force_n",
-            "peak_mean_pressure_pa",
-            "absorbed_energy_j",
-            "max_velocity_change_m_s",
-            "at_risk",
-            "contacts_at_risk",
-            "first_risk_with",
-            "first_risk_t_s",
-            "first_risk_point_m",
-        ],
+        "apples",
+        &keys(&ds["apples"][0]),
+        &["largest_bruise", "downgraded_by", "grade", "grade_why"],
+    );
+    assert_eq!(
+        keys(&ds["apples"][0]["largest_bruise"]),
+        sorted(&["site", "volume_mm3", "diameter_mm", "depth_mm", "area_mm2"])
+    );
+    assert_eq!(
+        keys(&ds["apples"][0]["downgraded_by"]),
+        sorted(&["transfer_point", "with", "t_s", "contact"])
     );
     let t = &s["transitions"];
     assert_eq!(

@@ -38,7 +38,7 @@ fn the_pad_law_is_dimitriadis_bonded_layer_at_three_thickness_ratios() {
     for (e, nu) in [(2e6, 0.3), (5e5, 0.45), (1e6, 0.1)] {
         let foam = Material::from_youngs(e, nu, None).unwrap();
         for h in [4.0 * a, 2.0 * a, a * (1.0 + 1e-9)] {
-            let pad = PadConstants::new(&rigid, &foam, &steel, h, r);
+            let pad = PadConstants::new(&rigid, &foam, &steel, h, r, [0.9; 3]);
             let (f, bottomed) = pad.elastic_force(delta);
             assert!(!bottomed, "h = {h}");
             let want = dimitriadis_bonded(e, nu, r, h, delta);
@@ -117,11 +117,54 @@ fn a_hard_drop_on_a_thin_pad_bottoms_out_with_a_warning() {
         w[0]
     );
     assert!(thick_warnings.iter().all(|w| !w.contains("bottomed")));
+    // Before it bottomed out (its half-space share would compress it 90 % at 0.8 mm of
+    // overlap), it passed the law's validity at chi = 1: h / R* = 1.25 % compression.
+    let v: Vec<&String> = warnings
+        .iter()
+        .filter(|w| w.contains("beyond the thin-layer law's validity"))
+        .collect();
+    assert_eq!(v.len(), 1, "{warnings:?}");
+    assert!(
+        v[0].contains("compressed 1.2 % of its thickness"),
+        "{}",
+        v[0]
+    );
     // docs/physics.md 13.4: the thin pad's peak within 2 % of bare steel's (measured below).
     let off = rel(thin, bare);
     println!("thin pad against bare steel: {:+.3} %", 100.0 * off);
     assert!(off.abs() < 0.02, "{off}");
     assert!(thick < 0.9 * bare);
+}
+
+/// Issue 26: pads of 3 mm under a 20 cm drop and 10 mm under a 40 cm drop pass chi = 1 at
+/// 7.5 % and 25 % compression (h / R*): the warning says the law's validity ended, not that the
+/// pad bottomed out (the apple does not reach the substrate: the pad's share of the overlap
+/// stays under 90 % of its thickness).
+#[test]
+fn the_end_of_the_laws_validity_is_not_a_bottomed_pad() {
+    for (h, drop_m, pct) in [(0.003, 0.2, "7.5"), (0.01, 0.4, "25")] {
+        let v = (2.0 * G * drop_m).sqrt();
+        let (_, warnings) = plate_peak(&parse(&drop_on(
+            Some(json!({"material": "foam", "thickness_m": h})),
+            v,
+        )));
+        println!("{h} m: {warnings:?}");
+        assert!(
+            warnings.iter().all(|w| !w.contains("bottomed")),
+            "{warnings:?}"
+        );
+        let w: Vec<&String> = warnings
+            .iter()
+            .filter(|w| w.contains("beyond the thin-layer law's validity"))
+            .collect();
+        assert_eq!(w.len(), 1, "{warnings:?}");
+        assert!(
+            w[0].contains(&format!("compressed {pct} % of its thickness")),
+            "{}",
+            w[0]
+        );
+        assert!(w[0].contains("the pad is not crushed"), "{}", w[0]);
+    }
 }
 
 /// Acceptance 3: the shipped padded transfer and its bare twin. The padded landing's peak force is

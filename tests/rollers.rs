@@ -213,7 +213,7 @@ fn an_apple_in_a_pocket_of_a_powered_roller_bed_spins_at_the_surface_speed_ratio
     touched.sort();
     touched.dedup();
     assert_eq!(touched, ["bed/1", "bed/2"]);
-    let points = applesim::analysis::audit::points_of(&res.events);
+    let points = applesim::analysis::audit::points_of(&res.events, &res.zones, &res.roster);
     assert!(points.iter().all(|p| p == "bed"), "{points:?}");
 }
 
@@ -503,10 +503,11 @@ fn no_rollers_csv_without_a_free_roller() {
     assert_eq!(
         files,
         [
+            "apple_contacts.csv",
             "audit.csv",
             "audit.md",
             "bodies.csv",
-            "bruise.csv",
+            "bruises.csv",
             "contacts.csv",
             "ird.svg",
             "scenario.json",

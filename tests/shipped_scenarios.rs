@@ -187,7 +187,8 @@ fn every_shipped_scenario_runs() {
                 "contacts.csv",
                 "bodies.csv",
                 "scenario.json",
-                "bruise.csv",
+                "apple_contacts.csv",
+                "bruises.csv",
             ] {
                 assert!(o.join(f).exists(), "{rel}: no {f}");
             }

@@ -13,16 +13,18 @@
 //! count as contacts, not impacts.
 
 use super::bruise::BruiseReport;
-use super::impacts::{self, STANDARD_GRAVITY};
+use super::impacts::STANDARD_GRAVITY;
 use crate::record::events::{ContactEvent, Party};
+use crate::world::zones::{Location, Zones};
 use crate::world::Roster;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 
-/// The figures of one transfer point.
+/// The figures of one transfer point (fruit only: a virtual instrumented sphere's contacts are
+/// left out).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TransferPoint {
-    /// The surface, or `apples on REGION`.
+    /// The surface, or `apples on PART`, `apples in BIN`, `apples in the air`.
     pub point: String,
     /// Contacts there (impacts and resting contacts).
     pub contacts: usize,
@@ -37,58 +39,26 @@ pub struct TransferPoint {
     pub peak_g: [f64; 3],
     /// Velocity change of the apples hit (m/s): median, 95th percentile, largest.
     pub velocity_change_m_s: [f64; 3],
-    /// Energy absorbed by the impacts (J): in all, largest.
+    /// Energy the apples absorbed there (J, their own shares): in all, the most one apple took
+    /// in one hit.
     pub absorbed_energy_j: [f64; 2],
-    /// Apples with a contact there over each bruise threshold of their material.
-    pub apples_over: OverThreshold,
+    /// Apples bruised there: whose bruise volume grew there (an onset model: with a bruising hit
+    /// there).
+    pub apples_bruised: usize,
+    /// The bruise volume that arose there per apple hit there (mm^3): median, 95th percentile,
+    /// and the total over them (NaN for an onset model).
+    pub bruise_volume_mm3: [f64; 3],
+    /// Apples whose downgrade (below the standard's best class) was caused there: the hit that
+    /// first put them below it happened there.
+    pub apples_downgraded: usize,
 }
 
-/// Apples over each bruise threshold at one transfer point (an apple counts once per threshold,
-/// however many of its contacts there exceeded it; a threshold the material does not set counts
-/// none). The names are those of `bruise.csv`'s `exceeded` column.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-pub struct OverThreshold {
-    /// Over any threshold.
-    pub any: usize,
-    /// Impact peak force over `peak_force_n`.
-    pub force: usize,
-    /// Impact peak mean pressure over `mean_pressure_pa`.
-    pub pressure: usize,
-    /// Impact absorbed energy over `absorbed_energy_j`.
-    pub energy: usize,
-    /// Resting force over `static_force_n`.
-    pub static_force: usize,
-    /// Resting mean pressure over `static_pressure_pa`.
-    pub static_pressure: usize,
-}
-
-impl OverThreshold {
-    /// The counts with their names (`any`, `force`, ... as in `bruise.csv`), CSV column order.
-    pub fn named(&self) -> [(&'static str, usize); 6] {
-        [
-            ("any", self.any),
-            ("force", self.force),
-            ("pressure", self.pressure),
-            ("energy", self.energy),
-            ("static-force", self.static_force),
-            ("static-pressure", self.static_pressure),
-        ]
-    }
-}
-
-/// The audit of a run: one row per transfer point, hardest first (largest peak g).
+/// The audit of a run: one row per transfer point, most bruise volume first (then largest peak
+/// g).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Audit {
     /// The transfer points.
     pub points: Vec<TransferPoint>,
-}
-
-/// One apple's side of one impact, as the audit counts it.
-struct Hit {
-    apple: usize,
-    peak_force_n: f64,
-    peak_g: f64,
-    dv: f64,
 }
 
 /// The median, 95th percentile (nearest rank) and largest of `v` (NaN when empty).
@@ -116,13 +86,29 @@ fn surface_point(surface: &str) -> &str {
     }
 }
 
-/// The transfer point of each contact (index in `events`): a surface contact's surface; for two
-/// apples, the region (a surface, or a bin with its walls) where the hit happens: that of the
-/// surface either apple is touching at the hit (the one it has touched the longest, if both
-/// are), else of the surface either apple touched last, the earlier arrival's (an apple coming
-/// off the chute hits the apples waiting in the bin: "apples on bin"); "apples in the air" if
-/// neither has touched a surface yet.
-pub fn points_of(events: &[ContactEvent]) -> Vec<String> {
+/// Name of the transfer point of apple-apple hits inside (or on a heap above) bin `bin`.
+pub fn in_bin(bin: &str) -> String {
+    format!("apples in {bin}")
+}
+
+/// The transfer point of each contact (index in `events`). A surface contact's is its surface
+/// (a roller bed's rollers: the bed). Two apples' is where their contact point lies at the peak
+/// of the hit (`zones`, with the bins and parts where their motions have them then), so that a
+/// hit is counted where it happens, not where an apple was last:
+///
+/// 1. inside a bin's walls: `apples in BIN`;
+/// 2. else, if either apple is touching a surface then (the one it has touched the longest, if
+///    both are): `apples on SURFACE` (a bin's wall: `apples in BIN`);
+/// 3. else over a part within two of the largest apple's diameters (the nearest below it):
+///    `apples on PART`, or above a bin's inside, on the heap: `apples in BIN`;
+/// 4. else `apples in the air`.
+pub fn points_of(events: &[ContactEvent], zones: &Zones, roster: &Roster) -> Vec<String> {
+    let reach = 4.0
+        * roster
+            .apples()
+            .iter()
+            .map(|a| a.radius_m)
+            .fold(0.0, f64::max);
     // Each apple's surface contacts: (start, end, surface), in order of start.
     let mut surfaces: BTreeMap<u32, Vec<(f64, f64, &str)>> = BTreeMap::new();
     for e in events {
@@ -134,21 +120,21 @@ pub fn points_of(events: &[ContactEvent]) -> Vec<String> {
             ));
         }
     }
-    // The apple's place at `t`: (touching a surface now, -start of that contact, surface),
-    // the larger the better placed: a surface touched now, then the earliest arrival.
-    let place = |apple: u32, t: f64| -> Option<(bool, f64, &str)> {
-        let list = surfaces.get(&apple)?;
-        let open = list
+    // The surface an apple touches at `t` (the earliest of those open then), with its start.
+    let touching = |apple: u32, t: f64| -> Option<(f64, &str)> {
+        surfaces
+            .get(&apple)?
             .iter()
             .filter(|(t0, t1, _)| *t0 <= t && t <= *t1)
-            .min_by(|x, y| x.0.total_cmp(&y.0));
-        match open {
-            Some(&(t0, _, s)) => Some((true, -t0, s)),
-            None => list
-                .iter()
-                .rev()
-                .find(|(t0, _, _)| *t0 <= t)
-                .map(|&(t0, _, s)| (false, -t0, s)),
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+            .map(|&(t0, _, s)| (t0, s))
+    };
+    let on = |surface: &str| {
+        let r = region(surface);
+        if zones.is_bin(r) {
+            in_bin(r)
+        } else {
+            format!("apples on {}", surface_point(surface))
         }
     };
     events
@@ -157,113 +143,125 @@ pub fn points_of(events: &[ContactEvent]) -> Vec<String> {
             Party::Surface(_) => surface_point(&e.b).to_string(),
             Party::Apple(j) => {
                 let t = e.impact.map_or(e.t_start_s, |i| i.t_peak_s);
-                let best = match (place(e.a_index, t), place(j, t)) {
-                    (Some(x), Some(y)) => Some(if (x.0, x.1) >= (y.0, y.1) { x } else { y }),
+                let p = crate::math::vec3(e.contact_point_m);
+                let at = zones.locate(p, t, reach);
+                if let Location::InBin(b) = at {
+                    return in_bin(b);
+                }
+                let touched = match (touching(e.a_index, t), touching(j, t)) {
+                    (Some(x), Some(y)) => Some(if x.0 <= y.0 { x } else { y }),
                     (x, y) => x.or(y),
                 };
-                match best {
-                    Some((_, _, s)) => format!("apples on {}", region(s)),
-                    None => "apples in the air".to_string(),
+                if let Some((_, s)) = touched {
+                    return on(s);
+                }
+                match at {
+                    Location::InBin(b) | Location::OverBin(b) => in_bin(b),
+                    Location::Over(part) => on(part),
+                    Location::Air => "apples in the air".to_string(),
                 }
             }
         })
         .collect()
 }
 
-/// The audit of a run's contacts; `bruise` tells which impacts exceeded a threshold.
+/// The audit of a run's fruit contacts (`bruise`: the damage assessment, whose rows carry each
+/// apple's side of each contact with its transfer point and bruise).
 pub fn audit(
     events: &[ContactEvent],
     points: &[String],
     roster: &Roster,
     bruise: &BruiseReport,
 ) -> Audit {
-    let names = roster.by_name();
-    let index: BTreeMap<&str, usize> = roster
-        .apples()
-        .iter()
-        .enumerate()
-        .map(|(k, a)| (a.name.as_str(), k))
-        .collect();
-    let mut contacts: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut impacts: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut hits: BTreeMap<&str, Vec<Hit>> = BTreeMap::new();
-    let mut absorbed: BTreeMap<&str, (f64, f64)> = BTreeMap::new();
-    // (point, threshold name) -> apples over it there.
-    let mut over: BTreeMap<(&str, &str), BTreeSet<usize>> = BTreeMap::new();
-    for (e, p) in events.iter().zip(points) {
-        let p = p.as_str();
-        *contacts.entry(p).or_default() += 1;
-        let Some(pulse) = &e.impact else { continue };
-        *impacts.entry(p).or_default() += 1;
-        let w = absorbed.entry(p).or_insert((0.0, 0.0));
-        w.0 += pulse.absorbed_energy_j;
-        w.1 = w.1.max(pulse.absorbed_energy_j);
-        let mut sides = vec![(&e.a, true)];
-        if let Party::Apple(_) = e.b_party {
-            sides.push((&e.b, false));
-        }
-        for (name, towards) in sides {
-            let (Some(a), Some(&k)) = (names.get(&**name), index.get(&**name)) else {
-                continue;
-            };
-            let side = impacts::for_apple(pulse, a.mass_kg, towards);
-            hits.entry(p).or_default().push(Hit {
-                apple: k,
-                peak_force_n: pulse.peak_force_n,
-                peak_g: side.peak_g,
-                dv: side.velocity_change_m_s,
-            });
-        }
+    let _ = events;
+    let fruit = roster.apples().iter().filter(|a| !a.probe).count();
+    #[derive(Default)]
+    struct At<'a> {
+        contacts: BTreeSet<usize>,
+        impacts: BTreeSet<usize>,
+        apples: BTreeSet<&'a str>,
+        force: Vec<f64>,
+        g: Vec<f64>,
+        dv: Vec<f64>,
+        absorbed: (f64, f64),
+        /// Per apple: bruise volume arising here, and whether a hit here bruised (onset).
+        volume: BTreeMap<&'a str, (f64, bool)>,
+        downgraded: usize,
     }
-    for c in bruise.contacts.iter().filter(|c| c.at_risk()) {
-        let (Some(p), Some(&k)) = (points.get(c.contact), index.get(&*c.apple)) else {
+    let mut at: BTreeMap<&str, At> = BTreeMap::new();
+    for c in &bruise.contacts {
+        let p = points.get(c.contact).map_or("", String::as_str);
+        let x = at.entry(p).or_default();
+        x.contacts.insert(c.contact);
+        if c.site.is_none() {
             continue;
-        };
-        over.entry((p.as_str(), "any")).or_default().insert(k);
-        for why in c.exceeded.split('+') {
-            over.entry((p.as_str(), why)).or_default().insert(k);
+        }
+        x.impacts.insert(c.contact);
+        x.apples.insert(&c.apple);
+        x.force.push(c.peak_force_n);
+        x.g.push(c.peak_g);
+        x.dv.push(c.velocity_change_m_s);
+        x.absorbed.0 += c.absorbed_energy_j;
+        x.absorbed.1 = x.absorbed.1.max(c.absorbed_energy_j);
+        let v = x.volume.entry(&c.apple).or_insert((0.0, false));
+        v.0 += c.volume_mm3.unwrap_or(f64::NAN);
+        v.1 |= c.bruised;
+    }
+    for a in bruise
+        .apples
+        .iter()
+        .filter_map(|a| a.downgraded_by.as_ref())
+    {
+        if let Some(x) = at.get_mut(a.transfer_point.as_str()) {
+            x.downgraded += 1;
         }
     }
-    let n = roster.len().max(1) as f64;
-    let mut out: Vec<TransferPoint> = contacts
-        .iter()
-        .map(|(&p, &c)| {
-            let h = hits.get(p).map(Vec::as_slice).unwrap_or(&[]);
-            let apples: BTreeSet<usize> = h.iter().map(|x| x.apple).collect();
-            let w = absorbed.get(p).copied().unwrap_or((0.0, 0.0));
+    let n = fruit.max(1) as f64;
+    let mut out: Vec<TransferPoint> = at
+        .into_iter()
+        .map(|(p, x)| {
+            let volumes: Vec<f64> = x.volume.values().map(|v| v.0).collect();
+            let sizes = volumes.iter().all(|v| !v.is_nan());
+            let q = if sizes && !volumes.is_empty() {
+                let q = quantiles(volumes.clone());
+                [q[0], q[1], volumes.iter().fold(0.0, |s, v| s + v)]
+            } else {
+                [f64::NAN; 3]
+            };
             TransferPoint {
                 point: p.to_string(),
-                contacts: c,
-                impacts: impacts.get(p).copied().unwrap_or(0),
-                apples_hit_share: apples.len() as f64 / n,
-                peak_force_n: quantiles(h.iter().map(|x| x.peak_force_n).collect()),
-                peak_g: quantiles(h.iter().map(|x| x.peak_g).collect()),
-                velocity_change_m_s: quantiles(h.iter().map(|x| x.dv).collect()),
-                absorbed_energy_j: [w.0, w.1],
-                apples_over: {
-                    let n = |why: &str| over.get(&(p, why)).map_or(0, BTreeSet::len);
-                    OverThreshold {
-                        any: n("any"),
-                        force: n("force"),
-                        pressure: n("pressure"),
-                        energy: n("energy"),
-                        static_force: n("static-force"),
-                        static_pressure: n("static-pressure"),
-                    }
-                },
+                contacts: x.contacts.len(),
+                impacts: x.impacts.len(),
+                apples_hit_share: x.apples.len() as f64 / n,
+                peak_force_n: quantiles(x.force),
+                peak_g: quantiles(x.g),
+                velocity_change_m_s: quantiles(x.dv),
+                absorbed_energy_j: [x.absorbed.0, x.absorbed.1],
+                apples_bruised: x
+                    .volume
+                    .values()
+                    .filter(|v| if sizes { v.0 > 0.0 } else { v.1 })
+                    .count(),
+                bruise_volume_mm3: q,
+                apples_downgraded: x.downgraded,
             }
         })
         .collect();
-    // Hardest first; points without impacts last, by name.
+    // Most bruise volume first, then the hardest; points without impacts last, by name.
     out.sort_by(|a, b| {
         let key = |t: &TransferPoint| {
-            if t.peak_g[2].is_nan() {
-                -1.0
-            } else {
-                t.peak_g[2]
-            }
+            let nan0 = |x: f64| if x.is_nan() { -1.0 } else { x };
+            (
+                t.apples_downgraded,
+                nan0(t.bruise_volume_mm3[2]),
+                nan0(t.peak_g[2]),
+            )
         };
-        key(b).total_cmp(&key(a)).then(a.point.cmp(&b.point))
+        let (ka, kb) = (key(a), key(b));
+        kb.0.cmp(&ka.0)
+            .then(kb.1.total_cmp(&ka.1))
+            .then(kb.2.total_cmp(&ka.2))
+            .then(a.point.cmp(&b.point))
     });
     Audit { points: out }
 }
@@ -271,8 +269,9 @@ pub fn audit(
 impl Audit {
     /// Headline figures per transfer point for a batch table: `POINT.impacts`,
     /// `POINT.max_peak_force_n`, `POINT.p95_peak_g`, `POINT.max_peak_g`,
-    /// `POINT.max_velocity_change_m_s`, `POINT.apples_over_threshold` (apples over any
-    /// threshold there; only finite values).
+    /// `POINT.max_velocity_change_m_s`, `POINT.apples_bruised`, `POINT.bruise_volume_mm3` (the
+    /// total that arose there), `POINT.apples_downgraded` (first caused there); only finite
+    /// values.
     pub fn metrics(&self) -> Vec<(String, f64)> {
         let mut m = Vec::new();
         for t in &self.points {
@@ -285,10 +284,9 @@ impl Audit {
                 format!("{p}.max_velocity_change_m_s"),
                 t.velocity_change_m_s[2],
             ));
-            m.push((
-                format!("{p}.apples_over_threshold"),
-                t.apples_over.any as f64,
-            ));
+            m.push((format!("{p}.apples_bruised"), t.apples_bruised as f64));
+            m.push((format!("{p}.bruise_volume_mm3"), t.bruise_volume_mm3[2]));
+            m.push((format!("{p}.apples_downgraded"), t.apples_downgraded as f64));
         }
         m.retain(|(_, v)| v.is_finite());
         m
@@ -309,14 +307,17 @@ impl Audit {
             }
         };
         let mut s = String::from(
-            "One row per transfer point, hardest first. Peak g is the peak contact force over the apple's weight (g = 9.80665 m/s^2); the velocity change is the apple's over the impact pulse. Median / 95th percentile / largest over the apples hit.\n\n| transfer point | contacts | impacts | apples hit | peak force (N) | peak g | velocity change (m/s) | absorbed (J): all / largest | apples over a threshold (force, pressure, energy, static force, static pressure) |\n|---|---|---|---|---|---|---|---|---|\n"
+            "One row per transfer point, where the fruit is damaged most first. Downgraded: apples whose grade first fell below the standard's best class through a hit there. Bruise volume: what arose there, per apple hit there (median / 95th percentile) and in all. Peak g is the peak contact force over the apple's weight (g = 9.80665 m/s^2); the velocity change is the apple's over the impact pulse; median / 95th percentile / largest over the apples hit. Absorbed: the energy the apples themselves took (their share of each contact's loss), in all and the most in one hit.\n\n| transfer point | apples downgraded | apples bruised | bruise volume (mm^3): median / p95 / total | contacts | impacts | apples hit | peak force (N) | peak g | velocity change (m/s) | absorbed by the apples (J): all / largest |\n|---|---|---|---|---|---|---|---|---|---|---|\n"
         );
         for t in &self.points {
             let q =
                 |v: [f64; 3], d: usize| format!("{} / {} / {}", f(v[0], d), f(v[1], d), f(v[2], d));
             s += &format!(
-                "| {} | {} | {} | {:.0} % | {} | {} | {} | {} / {} | {} ({}, {}, {}, {}, {}) |\n",
+                "| {} | {} | {} | {} | {} | {} | {:.0} % | {} | {} | {} | {} / {} |\n",
                 t.point,
+                t.apples_downgraded,
+                t.apples_bruised,
+                q(t.bruise_volume_mm3, 0),
                 t.contacts,
                 t.impacts,
                 100.0 * t.apples_hit_share,
@@ -325,12 +326,6 @@ impl Audit {
                 q(t.velocity_change_m_s, 2),
                 f(t.absorbed_energy_j[0], 4),
                 f(t.absorbed_energy_j[1], 4),
-                t.apples_over.any,
-                t.apples_over.force,
-                t.apples_over.pressure,
-                t.apples_over.energy,
-                t.apples_over.static_force,
-                t.apples_over.static_pressure
             );
         }
         s
@@ -352,7 +347,9 @@ pub fn compare(runs: &[(String, Audit)]) -> String {
         }
     }
     type Figure = (&'static str, fn(&TransferPoint) -> f64, usize);
-    let figures: [Figure; 5] = [
+    let figures: [Figure; 6] = [
+        ("apples downgraded", |t| t.apples_downgraded as f64, 0),
+        ("bruise volume (mm^3)", |t| t.bruise_volume_mm3[2], 0),
         ("largest peak g", |t| t.peak_g[2], 1),
         ("95th percentile peak g", |t| t.peak_g[1], 1),
         (
@@ -361,7 +358,6 @@ pub fn compare(runs: &[(String, Audit)]) -> String {
             2,
         ),
         ("impacts", |t| t.impacts as f64, 0),
-        ("apples over a threshold", |t| t.apples_over.any as f64, 0),
     ];
     let cell = |x: Option<f64>, d: usize| match x {
         Some(x) if x.is_finite() => format!("{x:.d$}"),
@@ -417,12 +413,12 @@ pub fn compare(runs: &[(String, Audit)]) -> String {
 
 /// The IRD-style chart of a run: one point per apple per impact, peak acceleration (g) against
 /// velocity change (m/s), one colour per transfer point (`points`: [`points_of`] the run's
-/// contacts), as a packhouse reads an instrumented sphere's run. The bruise boundary drawn is
-/// each material's peak-force threshold F as an acceleration, F / (m g), for the lightest and
-/// the heaviest apple of that material that was hit (one line when they weigh the same): a hit
-/// above the line of its apple's mass is over the threshold. The pressure and energy thresholds
-/// depend on the impact's other figures and have no line on these axes (`bruise.csv` holds
-/// them). `None` when the run had no impact.
+/// contacts), as a packhouse reads an instrumented sphere's run. For a material with the
+/// peak-force damage model the bruise boundary drawn is its threshold F as an acceleration,
+/// F / (m g), for the lightest and the heaviest apple of that material that was hit (one line
+/// when they weigh the same): a hit above the line of its apple's mass bruises. The energy and
+/// pressure-area models depend on the impact's other figures and have no line on these axes
+/// (`apple_contacts.csv` has each hit's verdict). `None` when the run had no impact.
 pub fn ird_chart(
     points: &[String],
     bruise: &BruiseReport,
@@ -445,13 +441,13 @@ pub fn ird_chart(
             .push((c.velocity_change_m_s, c.peak_g));
         dv_max = dv_max.max(c.velocity_change_m_s);
         if let Some(a) = names.get(&*c.apple) {
-            let b = bounds.entry(a.material.as_str()).or_insert((
-                c.thresholds.peak_force_n,
-                f64::INFINITY,
-                0.0,
-            ));
-            b.1 = b.1.min(a.mass_kg);
-            b.2 = b.2.max(a.mass_kg);
+            if let Some(&f) = bruise.force_thresholds.get(&a.material) {
+                let b = bounds
+                    .entry(a.material.as_str())
+                    .or_insert((f, f64::INFINITY, 0.0));
+                b.1 = b.1.min(a.mass_kg);
+                b.2 = b.2.max(a.mass_kg);
+            }
         }
     }
     if groups.is_empty() {

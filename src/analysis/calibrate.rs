@@ -284,6 +284,7 @@ impl ImpactSetup {
         let r = self.diameter_m / 2.0;
         Scenario {
             description: Some("applesim calibrate: one impact".into()),
+            grading: None,
             duration_s: duration,
             time_step_s: dt.into(),
             accuracy: None,

@@ -41,7 +41,13 @@ mod tests {
             t_peak_s: 0.002,
             impulse_n_s: 0.15,
             absorbed_energy_j: 0.0,
+            a_absorbed_energy_j: 0.0,
             max_pressure_pa: 0.0,
+            max_overlap_m: 0.0,
+            max_contact_radius_m: 0.0,
+            a_indentation_m: 0.0,
+            overlap_at_peak_m: 0.0,
+            sites: [[0.0; 3]; 2],
             normal: [0.0, 0.0, 1.0],
             velocity_change_m_s: [1.5, 0.7],
         };

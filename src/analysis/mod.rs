@@ -1,13 +1,17 @@
-//! What a run means for the fruit: the paper's force-pulse fit (eqs. 13-15, [`pulse`]), the bruise
-//! assessment ([`bruise`]), the line audit per transfer point ([`audit`]), and the calibration of the eq. 12 coefficient ke against a measured
-//! restitution ([`calibrate`]). User guide: docs/analysis.md.
+//! What a run means for the fruit: the paper's force-pulse fit (eqs. 13-15, [`pulse`]), the
+//! fruit's damage ([`bruise`], through the pure models of [`damage`]: bruise volume, sites,
+//! grade), the line audit per transfer point ([`audit`]), and the calibration of the eq. 12
+//! coefficient ke against a measured restitution ([`calibrate`]). User guides: docs/analysis.md,
+//! docs/damage.md.
 //!
 //! [`analyse`] runs the first three on a finished run; `run::to_dir` writes their files
-//! (`pulse_fits.csv`, `bruise.csv`, `audit.csv`, `audit.md`, `ird.svg`) and adds their headline figures to `RunResult::metrics`.
+//! (`pulse_fits.csv`, `apple_contacts.csv`, `bruises.csv`, `audit.csv`, `audit.md`, `ird.svg`)
+//! and adds their headline figures to `RunResult::metrics`.
 
 pub mod audit;
 pub mod bruise;
 pub mod calibrate;
+pub mod damage;
 pub mod impacts;
 pub mod pulse;
 pub mod tradeoff;
@@ -31,14 +35,15 @@ pub struct Analysis {
     pub contact_points: Vec<String>,
 }
 
-/// Fits the pulses and assesses bruising of a finished run of `sc` (its thresholds); each
-/// apple's material and mass come from the run's roster.
+/// Fits the pulses and assesses the fruit's damage of a finished run of `sc` (its damage models
+/// and grading); each apple's material and mass come from the run's roster, the parts of the
+/// line from its zones.
 pub fn analyse(sc: &Scenario, r: &RunResult) -> Analysis {
     let roster = r.roster.by_name();
     let mass = |name: &str| roster.get(name).map_or(f64::NAN, |a| a.mass_kg);
     let order: Vec<&str> = r.apples.iter().map(|a| a.name.as_str()).collect();
-    let bruise = bruise::assess(sc, &r.events, &roster, &order);
-    let contact_points = audit::points_of(&r.events);
+    let contact_points = audit::points_of(&r.events, &r.zones, &r.roster);
+    let bruise = bruise::assess(sc, &r.events, &roster, &order, &contact_points);
     let audit = audit::audit(&r.events, &contact_points, &r.roster, &bruise);
     Analysis {
         pulse_fits: pulse::fit_events(&r.events, &mass),
@@ -49,40 +54,46 @@ pub fn analyse(sc: &Scenario, r: &RunResult) -> Analysis {
 }
 
 impl Analysis {
-    /// Headline figures for `RunResult::metrics`: `bruised_apples` (apples with a contact over a
-    /// threshold), `bruising_contacts`, `max_absorbed_energy_j` (one contact),
-    /// `total_absorbed_energy_j`, `max_velocity_change_m_s`, and the median fitted `pulse_eps`,
+    /// Headline figures for `RunResult::metrics`, of the fruit only (probes left out):
+    /// `apples_bruised`, `apples_downgraded` (below the standard's best class),
+    /// `total_bruise_volume_mm3`, `max_bruise_volume_mm3` (one bruise), `max_absorbed_energy_j`
+    /// (the most one apple absorbed in one hit), `total_absorbed_energy_j` (all apples' own
+    /// shares), `max_velocity_change_m_s`, `max_peak_g`, and the median fitted `pulse_eps`,
     /// `pulse_tau`, `pulse_k_p` when impacts were fitted, and the audit's figures per transfer
     /// point ([`audit::Audit::metrics`]: a batch's `merged.csv` gets a column each). Only finite
     /// values.
     pub fn add_metrics(&self, m: &mut BTreeMap<String, f64>) {
         let b = &self.bruise;
-        m.insert("bruised_apples".into(), b.apples_at_risk() as f64);
+        m.insert("apples_bruised".into(), b.apples_bruised() as f64);
+        m.insert("apples_downgraded".into(), b.apples_downgraded() as f64);
         m.insert(
-            "bruising_contacts".into(),
-            b.contacts_at_risk().count() as f64,
+            "total_bruise_volume_mm3".into(),
+            b.total_bruise_volume_mm3(),
         );
-        let mut seen = std::collections::BTreeSet::new();
-        let (mut max_w, mut total_w) = (f64::NAN, 0.0);
-        for c in &b.contacts {
-            if seen.insert(c.contact) {
-                max_w = f64::max(max_w, c.absorbed_energy_j);
-                total_w += c.absorbed_energy_j;
-            }
-        }
-        m.insert("max_absorbed_energy_j".into(), max_w);
-        m.insert("total_absorbed_energy_j".into(), total_w);
         m.insert(
-            "max_velocity_change_m_s".into(),
-            b.contacts
+            "max_bruise_volume_mm3".into(),
+            b.sites
                 .iter()
-                .map(|c| c.velocity_change_m_s)
+                .filter(|s| s.bruised)
+                .filter_map(|s| s.volume_mm3)
                 .fold(f64::NAN, f64::max),
         );
+        let max = |f: fn(&bruise::ContactAssessment) -> f64| {
+            b.contacts.iter().map(f).fold(f64::NAN, f64::max)
+        };
+        m.insert("max_absorbed_energy_j".into(), max(|c| c.absorbed_energy_j));
         m.insert(
-            "max_peak_g".into(),
-            b.contacts.iter().map(|c| c.peak_g).fold(f64::NAN, f64::max),
+            "total_absorbed_energy_j".into(),
+            b.contacts
+                .iter()
+                .map(|c| c.absorbed_energy_j)
+                .fold(0.0, |s, e| s + e),
         );
+        m.insert(
+            "max_velocity_change_m_s".into(),
+            max(|c| c.velocity_change_m_s),
+        );
+        m.insert("max_peak_g".into(), max(|c| c.peak_g));
         let median = |f: fn(&pulse::PulseFit) -> f64| {
             let mut v: Vec<f64> = self.pulse_fits.iter().map(f).collect();
             v.sort_by(f64::total_cmp);

@@ -164,24 +164,12 @@ pub fn main(a: Args) -> Result<(), String> {
         for w in &r.warnings {
             println!("warning: {w}");
         }
+        // Every file of the folder as it was switched in (the run's set, charts and page
+        // included), read back from it.
         println!(
-            "wrote {}/{{summary.json, contacts.csv, bodies.csv, bruise.csv, scenario.json{}{}{}}}",
+            "wrote {}/{{{}}}",
             a.out.display(),
-            if r.transition_summary.is_some() {
-                ", transitions.csv"
-            } else {
-                ""
-            },
-            if sc.output.force_history {
-                ", forces.csv, pulse_fits.csv"
-            } else {
-                ""
-            },
-            if sc.output.vtk.is_some() {
-                ", scene.pvd, vtk/"
-            } else {
-                ""
-            }
+            written(&a.out).join(", ")
         );
         if let Some(s) = &viewed {
             super::view::report(&a.out.join(super::view::VIEW_FILE), s);
@@ -196,6 +184,26 @@ pub fn main(a: Args) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The entries of a run folder, sorted (folders with a trailing `/`).
+fn written(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| {
+                    let name = e.file_name().to_string_lossy().to_string();
+                    if e.file_type().is_ok_and(|t| t.is_dir()) {
+                        format!("{name}/")
+                    } else {
+                        name
+                    }
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
 }
 
 /// The progress bar of a run on a terminal: elapsed time, the bar, simulated time and the time

@@ -26,6 +26,11 @@ pub enum MaterialError {
     /// Density zero, negative or not finite.
     #[error("density_kg_m3 = {0}: must be a finite number > 0")]
     BadDensity(f64),
+    /// A loss factor outside [0, 1].
+    #[error(
+        "loss_factor = {0}: must lie in [0, 1] (the share of its stored energy a body dissipates)"
+    )]
+    BadLossFactor(f64),
 }
 
 /// An isotropic linear-elastic material.
@@ -39,6 +44,11 @@ pub struct Material {
     pub poisson_ratio: f64,
     /// Density (kg/m^3), needed only for bodies whose mass is derived from it.
     pub density_kg_m3: Option<f64>,
+    /// Share of the elastic energy stored in this body that it dissipates in one impact (its
+    /// loss factor, 1 - e^2 of this material struck by a rigid body), if known: it decides how
+    /// a contact's loss is shared between the two bodies ([`super::share`]). `None`: the body
+    /// loses what its contact loses as a whole.
+    pub loss_factor: Option<f64>,
 }
 
 fn check_modulus(field: &'static str, value: f64) -> Result<(), MaterialError> {
@@ -71,6 +81,7 @@ impl Material {
             shear_modulus_pa: g_pa,
             poisson_ratio: nu,
             density_kg_m3: density,
+            loss_factor: None,
         })
     }
 
@@ -83,7 +94,17 @@ impl Material {
             shear_modulus_pa: e_pa / (2.0 * (1.0 + nu)),
             poisson_ratio: nu,
             density_kg_m3: density,
+            loss_factor: None,
         })
+    }
+
+    /// The same material with its own loss factor ([`Self::loss_factor`]), in [0, 1].
+    pub fn with_loss_factor(mut self, eta: f64) -> Result<Self, MaterialError> {
+        if !(eta.is_finite() && (0.0..=1.0).contains(&eta)) {
+            return Err(MaterialError::BadLossFactor(eta));
+        }
+        self.loss_factor = Some(eta);
+        Ok(self)
     }
 
     /// Lame's first parameter, lambda = 2 nu G / (1 - 2 nu) (eq. 2).

@@ -16,6 +16,7 @@ pub mod material;
 pub mod normal;
 pub mod padding;
 pub mod rolling;
+pub mod share;
 pub mod theory;
 pub mod twisting;
 
@@ -94,6 +95,14 @@ pub struct PairLaw {
     pub g_star_pa: f64,
     /// Body 1's share of the overlap, c1 / (c1 + c2).
     pub share1: f64,
+    /// Body 1's share of the energy the contact dissipates ([`share`]): `share1` weighted by
+    /// the two bodies' loss factors.
+    pub energy_share1: f64,
+    /// The loss factors of the two bodies ([`material::Material::loss_factor`]), each the
+    /// pair's own 1 - e^2 where the material states none ([`share::pair_loss_factor`]).
+    pub loss_factors: [f64; 2],
+    /// The materials' own loss factors, as stated (`None`: not stated).
+    pub stated_loss_factors: [Option<f64>; 2],
     /// Coulomb coefficient.
     pub friction: f64,
     /// Eq. 12 energy-loss coefficient ke in (0, 1]; 1 is elastic.
@@ -118,6 +127,9 @@ impl PairLaw {
             e_star_pa: material::effective_modulus(m1, m2),
             g_star_pa: material::effective_shear_modulus(m1, m2),
             share1: material::indentation_share(m1, m2),
+            energy_share1: f64::NAN,
+            loss_factors: [f64::NAN; 2],
+            stated_loss_factors: [m1.loss_factor, m2.loss_factor],
             friction,
             ke,
             lambda_s_m,
@@ -126,6 +138,17 @@ impl PairLaw {
             models: SubModels::default(),
             beta: damping::beta_of_restitution(ke.sqrt()),
         }
+        .with_loss_shares(ke.sqrt())
+    }
+
+    /// Resolves the loss factors and the energy share for the pair's nominal restitution `e`.
+    fn with_loss_shares(mut self, e: f64) -> Self {
+        let pair = share::pair_loss_factor(e);
+        let [a, b] = self.stated_loss_factors;
+        self.loss_factors = [a.unwrap_or(pair), b.unwrap_or(pair)];
+        self.energy_share1 =
+            share::loss_share(self.share1, self.loss_factors[0], self.loss_factors[1]);
+        self
     }
 
     /// The same law with other sub-models.
@@ -136,8 +159,13 @@ impl PairLaw {
             _ => self.ke.sqrt(),
         };
         self.beta = damping::beta_of_restitution(e);
+        // The pair's nominal restitution: its loss as a whole (eq. 12: sqrt(ke), section 3).
+        let nominal = match models.damping {
+            DampingModel::Viscoelastic => models.restitution,
+            _ => self.ke.sqrt(),
+        };
         self.models = models;
-        self
+        self.with_loss_shares(nominal)
     }
 }
 

@@ -73,6 +73,22 @@ pub fn bottom_overlap(h: f64, r_star: f64, pad_share: f64) -> f64 {
     at_chi.min(at_compression)
 }
 
+/// A limit of the thin-layer law an apple's contact has passed ([`PadConstants::limit_at`]).
+///
+/// chi reaches [`CHI_LIMIT`] when the pad is compressed by h / R* (chi^2 = R* delta / h^2 = 1):
+/// 7.5 % for a 3 mm pad under an 80 mm apple on a flat (R* 40 mm), 25 % for a 10 mm one. That is
+/// the end of the series' validity, not a crushed pad; the pad bottoms out when the half-space
+/// split of the overlap would compress it by [`BOTTOM_COMPRESSION`] of its thickness.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum PadLimit {
+    /// chi = sqrt(R* delta)/h reached [`CHI_LIMIT`]: beyond the law's validity; the model then
+    /// adds the substrate's Hertz contact, an approximation of a stiffening pad.
+    LawValidity,
+    /// The pad is compressed to [`BOTTOM_COMPRESSION`] of its thickness: it has bottomed out, the
+    /// apple presses on the substrate.
+    Crushed,
+}
+
 /// The constants of an apple's contact with a padded surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PadConstants {
@@ -91,6 +107,16 @@ pub struct PadConstants {
     pub substrate_stiffness: f64,
     /// Overlap at which the pad bottoms out (m), [`bottom_overlap`].
     pub bottom_overlap_m: f64,
+    /// The substrate's compliance (1 - nu^2)/E (1/Pa).
+    pub c_substrate: f64,
+    /// Loss factors of the apple, the pad and the substrate ([`super::share`]).
+    pub loss_factors: [f64; 3],
+    /// Overlap at which chi reaches [`CHI_LIMIT`] (m).
+    pub validity_overlap_m: f64,
+    /// Overlap at which the pad's share reaches [`BOTTOM_COMPRESSION`] of its thickness (m).
+    pub crushed_overlap_m: f64,
+    /// The pad's compression (its share of the overlap over its thickness) at chi = 1.
+    pub validity_compression: f64,
 }
 
 fn compliance(m: &Material) -> f64 {
@@ -106,6 +132,7 @@ impl PadConstants {
         substrate: &Material,
         thickness_m: f64,
         r_star_m: f64,
+        loss_factors: [f64; 3],
     ) -> Self {
         let (c_apple, c_pad) = (compliance(apple), compliance(pad));
         let four_thirds_root_r = 4.0 / 3.0 * r_star_m.sqrt();
@@ -118,7 +145,46 @@ impl PadConstants {
             four_thirds_root_r,
             substrate_stiffness: four_thirds_root_r / (c_apple + compliance(substrate)),
             bottom_overlap_m: bottom_overlap(thickness_m, r_star_m, share),
+            c_substrate: compliance(substrate),
+            loss_factors,
+            validity_overlap_m: CHI_LIMIT * CHI_LIMIT * thickness_m * thickness_m
+                / (r_star_m * share),
+            crushed_overlap_m: BOTTOM_COMPRESSION * thickness_m / share,
+            validity_compression: CHI_LIMIT * CHI_LIMIT * thickness_m / r_star_m,
         }
+    }
+
+    /// The furthest limit of the law the overlap `u` has passed, with the pad's compression at
+    /// that limit: bottomed out once the pad's share of `u` reaches 90 % of its thickness, else
+    /// beyond the law's validity once chi reached 1; `None` within the law.
+    pub fn limit_at(&self, u: f64) -> Option<(PadLimit, f64)> {
+        if u > self.crushed_overlap_m {
+            Some((PadLimit::Crushed, BOTTOM_COMPRESSION))
+        } else if u > self.validity_overlap_m {
+            Some((PadLimit::LawValidity, self.validity_compression))
+        } else {
+            None
+        }
+    }
+
+    /// The apple's share of the deformation and of the loss at overlap `u` ([`super::share`]):
+    /// against the pad the pad's compliance stiffened by the thin-layer factor, c_pad / f(chi),
+    /// the compliance that gives the pad law's force; once the pad has bottomed out, what more
+    /// the contact takes goes into the apple and the substrate.
+    #[inline]
+    pub fn apple_shares(&self, u: f64) -> (f64, f64) {
+        let [eta_apple, eta_pad, eta_sub] = self.loss_factors;
+        let (c_other, eta_other) = if u > self.bottom_overlap_m {
+            (self.c_substrate, eta_sub)
+        } else {
+            let chi = self.chi_per_root_u * u.max(0.0).sqrt();
+            (
+                self.c_pad / thin_layer_factor(&self.coefficients, chi),
+                eta_pad,
+            )
+        };
+        let s = super::share::stored_share(self.c_apple, c_other);
+        (s, super::share::loss_share(s, eta_apple, eta_other))
     }
 
     /// The elastic normal force at overlap `u` (N), and whether the pad has bottomed out
@@ -147,6 +213,34 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_law_ends_at_chi_one_before_the_pad_is_crushed() {
+        let apple = Material::from_youngs(2.6e6, 0.18, Some(800.0)).unwrap();
+        let foam = Material::from_youngs(2.0e6, 0.3, None).unwrap();
+        let steel = Material::from_shear(8.1e10, 0.28, None).unwrap();
+        let s = compliance(&foam) / (compliance(&apple) + compliance(&foam));
+        // 3 mm and 10 mm pads under an 80 mm apple on a flat: h / R* = 7.5 % and 25 % at chi = 1.
+        for (h, at_chi) in [(0.003, 0.075), (0.010, 0.25)] {
+            let p = PadConstants::new(&apple, &foam, &steel, h, 0.04, [0.9; 3]);
+            assert!((p.validity_compression - at_chi).abs() < 1e-15);
+            let u_chi = at_chi * h / s;
+            assert!((p.validity_overlap_m / u_chi - 1.0).abs() < 1e-12);
+            assert_eq!(p.limit_at(0.99 * u_chi), None);
+            assert_eq!(
+                p.limit_at(1.01 * u_chi),
+                Some((PadLimit::LawValidity, at_chi))
+            );
+            // Crushed once s u reaches 0.9 h.
+            let u_crush = 0.9 * h / s;
+            assert!((p.crushed_overlap_m / u_crush - 1.0).abs() < 1e-12);
+            assert_eq!(p.limit_at(1.01 * u_crush), Some((PadLimit::Crushed, 0.9)));
+            assert_eq!(
+                p.bottom_overlap_m,
+                p.validity_overlap_m.min(p.crushed_overlap_m)
+            );
+        }
+    }
+
+    #[test]
     fn incompressible_coefficients_are_the_papers_eq_12() {
         // At nu = 0.5 the paper prints 1 + 1.133 chi + 1.283 chi^2 + 0.769 chi^3 + 0.0975 chi^4;
         // its general form gives the same first three and -0.0975 (docs/physics.md 13.1).
@@ -165,10 +259,10 @@ mod tests {
         let r: f64 = 0.037;
         let hertz =
             |u: f64| 4.0 / 3.0 / (compliance(&apple) + compliance(&foam)) * r.sqrt() * u.powf(1.5);
-        let thick = PadConstants::new(&apple, &foam, &steel, 10.0, r);
+        let thick = PadConstants::new(&apple, &foam, &steel, 10.0, r, [0.9; 3]);
         let u = 1e-3;
         assert!((thick.elastic_force(u).0 / hertz(u) - 1.0).abs() < 1e-3);
-        let thin = PadConstants::new(&apple, &foam, &steel, 0.012, r);
+        let thin = PadConstants::new(&apple, &foam, &steel, 0.012, r, [0.9; 3]);
         assert!(thin.elastic_force(u).0 > 1.05 * hertz(u));
         assert!(!thin.elastic_force(u).1);
         // h^2/(R* s) = 3.89 mm / s: bottomed beyond, and the substrate's Hertz added.

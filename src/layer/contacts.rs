@@ -55,8 +55,9 @@ pub struct Contact {
     pub law: u32,
     /// 1 / the smaller radius (set with `consts`), for the overlap guard.
     pub inv_r_min: f64,
-    /// On a padded surface: the pad has bottomed out during this contact (warned once).
-    pub pad_bottomed: bool,
+    /// On a padded surface: the furthest limit of the pad law this contact has passed (each
+    /// warned once).
+    pub pad_limit: Option<crate::contact::padding::PadLimit>,
 }
 
 impl Contact {
@@ -86,7 +87,7 @@ impl Contact {
                 spin_inertia_kg_m2: 0.0,
                 pad: None,
             },
-            pad_bottomed: false,
+            pad_limit: None,
             consts_curvature: f64::NAN,
             resting_from_s: f64::NAN,
             prev_rate: f64::NAN,

@@ -8,6 +8,7 @@ use super::registry::AppleEntry;
 use super::SurfaceId;
 use crate::math::{is_finite, Vec3};
 use rapier3d_f64::dynamics::{RigidBodyHandle, RigidBodySet};
+use rapier3d_f64::math::Rotation;
 
 /// Poses and motion of the apples at the current poses (awake apples only: a sleeper keeps what
 /// it had when it fell asleep, its velocities zeroed).
@@ -16,6 +17,8 @@ pub(super) struct Frame {
     pub pos: Vec<Vec3>,
     pub vel: Vec<Vec3>,
     pub angvel: Vec<Vec3>,
+    /// Orientation (where a hit lands on the apple's own surface: bruise sites).
+    pub rot: Vec<Rotation>,
     pub radius: Vec<f64>,
     /// Contacts seen this step.
     pub count: Vec<u16>,
@@ -29,6 +32,7 @@ impl Frame {
         self.pos.resize(n, Vec3::ZERO);
         self.vel.resize(n, Vec3::ZERO);
         self.angvel.resize(n, Vec3::ZERO);
+        self.rot.resize(n, Rotation::IDENTITY);
         self.count.clear();
         self.count.resize(n, 0);
         self.still.resize(n, false);
@@ -75,6 +79,7 @@ impl Frame {
             self.pos[k] = c;
             self.vel[k] = v;
             self.angvel[k] = w;
+            self.rot[k] = pose.rotation;
             self.still[k] =
                 v.length_squared() < still2 && w.length_squared() * a.radius * a.radius < still2;
         }

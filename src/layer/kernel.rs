@@ -17,7 +17,7 @@ use super::scene::SurfaceNow;
 use super::LayerError;
 use crate::contact::{self, theory, ContactConstants, ContactKinematics};
 use crate::math::{is_finite, Vec3};
-use crate::record::events::{ContactSample, OpenContact, Party};
+use crate::record::events::{ContactSample, OpenContact, Party, Rotation};
 use std::sync::Mutex;
 
 /// Contacts per step from which the force pass runs in parallel (below that, rayon's overhead
@@ -44,8 +44,9 @@ pub(super) struct ContactOut {
     /// Rolling- and twisting-resistance torque on apple `i` (N m); the other body gets the
     /// opposite.
     torque: Vec3,
-    /// A pad bottomed out under this contact for the first time this step.
-    pad_bottomed: bool,
+    /// A pad bottomed out under this contact for the first time this step: which limit, and the
+    /// pad's compression there.
+    pad_bottomed: Option<(contact::padding::PadLimit, f64)>,
 }
 
 /// Everything one contact's evaluation reads (all of it shared, none of it written): the
@@ -224,8 +225,16 @@ impl Ctx<'_> {
             c.record = Some(self.begin(c, &k, &resp)?);
         }
         // Warned once per contact.
-        let pad_bottomed = resp.pad_bottomed && !c.pad_bottomed;
-        c.pad_bottomed |= resp.pad_bottomed;
+        // A pad's limits, each warned once per contact (the further one may follow the first).
+        let pad_bottomed = match (resp.pad_bottomed, &k.pad) {
+            (true, Some(pad)) => pad
+                .limit_at(u)
+                .filter(|(l, _)| c.pad_limit.is_none_or(|seen| *l > seen)),
+            _ => None,
+        };
+        if let Some((l, _)) = pad_bottomed {
+            c.pad_limit = Some(l);
+        }
         // The backward span of this force's kick (see the leapfrog kick below).
         let kick_back = match (self.config.step_control, c.record.as_ref()) {
             (Some(_), Some(o)) => self.dt_back.min((time_s - o.start_time_s()).max(0.0)),
@@ -233,6 +242,12 @@ impl Ctx<'_> {
         };
         let point = point + resp.patch_shift;
         if let Some(open) = c.record.as_mut() {
+            // The apple's share of the deformation and of the loss (contact::share); a pad's
+            // changes as it is squeezed.
+            let shares = match &k.pad {
+                None => (law.share1, law.energy_share1),
+                Some(pad) => pad.apple_shares(u),
+            };
             open.observe(&ContactSample {
                 time_s,
                 dt_s: self.dt_s,
@@ -258,6 +273,14 @@ impl Ctx<'_> {
                                 0.0
                             }
                         }
+                    },
+                ],
+                shares,
+                rotations: [
+                    self.frame.rot[i],
+                    match c.other {
+                        Party::Apple(j) => self.frame.rot[j as usize],
+                        Party::Surface(_) => Rotation::IDENTITY,
                     },
                 ],
             });
@@ -354,12 +377,20 @@ impl Ctx<'_> {
             }
         }
         c.consts.pad = pad.map(|(p, substrate)| {
+            // The substrate's loss factor, or the apple-pad pair's own (contact::share).
+            let law = &self.registry.laws()[c.law as usize];
+            let [eta_apple, eta_pad] = law.loss_factors;
+            let substrate = self.registry.material(substrate);
+            let eta_sub = substrate
+                .loss_factor
+                .unwrap_or(contact::share::pair_loss_factor(law.ke.sqrt()));
             contact::padding::PadConstants::new(
                 self.registry.material(ai.material),
                 self.registry.material(p.material),
-                self.registry.material(substrate),
+                substrate,
                 p.thickness_m,
                 r_star,
+                [eta_apple, eta_pad, eta_sub],
             )
         });
         c.consts_curvature = c.curvature2;
@@ -468,11 +499,12 @@ impl Ctx<'_> {
                     // On a belt or a moving part: the apple stays awake.
                     loads.busy[ii] = true;
                 }
-                if o.pad_bottomed {
+                if let Some(limit) = o.pad_bottomed {
                     sums.out.pad_bottoms.push(PadBottom {
                         apple: i,
                         surface: s,
                         time_s: self.time_s,
+                        limit,
                     });
                 }
                 if let Some(b) = now.dynamic_body {

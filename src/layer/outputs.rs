@@ -70,6 +70,9 @@ pub struct PadBottom {
     pub surface: u32,
     /// When (s).
     pub time_s: f64,
+    /// Which limit it reached, and the pad's compression there
+    /// ([`crate::contact::padding::PadConstants::limit_at`]).
+    pub limit: (crate::contact::padding::PadLimit, f64),
 }
 
 /// The layer's outputs.

@@ -72,8 +72,10 @@ impl ContactLayer {
         &self.out.finished
     }
 
-    /// Takes out the warnings of pads that bottomed out since the last call: "pad of surface 'S'
-    /// bottomed out under apple 'A' at t = T s ..." (docs/physics.md section 13), once per contact.
+    /// Takes out the warnings of pads that reached the end of the thin-layer law since the last
+    /// call, once per contact, saying which case happened (docs/physics.md section 13): the
+    /// law's validity (chi = 1: "beyond the thin-layer law's validity"), or a pad compressed to
+    /// 90 % of its thickness ("bottomed out": the apple presses on the substrate).
     pub fn take_pad_warnings(&mut self) -> Vec<String> {
         std::mem::take(&mut self.out.pad_bottoms)
             .into_iter()
@@ -82,14 +84,26 @@ impl ContactLayer {
                 let (h, pad) = surface.padding.map_or((0.0, ""), |p| {
                     (p.thickness_m, self.registry.material_name(p.material))
                 });
-                format!(
-                    "pad of surface '{}' ({} mm of {pad}) bottomed out under apple '{}' at t = {} s: beyond the thin-layer law's range (docs/physics.md section 13), the apple presses on the substrate ({}) and its force is the substrate's",
-                    surface.name,
-                    crate::math::human(h * 1e3, 3, 1),
-                    self.registry.apples[b.apple as usize].name,
-                    crate::math::secs(b.time_s),
-                    self.registry.material_name(surface.material),
-                )
+                let (limit, compression) = b.limit;
+                let pct = crate::math::human(100.0 * compression, 2, 1);
+                match limit {
+                    crate::contact::padding::PadLimit::LawValidity => format!(
+                        "pad of surface '{}' ({} mm of {pad}) under apple '{}' at t = {} s: compressed {pct} % of its thickness, beyond the thin-layer law's validity (chi = sqrt(R* delta)/h reached 1, docs/physics.md section 13); the pad is not crushed, but from there the model adds the Hertz contact of the substrate ({}) to the pad's force, an approximation of the stiffening pad: treat this contact's force as indicative",
+                        surface.name,
+                        crate::math::human(h * 1e3, 3, 1),
+                        self.registry.apples[b.apple as usize].name,
+                        crate::math::secs(b.time_s),
+                        self.registry.material_name(surface.material),
+                    ),
+                    crate::contact::padding::PadLimit::Crushed => format!(
+                        "pad of surface '{}' ({} mm of {pad}) bottomed out under apple '{}' at t = {} s: compressed to {pct} % of its thickness, the apple presses on the substrate ({}) and its force is the substrate's (docs/physics.md section 13)",
+                        surface.name,
+                        crate::math::human(h * 1e3, 3, 1),
+                        self.registry.apples[b.apple as usize].name,
+                        crate::math::secs(b.time_s),
+                        self.registry.material_name(surface.material),
+                    ),
+                }
             })
             .collect()
     }

@@ -2,12 +2,12 @@
 //! compare layouts) and `audit.md` ([`Audit::markdown`]).
 
 use super::atomic::AtomicCsv;
-use crate::analysis::audit::{Audit, OverThreshold, TransferPoint};
+use crate::analysis::audit::{Audit, TransferPoint};
 use std::path::Path;
 
-/// Header of `audit.csv` (one row per transfer point, hardest first; `_p50`, `_p95`, `_max` are
-/// the median, 95th percentile and largest over the apples hit there).
-pub const AUDIT_HEADER: [&str; 21] = [
+/// Header of `audit.csv` (one row per transfer point, most damage first; `_p50`, `_p95`, `_max`
+/// are the median, 95th percentile and largest over the apples hit there; fruit only).
+pub const AUDIT_HEADER: [&str; 20] = [
     "transfer_point",
     "contacts",
     "impacts",
@@ -23,12 +23,11 @@ pub const AUDIT_HEADER: [&str; 21] = [
     "velocity_change_m_s_max",
     "absorbed_energy_j_total",
     "absorbed_energy_j_max",
-    "apples_over_any",
-    "apples_over_force",
-    "apples_over_pressure",
-    "apples_over_energy",
-    "apples_over_static_force",
-    "apples_over_static_pressure",
+    "apples_bruised",
+    "bruise_volume_mm3_p50",
+    "bruise_volume_mm3_p95",
+    "bruise_volume_mm3_total",
+    "apples_downgraded",
 ];
 
 /// The line audit as a table to read (`audit.md`, [`crate::analysis::audit::Audit::markdown`]).
@@ -55,7 +54,9 @@ pub fn write_audit(path: &Path, audit: &Audit) -> std::io::Result<()> {
             row.extend(q.map(num));
         }
         row.extend(t.absorbed_energy_j.map(num));
-        row.extend(t.apples_over.named().map(|(_, n)| n.to_string()));
+        row.push(t.apples_bruised.to_string());
+        row.extend(t.bruise_volume_mm3.map(num));
+        row.push(t.apples_downgraded.to_string());
         w.write_record(&row)?;
     }
     w.commit()
@@ -132,14 +133,9 @@ pub fn read_audit(path: &Path) -> Result<Audit, AuditReadError> {
             peak_g: [num(7)?, num(8)?, num(9)?],
             velocity_change_m_s: [num(10)?, num(11)?, num(12)?],
             absorbed_energy_j: [num(13)?, num(14)?],
-            apples_over: OverThreshold {
-                any: count(15)?,
-                force: count(16)?,
-                pressure: count(17)?,
-                energy: count(18)?,
-                static_force: count(19)?,
-                static_pressure: count(20)?,
-            },
+            apples_bruised: count(15)?,
+            bruise_volume_mm3: [num(16)?, num(17)?, num(18)?],
+            apples_downgraded: count(19)?,
         });
     }
     Ok(Audit { points })

@@ -1,6 +1,7 @@
 //! Outputs of a run: `summary.json`, `contacts.csv`, `bodies.csv`, `transitions.csv` (and the
 //! scenario as run); with free-turning rollers `rollers.csv` ([`rollers`]);
-//! with force histories `forces.csv` and `pulse_fits.csv`; always `bruise.csv`; on request the
+//! with force histories `forces.csv` and `pulse_fits.csv`; always `apple_contacts.csv` and
+//! `bruises.csv` (the fruit's damage); on request the
 //! ParaView files ([`vtk`]) and the charts ([`plot`]).
 //!
 //! Every file is written whole or not at all, and a run's folder is switched in as a whole set
@@ -16,7 +17,7 @@ pub mod report;
 pub mod rollers;
 pub mod vtk;
 
-use crate::analysis::bruise::{AppleAssessment, ContactAssessment};
+use crate::analysis::bruise::{AppleAssessment, Cause, LargestBruise};
 use crate::analysis::pulse::PulseFit;
 use crate::analysis::Analysis;
 use crate::record::events::ContactEvent;
@@ -56,8 +57,8 @@ pub struct Summary<'a> {
     pub wall_time_s: f64,
     /// Contact events.
     pub contacts: &'a [ContactEvent],
-    /// Final state and peak force per apple.
-    pub apples: &'a [AppleFinal],
+    /// Final state and peak force per apple, and its damage (bruises, grade) when assessed.
+    pub apples: Vec<AppleRow<'a>>,
     /// Warnings.
     pub warnings: &'a [String],
     /// Apples per fate, throughput per bin, what each source fed (`fates`, `throughput`,
@@ -66,10 +67,10 @@ pub struct Summary<'a> {
     pub line: &'a crate::sim::fate::LineEnd,
     /// Key results as flat, unit-suffixed numbers (what `applesim merge` tabulates).
     pub metrics: &'a std::collections::BTreeMap<String, f64>,
-    /// Bruise assessment: per apple, and the contacts over a threshold (all contacts in
-    /// `bruise.csv`).
+    /// The fruit's damage: the grading standard and the headline counts (per apple in
+    /// `apples[]`, per site in `bruises.csv`, per apple and contact in `apple_contacts.csv`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub bruise: Option<BruiseSummary<'a>>,
+    pub damage: Option<DamageSummary<'a>>,
     /// Eq. 13 fits of the impacts (also `pulse_fits.csv`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pulse_fits: Option<&'a [PulseFit]>,
@@ -86,6 +87,74 @@ pub struct Summary<'a> {
     pub probes: Vec<ProbeSummary<'a>>,
 }
 
+/// One apple in `summary.json`: its final state and fate, and its damage when assessed (a
+/// probe has none).
+#[derive(Debug, Serialize)]
+pub struct AppleRow<'a> {
+    /// The final state.
+    #[serde(flatten)]
+    pub end: &'a AppleFinal,
+    /// The damage.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub damage: Option<AppleDamage<'a>>,
+}
+
+/// An apple's damage in `summary.json` (`analysis::bruise::AppleAssessment`).
+#[derive(Debug, Serialize)]
+pub struct AppleDamage<'a> {
+    /// Energy it absorbed in its impacts (J; its own shares of the contacts' losses).
+    pub absorbed_energy_j: f64,
+    /// Its bruises.
+    pub bruises: usize,
+    /// Bruise volume, all bruises (mm^3; absent for an onset model).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bruise_volume_mm3: Option<f64>,
+    /// Its largest bruise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub largest_bruise: Option<&'a LargestBruise>,
+    /// Its grade.
+    pub grade: &'a str,
+    /// Why not the best class (empty when it meets it).
+    pub grade_why: &'a str,
+    /// The hit that first put it below the best class.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub downgraded_by: Option<&'a Cause>,
+}
+
+impl<'a> AppleDamage<'a> {
+    fn of(a: &'a AppleAssessment) -> Self {
+        Self {
+            absorbed_energy_j: a.absorbed_energy_j,
+            bruises: a.bruises,
+            bruise_volume_mm3: a.bruise_volume_mm3,
+            largest_bruise: a.largest_bruise.as_ref(),
+            grade: &a.grade,
+            grade_why: &a.grade_why,
+            downgraded_by: a.downgraded_by.as_ref(),
+        }
+    }
+}
+
+/// The damage section of `summary.json`.
+#[derive(Debug, Serialize)]
+pub struct DamageSummary<'a> {
+    /// The grading standard (`user` for the scenario's own classes).
+    pub standard: &'a str,
+    /// Its grades, best first.
+    pub grades: &'a [String],
+    /// Apples with a bruise.
+    pub apples_bruised: usize,
+    /// Apples graded below the best class.
+    pub apples_downgraded: usize,
+    /// Bruise volume of all apples (mm^3; absent for onset models).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub total_bruise_volume_mm3: Option<f64>,
+    /// Apples per grade, best first.
+    pub apples_per_grade: Vec<(&'a str, usize)>,
+    /// The damage model of each apple material.
+    pub models: std::collections::BTreeMap<&'a str, &'static str>,
+}
+
 /// One probe in `summary.json`.
 #[derive(Debug, Serialize)]
 pub struct ProbeSummary<'a> {
@@ -97,23 +166,22 @@ pub struct ProbeSummary<'a> {
     pub settings: &'a crate::record::probe::ProbeSpec,
     /// The files it wrote.
     pub files: [String; 2],
-    /// Its impacts, as in the impacts file.
-    pub impacts: &'a [crate::record::probe::ProbeImpact],
+    /// Its impacts, as in the impacts file, each with the transfer point where it happened.
+    pub impacts: Vec<ProbeImpactRow<'a>>,
 }
 
-/// The bruise section of `summary.json`.
+/// One impact of a probe in `summary.json`.
 #[derive(Debug, Serialize)]
-pub struct BruiseSummary<'a> {
-    /// Apples at risk (over a threshold in at least one contact).
-    pub apples_at_risk: Vec<&'a str>,
-    /// Every apple's assessment.
-    pub apples: &'a [AppleAssessment],
-    /// The contacts over a threshold, per apple.
-    pub contacts_at_risk: Vec<&'a ContactAssessment>,
+pub struct ProbeImpactRow<'a> {
+    /// The impact as the device reports it.
+    #[serde(flatten)]
+    pub impact: &'a crate::record::probe::ProbeImpact,
+    /// Where in the line ([`probe::transfer_points`]).
+    pub transfer_point: String,
 }
 
 /// Header of `contacts.csv`.
-pub const CONTACT_HEADER: [&str; 37] = [
+pub const CONTACT_HEADER: [&str; 41] = [
     "a",
     "b",
     "t_start_s",
@@ -129,6 +197,8 @@ pub const CONTACT_HEADER: [&str; 37] = [
     "separation_speed_m_s",
     "restitution",
     "absorbed_energy_j",
+    "a_absorbed_energy_j",
+    "b_absorbed_energy_j",
     "steps",
     "contact_point_m",
     "a_diameter_m",
@@ -140,6 +210,8 @@ pub const CONTACT_HEADER: [&str; 37] = [
     "impact_duration_s",
     "impact_impulse_n_s",
     "impact_absorbed_energy_j",
+    "impact_a_absorbed_energy_j",
+    "impact_b_absorbed_energy_j",
     "impact_max_pressure_pa",
     "a_velocity_change_m_s",
     "a_peak_g",
@@ -201,6 +273,8 @@ pub fn write_contacts(
             opt(e.separation_speed_m_s),
             opt(e.restitution),
             e.absorbed_energy_j.to_string(),
+            e.a_absorbed_energy_j.to_string(),
+            (e.absorbed_energy_j - e.a_absorbed_energy_j).to_string(),
             e.steps.to_string(),
             format!(
                 "{} {} {}",
@@ -215,6 +289,8 @@ pub fn write_contacts(
             num(i.map(|p| p.duration_s)),
             num(i.map(|p| p.impulse_n_s)),
             num(i.map(|p| p.absorbed_energy_j)),
+            num(i.map(|p| p.a_absorbed_energy_j)),
+            num(i.map(|p| p.absorbed_energy_j - p.a_absorbed_energy_j)),
             num(i.map(|p| p.max_pressure_pa)),
             a_dv,
             a_g,
@@ -302,20 +378,44 @@ pub fn write_summary_with(
         fidelity: r.fidelity_limits,
         wall_time_s: r.wall_time_s,
         contacts: &r.events,
-        apples: &r.apples,
+        apples: r
+            .apples
+            .iter()
+            .map(|end| AppleRow {
+                end,
+                damage: analysis
+                    .and_then(|a| a.bruise.apples.iter().find(|x| *x.apple == *end.name))
+                    .map(AppleDamage::of),
+            })
+            .collect(),
         warnings: &r.warnings,
         line: &r.line,
         metrics: &r.metrics,
-        bruise: analysis.map(|a| BruiseSummary {
-            apples_at_risk: a
-                .bruise
-                .apples
-                .iter()
-                .filter(|x| x.at_risk)
-                .map(|x| &*x.apple)
-                .collect(),
-            apples: &a.bruise.apples,
-            contacts_at_risk: a.bruise.contacts_at_risk().collect(),
+        damage: analysis.map(|a| {
+            let b = &a.bruise;
+            DamageSummary {
+                standard: &b.standard,
+                grades: &b.grades,
+                apples_bruised: b.apples_bruised(),
+                apples_downgraded: b.apples_downgraded(),
+                total_bruise_volume_mm3: Some(b.total_bruise_volume_mm3())
+                    .filter(|v| v.is_finite()),
+                apples_per_grade: b
+                    .grades
+                    .iter()
+                    .map(|g| {
+                        (
+                            g.as_str(),
+                            b.apples.iter().filter(|x| &x.grade == g).count(),
+                        )
+                    })
+                    .collect(),
+                models: b
+                    .apples
+                    .iter()
+                    .map(|x| (x.material.as_str(), x.model))
+                    .collect(),
+            }
         }),
         pulse_fits: analysis.map(|a| a.pulse_fits.as_slice()),
         transitions: r.transition_summary.as_ref(),
@@ -325,12 +425,24 @@ pub fn write_summary_with(
             .iter()
             .map(|p| {
                 let stem = probe::stem(&p.apple);
+                let points = match analysis {
+                    Some(a) => probe::transfer_points(p, &r.events, &a.contact_points),
+                    None => vec![String::new(); p.impacts.len()],
+                };
                 ProbeSummary {
                     apple: &p.apple,
                     mass_kg: p.mass_kg,
                     settings: &p.spec,
                     files: [format!("{stem}_trace.csv"), format!("{stem}_impacts.csv")],
-                    impacts: &p.impacts,
+                    impacts: p
+                        .impacts
+                        .iter()
+                        .zip(points)
+                        .map(|(impact, transfer_point)| ProbeImpactRow {
+                            impact,
+                            transfer_point,
+                        })
+                        .collect(),
                 }
             })
             .collect(),
@@ -492,65 +604,127 @@ pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
     w.commit()
 }
 
-/// Header of `bruise.csv`: one row per apple per contact.
-pub const BRUISE_HEADER: [&str; 23] = [
+/// Header of `apple_contacts.csv`: one row per apple per contact (fruit only), its side of the
+/// contact and what it did to the apple ([`crate::analysis::bruise::ContactAssessment`]).
+pub const APPLE_CONTACTS_HEADER: [&str; 22] = [
     "contact",
     "apple",
     "other",
+    "transfer_point",
     "t_start_s",
     "t_peak_s",
     "contact_point_m",
     "peak_force_n",
-    "force_threshold_n",
-    "mean_pressure_pa",
-    "pressure_threshold_pa",
+    "peak_pressure_pa",
     "absorbed_energy_j",
-    "energy_threshold_j",
+    "contact_absorbed_energy_j",
     "velocity_change_m_s",
-    "approach_speed_m_s",
-    "at_risk",
-    "exceeded",
-    "apple_at_risk",
-    "apple_peak_force_n",
     "peak_g",
+    "approach_speed_m_s",
+    "bruised",
+    "site",
+    "volume_mm3",
+    "apple_grade",
     "static_max_force_n",
-    "static_force_threshold_n",
     "static_max_pressure_pa",
-    "static_pressure_threshold_pa",
+    "exceeded",
+    "outside_validity",
 ];
 
-/// Writes `bruise.csv`.
-pub fn write_bruise(path: &Path, a: &Analysis) -> std::io::Result<()> {
-    let mut w = AtomicCsv::create(path, &BRUISE_HEADER)?;
+/// The name of the per apple per contact file.
+pub const APPLE_CONTACTS_CSV: &str = "apple_contacts.csv";
+
+/// Writes `apple_contacts.csv`.
+pub fn write_apple_contacts(path: &Path, a: &Analysis) -> std::io::Result<()> {
+    let mut w = AtomicCsv::create(path, &APPLE_CONTACTS_HEADER)?;
+    let grade: std::collections::BTreeMap<&str, &str> = a
+        .bruise
+        .apples
+        .iter()
+        .map(|x| (&*x.apple, x.grade.as_str()))
+        .collect();
     for c in &a.bruise.contacts {
-        let apple = a.bruise.apples.iter().find(|x| x.apple == c.apple);
         let p = c.contact_point_m;
         w.write_record([
             c.contact.to_string(),
             c.apple.to_string(),
             c.other.to_string(),
+            c.transfer_point.clone(),
             c.t_start_s.to_string(),
             c.t_peak_s.to_string(),
             format!("{} {} {}", p[0], p[1], p[2]),
             c.peak_force_n.to_string(),
-            c.thresholds.peak_force_n.to_string(),
-            c.mean_pressure_pa.to_string(),
-            opt(c.thresholds.mean_pressure_pa),
+            c.peak_pressure_pa.to_string(),
             c.absorbed_energy_j.to_string(),
-            opt(c.thresholds.absorbed_energy_j),
+            c.contact_absorbed_energy_j.to_string(),
             c.velocity_change_m_s.to_string(),
-            c.approach_speed_m_s.to_string(),
-            c.at_risk().to_string(),
-            c.exceeded.clone(),
-            apple.is_some_and(|x| x.at_risk).to_string(),
-            apple
-                .map(|x| x.peak_force_n.to_string())
-                .unwrap_or_default(),
             c.peak_g.to_string(),
+            c.approach_speed_m_s.to_string(),
+            c.bruised.to_string(),
+            c.site.map(|s| s.to_string()).unwrap_or_default(),
+            opt(c.volume_mm3),
+            grade.get(&*c.apple).copied().unwrap_or("").to_string(),
             opt(c.static_max_force_n),
-            opt(c.thresholds.static_force_n),
             opt(c.static_max_pressure_pa),
-            opt(c.thresholds.static_pressure_pa),
+            c.exceeded.clone(),
+            c.outside_validity.unwrap_or("").to_string(),
+        ])?;
+    }
+    w.commit()
+}
+
+/// Header of `bruises.csv`: one row per bruise site of each apple
+/// ([`crate::analysis::bruise::BruiseSite`]); `x`, `y`, `z` locate the site on the apple, a unit
+/// vector from its centre in its own frame.
+pub const BRUISES_HEADER: [&str; 16] = [
+    "apple",
+    "site",
+    "x",
+    "y",
+    "z",
+    "first_hit_s",
+    "last_hit_s",
+    "hits",
+    "transfer_points",
+    "absorbed_energy_j",
+    "bruised",
+    "volume_mm3",
+    "area_mm2",
+    "depth_mm",
+    "diameter_mm",
+    "apple_grade",
+];
+
+/// The name of the per site file.
+pub const BRUISES_CSV: &str = "bruises.csv";
+
+/// Writes `bruises.csv`.
+pub fn write_bruises(path: &Path, a: &Analysis) -> std::io::Result<()> {
+    let mut w = AtomicCsv::create(path, &BRUISES_HEADER)?;
+    let grade: std::collections::BTreeMap<&str, &str> = a
+        .bruise
+        .apples
+        .iter()
+        .map(|x| (&*x.apple, x.grade.as_str()))
+        .collect();
+    for s in &a.bruise.sites {
+        w.write_record([
+            s.apple.to_string(),
+            s.site.to_string(),
+            s.direction[0].to_string(),
+            s.direction[1].to_string(),
+            s.direction[2].to_string(),
+            s.first_hit_s.to_string(),
+            s.last_hit_s.to_string(),
+            s.hits.to_string(),
+            s.transfer_points.join("; "),
+            s.absorbed_energy_j.to_string(),
+            s.bruised.to_string(),
+            opt(s.volume_mm3),
+            opt(s.area_mm2),
+            opt(s.depth_mm),
+            opt(s.diameter_mm),
+            grade.get(&*s.apple).copied().unwrap_or("").to_string(),
         ])?;
     }
     w.commit()

@@ -4,8 +4,8 @@
 //! Files, in the run folder:
 //! - `vtk/apples_NNNNNN.vtp`: one frame; points = apple centres (one vertex cell each), point
 //!   arrays `radius` (m), `velocity` (m/s), `angular_velocity` (rad/s), `contact_force` (N),
-//!   `bruise` (1 once the apple has had a contact over its bruise threshold, from the time of
-//!   that contact's peak force), `apple_id` (index in the run's apple order: listed, generated,
+//!   `bruise` (1 once the apple has a bruise, from the time of the peak force of the hit that
+//!   made it), `apple_id` (index in the run's apple order: listed, generated,
 //!   then fed-in apples; -1 if unknown). Every frame carries its own points, so the number of
 //!   apples may change from frame to frame (sources feed apples in).
 //! - `vtk/surfaces.vtp`: every fixed surface as triangles, cell array `surface_id` (index of
@@ -663,7 +663,7 @@ pub fn write_vtk(
                 v: v3(5)?,
                 w: v3(8)?,
                 f: v3(11)?,
-                bruise: u8::from(bruise.at_risk_by(&r[1], t)),
+                bruise: u8::from(bruise.bruised_by(&r[1], t)),
             });
         }
         let rel = format!("{VTK_DIR}/{APPLES_PREFIX}{:06}.vtp", summary.frames.len());

@@ -71,6 +71,9 @@ pub struct ContactEvent {
     pub restitution: Option<f64>,
     /// Work absorbed by the normal force over the contact, sum of P du (J): the hysteresis loss.
     pub absorbed_energy_j: f64,
+    /// Apple `a`'s part of `absorbed_energy_j` (J): the loss pose by pose times its share
+    /// ([`crate::contact::share`]); the other body took the rest.
+    pub a_absorbed_energy_j: f64,
     /// Number of steps with overlap.
     pub steps: u64,
     /// Contact point at the peak force (m, world).
@@ -103,8 +106,25 @@ pub struct ImpactPulse {
     pub impulse_n_s: f64,
     /// Work absorbed by the normal force over the pulse (J).
     pub absorbed_energy_j: f64,
+    /// Apple `a`'s part of `absorbed_energy_j` (J) ([`crate::contact::share`]).
+    pub a_absorbed_energy_j: f64,
     /// Largest mean contact pressure of the pulse (Pa).
     pub max_pressure_pa: f64,
+    /// Largest overlap of the pulse (m).
+    pub max_overlap_m: f64,
+    /// Largest contact radius of the pulse (m; the radius of the circle of the true area).
+    pub max_contact_radius_m: f64,
+    /// Apple `a`'s own deformation at the peak force (m): its share of the overlap (the other
+    /// body's is the overlap at the peak less this).
+    pub a_indentation_m: f64,
+    /// Overlap at the peak force (m).
+    pub overlap_at_peak_m: f64,
+    /// Where each body was hit, in its own frame: the unit vector from the centre of apple `a`
+    /// (first) and of the other body, if an apple (second), towards the contact point at the
+    /// peak force, turned back by the body's orientation then. The site of a bruise on the
+    /// fruit ([`crate::analysis::damage`]); the second is meaningless for a surface.
+    #[serde(skip)]
+    pub sites: [[f64; 3]; 2],
     /// Contact normal at the peak, towards the apple.
     pub normal: [f64; 3],
     /// Change of each body's velocity along the contact normal over the pulse (m/s): apple `a`
@@ -182,9 +202,13 @@ pub struct OpenContact {
     max_a: f64,
     max_p: f64,
     absorbed: f64,
+    /// Apple `a`'s part of `absorbed`.
+    absorbed_a: f64,
     prev_u: f64,
     last_u: f64,
     last_p: f64,
+    /// Apple `a`'s share of the loss at the last pose.
+    last_share: f64,
     /// The kick weights of the last pose: (h_back + h_next) / 4 / h_next and / h_back.
     last_w: (f64, f64),
     rate: f64,
@@ -218,7 +242,15 @@ struct Pulse {
     t_peak: f64,
     impulse: f64,
     absorbed: f64,
+    /// Apple `a`'s part of `absorbed`.
+    absorbed_a: f64,
     max_p: f64,
+    max_u: f64,
+    max_a: f64,
+    /// Overlap and apple `a`'s indentation at the peak.
+    u_at_peak: f64,
+    indentation_at_peak: f64,
+    sites: [[f64; 3]; 2],
     /// The bodies' normal velocities at the touch (m/s; see [`ContactSample::normal_velocities`]).
     v_touch: [f64; 2],
     /// The bodies' normal velocities at the last pose (m/s).
@@ -263,7 +295,16 @@ pub struct ContactSample {
     /// Velocities along `normal` of apple `a` and of the other body at this pose, before this
     /// pose's force kick (m/s): what the impact's velocity change is measured from.
     pub normal_velocities: [f64; 2],
+    /// Apple `a`'s share of the overlap and of the loss at this pose
+    /// ([`crate::contact::share`]).
+    pub shares: (f64, f64),
+    /// Orientations of apple `a` and of the other body (identity for a surface): where a hit
+    /// lands on each body's own surface.
+    pub rotations: [Rotation; 2],
 }
+
+/// A body's orientation (rapier's, glam `DQuat`).
+pub type Rotation = rapier3d_f64::math::Rotation;
 
 impl OpenContact {
     /// Opens a contact first seen overlapping at `time_s` with overlap `u` and overlap rate
@@ -284,9 +325,11 @@ impl OpenContact {
             max_a: 0.0,
             max_p: 0.0,
             absorbed: 0.0,
+            absorbed_a: 0.0,
             prev_u: f64::NAN,
             last_u: 0.0,
             last_p: 0.0,
+            last_share: 1.0,
             last_w: (0.5, 0.5),
             rate: du_dt,
             steps: 0,
@@ -315,13 +358,17 @@ impl OpenContact {
             let (w_next, w_back) = self.last_w;
             let w = self.last_p
                 * (w_next * (next_u - self.last_u) + w_back * (self.last_u - self.prev_u));
+            let wa = w * self.last_share;
             self.absorbed += w;
+            self.absorbed_a += wa;
             if self.last_in_pulse {
                 if let Some(p) = &mut self.pulse {
                     p.absorbed += w;
+                    p.absorbed_a += wa;
                 } else if let Some(i) = &mut self.impact {
                     // The pose that ended the pulse: its work belongs to it.
                     i.absorbed_energy_j += w;
+                    i.a_absorbed_energy_j += wa;
                 }
             }
         }
@@ -340,7 +387,13 @@ impl OpenContact {
                 t_peak_s: p.t_peak,
                 impulse_n_s: p.impulse,
                 absorbed_energy_j: p.absorbed,
+                a_absorbed_energy_j: p.absorbed_a,
                 max_pressure_pa: p.max_p,
+                max_overlap_m: p.max_u,
+                max_contact_radius_m: p.max_a,
+                a_indentation_m: p.indentation_at_peak,
+                overlap_at_peak_m: p.u_at_peak,
+                sites: p.sites,
                 normal: arr3(self.normal_at_peak),
                 velocity_change_m_s: [va - va0, vb0 - vb],
             });
@@ -399,6 +452,7 @@ impl OpenContact {
         };
         self.last_u = s.overlap_m;
         self.last_p = s.force_n;
+        self.last_share = s.shares.1;
         self.impulse += s.force_n * span;
         self.steps += 1;
         if s.force_n > self.peak {
@@ -415,9 +469,19 @@ impl OpenContact {
                 self.last_in_pulse = true;
                 p.impulse += s.force_n * span;
                 p.max_p = p.max_p.max(s.pressure_pa);
+                p.max_u = p.max_u.max(s.overlap_m);
+                p.max_a = p.max_a.max(s.contact_radius_m);
                 if s.force_n > p.peak {
                     p.peak = s.force_n;
                     p.t_peak = s.time_s;
+                    p.u_at_peak = s.overlap_m;
+                    p.indentation_at_peak = s.shares.0 * s.overlap_m;
+                    // The normal points towards apple a: a is hit at -n, the other body at +n.
+                    let [ra, rb] = s.rotations;
+                    p.sites = [
+                        arr3(ra.inverse() * -s.normal),
+                        arr3(rb.inverse() * s.normal),
+                    ];
                     self.normal_at_peak = s.normal;
                 }
             }
@@ -542,6 +606,7 @@ impl OpenContact {
             separation_speed_m_s: end.map(|e| e.1),
             restitution,
             absorbed_energy_j: self.absorbed,
+            a_absorbed_energy_j: self.absorbed_a,
             steps: self.steps,
             contact_point_m: arr3(self.point_at_peak),
             impact: self.impact,
@@ -584,6 +649,7 @@ pub struct FinishedContact {
     /// NaN without an end.
     separation_speed_m_s: f64,
     absorbed_energy_j: f64,
+    a_absorbed_energy_j: f64,
     contact_point_m: [f64; 3],
     impact: Option<ImpactPulse>,
     resting: Option<RestingLoad>,
@@ -607,6 +673,7 @@ impl From<ContactEvent> for FinishedContact {
             approach_speed_m_s: e.approach_speed_m_s,
             separation_speed_m_s: e.separation_speed_m_s.unwrap_or(f64::NAN),
             absorbed_energy_j: e.absorbed_energy_j,
+            a_absorbed_energy_j: e.a_absorbed_energy_j,
             contact_point_m: e.contact_point_m,
             impact: e.impact,
             resting: e.resting,
@@ -654,6 +721,7 @@ impl FinishedContact {
             separation_speed_m_s: end.map(|e| e.1),
             restitution,
             absorbed_energy_j: self.absorbed_energy_j,
+            a_absorbed_energy_j: self.a_absorbed_energy_j,
             steps: self.steps,
             contact_point_m: self.contact_point_m,
             impact: self.impact,
@@ -705,6 +773,8 @@ mod tests {
             point: Vec3::ZERO,
             normal: Vec3::Z,
             normal_velocities: [0.0, 0.0],
+            shares: (1.0, 1.0),
+            rotations: [Rotation::IDENTITY; 2],
         });
         let e = c.finish(1.002, 1e-3, -0.5e-3, 1.0, names());
         assert!((e.t_start_s - 0.99975).abs() < 1e-12);
@@ -729,6 +799,8 @@ mod tests {
                 point: Vec3::new(0.1, 0.2, 0.3),
                 normal: Vec3::Z,
                 normal_velocities: [0.0, 0.0],
+                shares: (1.0, 1.0),
+                rotations: [Rotation::IDENTITY; 2],
             });
         }
         let e = c.finish(1.004, 1e-3, -0.5e-3, 0.7, names());

@@ -6,6 +6,7 @@
 //! surfaces, generators and distributions too (`de`).
 
 pub mod budget;
+pub mod damage;
 mod de;
 pub mod generators;
 pub mod layout;
@@ -135,6 +136,9 @@ pub struct Scenario {
     /// Surfaces (platforms, walls, belts, chutes, bins, meshes).
     #[serde(default)]
     pub surfaces: Vec<SurfaceSpec>,
+    /// The grading standard apples are graded by (default `usda-wa`; docs/damage.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grading: Option<damage::GradingSpec>,
 }
 
 impl Scenario {
@@ -185,6 +189,11 @@ impl Scenario {
         for (k, g) in self.generators.iter_mut().enumerate() {
             if let GeneratorSpec::File(f) = g {
                 f.read(base_dir, &format!("generators[{k}]"))?;
+            }
+        }
+        for (name, m) in self.materials.iter_mut() {
+            if let Some(d) = &mut m.damage {
+                damage::read_file(d, base_dir, &format!("materials.{name}.damage"))?;
             }
         }
         Ok(())
@@ -360,34 +369,19 @@ pub struct MaterialSpec {
     /// Density (kg/m^3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density_kg_m3: Option<f64>,
-    /// Bruise thresholds of apples of this material (read for apple materials only); the
-    /// paper's 80 N firm-variety force threshold when absent.
+    /// The share of the elastic energy stored in this material that it dissipates in one
+    /// impact (1 - e^2 of it struck by a rigid body), in [0, 1]: how a contact's loss is shared
+    /// between its bodies (docs/damage.md section 1). Unknown by default: the material then
+    /// loses what its contact loses as a whole.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bruise: Option<BruiseSpec>,
-}
-
-/// Bruise thresholds of one apple material (docs/analysis.md, "Bruise assessment"). An impact
-/// is at risk when any given threshold is exceeded.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BruiseSpec {
-    /// Peak normal force (N). Default 80 N, the paper's figure for firm varieties; it quotes
-    /// 35-40 N for soft ones (physics.md section 8).
+    pub loss_factor: Option<f64>,
+    /// The damage model of apples of this material (read for apple materials only; default the
+    /// `generic` preset; docs/damage.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub peak_force_n: Option<f64>,
-    /// Peak mean contact pressure P / (pi a^2) (Pa); no default (the paper gives none).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub mean_pressure_pa: Option<f64>,
-    /// Energy absorbed in one impact (J, the eq. 12 hysteresis loss); no default.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub absorbed_energy_j: Option<f64>,
-    /// Largest static force of a resting contact (N): the load of an apple under a pile; no
-    /// default.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub static_force_n: Option<f64>,
-    /// Largest mean pressure of a resting contact (Pa); no default.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub static_pressure_pa: Option<f64>,
+    pub damage: Option<damage::DamageSpec>,
+    /// Earlier versions' bruise thresholds, now `damage` (refused with the way to keep them).
+    #[serde(default, skip_serializing)]
+    pub bruise: Option<serde_json::Value>,
 }
 
 /// Contact coefficients.

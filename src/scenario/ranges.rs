@@ -544,25 +544,75 @@ pub const INCLINE: Range = Range {
 };
 /// Angular half-width of a trough.
 pub const HALF_ANGLE: Range = positive("trough half-angle", "a", 90.0, "deg", "`half_angle_deg`");
-/// Bruise thresholds: force.
+/// Damage model: force thresholds.
 pub const BRUISE_FORCE: Range = positive(
     "bruise force",
     "F",
     1e6,
     "N",
-    "`bruise.peak_force_n`, `bruise.static_force_n`",
+    "`damage.peak_force_n`, `damage.static_force_n`",
 );
-/// Bruise thresholds: pressure.
+/// Damage model: pressure thresholds.
 pub const BRUISE_PRESSURE: Range = positive(
     "bruise pressure",
     "p",
     1e10,
     "Pa",
-    "`bruise.mean_pressure_pa`, `bruise.static_pressure_pa`",
+    "`damage.critical_pressure_pa`, `damage.static_pressure_pa`",
 );
-/// Bruise thresholds: energy.
-pub const BRUISE_ENERGY: Range =
-    positive("bruise energy", "E", 1e4, "J", "`bruise.absorbed_energy_j`");
+/// Damage model: the energy threshold.
+pub const BRUISE_ENERGY_THRESHOLD: Range = closed(
+    "bruise threshold energy",
+    "E_th",
+    0.0,
+    1e4,
+    "J",
+    "`damage.threshold_energy_j`",
+);
+/// Damage model: bruise susceptibility.
+pub const BRUISE_SUSCEPTIBILITY: Range = positive(
+    "bruise susceptibility",
+    "BS",
+    1e9,
+    "mm^3/J",
+    "`damage.bruise_susceptibility_mm3_j` (1 ml/J = 1000 mm^3/J)",
+);
+/// Damage model: the weight of repeated hits.
+pub const REPEAT_WEIGHT: Range = closed(
+    "repeat weight",
+    "beta",
+    0.0,
+    1.0,
+    "",
+    "`damage.repeat_weight`",
+);
+/// Damage model: bruise shape ratios.
+pub const BRUISE_SHAPE_RATIO: Range = closed(
+    "bruise shape ratio",
+    "r",
+    0.01,
+    100.0,
+    "",
+    "`damage.width_ratio`, `damage.depth_ratio`",
+);
+/// Grading limits.
+pub const BRUISE_SIZE_LIMIT: Range = closed(
+    "grading limit (mm, mm^2 or mm^3)",
+    "L",
+    0.0,
+    1e9,
+    "",
+    "`grading.classes[].max_bruise_diameter_mm`, `max_bruise_depth_mm`, `max_bruise_area_mm2`, `max_bruise_volume_mm3`, `max_total_area_mm2`, `max_total_volume_mm3`",
+);
+/// A material's loss factor.
+pub const LOSS_FACTOR: Range = closed(
+    "loss factor",
+    "eta",
+    0.0,
+    1.0,
+    "",
+    "`materials.NAME.loss_factor` (the share of its stored energy a body dissipates)",
+);
 /// Sampling rates of a virtual instrumented sphere.
 pub const PROBE_RATE: Range = closed(
     "probe sampling rate",
@@ -642,7 +692,12 @@ pub const TABLE: &[Range] = &[
     BEARING_TORQUE,
     BRUISE_FORCE,
     BRUISE_PRESSURE,
-    BRUISE_ENERGY,
+    BRUISE_ENERGY_THRESHOLD,
+    BRUISE_SUSCEPTIBILITY,
+    REPEAT_WEIGHT,
+    BRUISE_SHAPE_RATIO,
+    BRUISE_SIZE_LIMIT,
+    LOSS_FACTOR,
     PROBE_RATE,
     PROBE_TRIGGER,
     PROBE_WINDOW,

@@ -112,7 +112,19 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
         MaterialError::BadDensity(rho) => {
             ranges::DENSITY.refusal(&format!("{base}.density_kg_m3"), rho)
         }
+        MaterialError::BadLossFactor(eta) => {
+            ranges::LOSS_FACTOR.refusal(&format!("{base}.loss_factor"), eta)
+        }
     })?;
+    let built = match m.loss_factor {
+        Some(eta) => {
+            ranges::LOSS_FACTOR.check(&format!("{base}.loss_factor"), eta)?;
+            built
+                .with_loss_factor(eta)
+                .map_err(|_| ranges::LOSS_FACTOR.refusal(&format!("{base}.loss_factor"), eta))?
+        }
+        None => built,
+    };
     // The modulus derived from the other one and nu must make sense too (nu near -1 makes
     // G = E / (2 (1 + nu)) explode).
     for (derived, symbol, v) in [
@@ -215,24 +227,24 @@ pub fn validate(sc: &Scenario) -> R {
     for (n, m) in &sc.materials {
         name(&format!("materials.{n}"), n)?;
         mats.insert(n.as_str(), material(n, m)?);
-        if let Some(b) = &m.bruise {
-            let f = format!("materials.{n}.bruise");
-            if let Some(v) = b.peak_force_n {
-                ranges::BRUISE_FORCE.check(&format!("{f}.peak_force_n"), v)?;
-            }
-            if let Some(v) = b.mean_pressure_pa {
-                ranges::BRUISE_PRESSURE.check(&format!("{f}.mean_pressure_pa"), v)?;
-            }
-            if let Some(v) = b.absorbed_energy_j {
-                ranges::BRUISE_ENERGY.check(&format!("{f}.absorbed_energy_j"), v)?;
-            }
-            if let Some(v) = b.static_force_n {
-                ranges::BRUISE_FORCE.check(&format!("{f}.static_force_n"), v)?;
-            }
-            if let Some(v) = b.static_pressure_pa {
-                ranges::BRUISE_PRESSURE.check(&format!("{f}.static_pressure_pa"), v)?;
-            }
+        if m.bruise.is_some() {
+            return Err(ScenarioError::invalid(
+                format!("materials.{n}.bruise"),
+                "replaced by damage (docs/damage.md): {\"damage\": {\"model\": \"peak-force\", \"peak_force_n\": F}} keeps a force threshold; static_force_n and static_pressure_pa move there too",
+            ));
         }
+        if let Some(d) = &m.damage {
+            if d.file.is_some() {
+                return Err(ScenarioError::invalid(
+                    format!("materials.{n}.damage.file"),
+                    "not read: load the scenario with scenario::load (or call Scenario::read_files) so that the file is read relative to it",
+                ));
+            }
+            super::damage::validate(d, &format!("materials.{n}.damage"))?;
+        }
+    }
+    if let Some(g) = &sc.grading {
+        super::damage::validate_grading(g)?;
     }
     law("contact", &sc.contact)?;
     pairs(sc, &mats)?;

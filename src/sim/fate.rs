@@ -64,8 +64,9 @@ pub enum Fate {
         /// Its last contact with a surface: where it went off the line.
         last_surface: Option<LastContact>,
     },
-    /// Still moving at the end (faster than `model.sleep.speed_m_s` (default by accuracy), the speed under which
-    /// apples may fall asleep).
+    /// Still moving at the end: its centre, or its rolling spin times its radius, faster than
+    /// `model.sleep.speed_m_s` (default by accuracy), the speed under which apples may fall
+    /// asleep (a spin about the scene's up axis alone does not count, [`Tracker::finish`]).
     Moving {
         /// Centre speed at the end (m/s).
         speed_m_s: f64,
@@ -308,18 +309,19 @@ impl Tracker {
                 gone.push(k);
                 continue;
             }
-            let bin = world.bins.iter().position(|b| b.contains(p));
+            let bin = world.bins.iter().position(|b| b.contains(p, t));
             if let Some(b) = bin.filter(|&b| Some(b) != track.inside) {
                 let when = match track.prev {
                     // Present from the start: not an arrival.
                     None if !matches!(world.roster.apples()[k].origin, Origin::Fed { .. }) => None,
                     // Fed in inside the bin: it arrived when it appeared.
                     None => Some(t),
-                    // Crossed the walls' top between the last sample and this one.
+                    // Crossed the walls' top between the last sample and this one (the walls
+                    // where the bin was at each sample: a lowered bin's rim moves down).
                     Some((t0, p0)) => {
                         let bx = &world.bins[b];
                         let h = bx.inner_size_m[2];
-                        let (z0, z1) = (bx.local(p0).z, bx.local(p).z);
+                        let (z0, z1) = (bx.local(p0, t0).z, bx.local(p, t).z);
                         Some(if z0 > h && z1 <= h {
                             t0 + (z0 - h) / (z0 - z1) * (t - t0)
                         } else {
@@ -338,8 +340,15 @@ impl Tracker {
     /// The fates of the apples at the end (`t_end`, `states` at the final poses), their bin
     /// entries, and the line's summary with the sources' `feeds`. `events` are the run's
     /// contacts, sorted by start (open ones at the end have no `t_end_s`).
+    ///
+    /// An apple is at rest when its centre is still and it does not roll: its speed and the
+    /// rolling part of its spin (about axes across the scene's up) times its radius are below
+    /// the sleep speed. A spin about the up axis alone, about the normal of the floor it lies on,
+    /// moves nothing: the paper's model (`twisting: none`) has nothing to stop it, and a fruit
+    /// lying still on a bin floor while it turns there is at rest.
     pub fn finish(
         mut self,
+        t_end: f64,
         states: &[AppleState],
         world: &World,
         events: &[ContactEvent],
@@ -391,10 +400,18 @@ impl Tracker {
                 continue;
             }
             let r = s.diameter_m / 2.0;
+            let w = s.angular_velocity;
+            let rolling = match self.up {
+                Some(up) => w - up * w.dot(up),
+                None => w,
+            };
             let still = world.layer.is_asleep(AppleId(k as u32))
                 || (s.velocity.length() <= self.rest_speed_m_s
-                    && s.angular_velocity.length() * r <= self.rest_speed_m_s);
-            let bin = world.bins.iter().position(|b| b.contains(s.position));
+                    && rolling.length() * r <= self.rest_speed_m_s);
+            let bin = world
+                .bins
+                .iter()
+                .position(|b| b.contains(s.position, t_end));
             let entered = match (bin, track.entry) {
                 (Some(b), Some((e, when))) if e == b => when,
                 _ => None,

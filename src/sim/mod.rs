@@ -137,6 +137,9 @@ pub struct RunResult {
     pub apples: Vec<AppleFinal>,
     /// Every apple of the run in layer order: name, material, radius, mass, where it came from.
     pub roster: crate::world::Roster,
+    /// Where in the line a point lies at a given time (bins, parts): the audit places
+    /// apple-apple hits by it.
+    pub zones: crate::world::zones::Zones,
     /// Slip/roll transitions in order of time (empty when the detector is off).
     pub transitions: Vec<Transition>,
     /// The transitions section of the summary (`None` when the detector is off).
@@ -169,9 +172,16 @@ pub struct ProbeRecord {
     pub impacts: Vec<crate::record::probe::ProbeImpact>,
 }
 
-/// The headline figures of a run (see [`RunResult::metrics`]).
-pub fn base_metrics(events: &[ContactEvent], apples: &[AppleFinal]) -> BTreeMap<String, f64> {
+/// The headline figures of a run (see [`RunResult::metrics`]): of the fruit, the contacts of a
+/// virtual instrumented sphere left out (`fruit(e)` false; the probe's figures are its own,
+/// `probe.NAME.*`).
+pub fn base_metrics(
+    events: &[ContactEvent],
+    apples: &[AppleFinal],
+    fruit: &dyn Fn(&ContactEvent) -> bool,
+) -> BTreeMap<String, f64> {
     let mut m = BTreeMap::new();
+    let events: Vec<&ContactEvent> = events.iter().filter(|e| fruit(e)).collect();
     m.insert("contact_events".into(), events.len() as f64);
     let max = |it: &mut dyn Iterator<Item = f64>| it.fold(f64::NAN, f64::max);
     m.insert(
@@ -681,7 +691,8 @@ impl Simulation {
         }
         let feeds = self.world.source_feeds(self.time_s);
         let tracker = self.tracker;
-        let (fates, mut line) = tracker.finish(&self.states, &self.world, &events, feeds);
+        let (fates, mut line) =
+            tracker.finish(self.time_s, &self.states, &self.world, &events, feeds);
         line.free_rollers = self.world.free_rollers();
         let apples: Vec<AppleFinal> = self
             .states
@@ -719,7 +730,18 @@ impl Simulation {
                 ));
             }
         }
-        let mut metrics = base_metrics(&events, &apples);
+        let roster = &self.world.roster;
+        let is_probe = |k: u32| roster.apples().get(k as usize).is_some_and(|a| a.probe);
+        let fruit = |e: &ContactEvent| {
+            !is_probe(e.a_index) && !matches!(e.b_party, Party::Apple(j) if is_probe(j))
+        };
+        let fruit_apples: Vec<AppleFinal> = apples
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| !is_probe(*k as u32))
+            .map(|(_, a)| a.clone())
+            .collect();
+        let mut metrics = base_metrics(&events, &fruit_apples, &fruit);
         let probes: Vec<ProbeRecord> = std::mem::take(&mut self.probes)
             .into_iter()
             .map(|(id, p)| {
@@ -777,6 +799,7 @@ impl Simulation {
             wall_time_s,
             events,
             apples,
+            zones: crate::world::zones::Zones::of(&self.world),
             roster: std::mem::take(&mut self.world.roster),
             warnings,
             probes,

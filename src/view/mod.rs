@@ -12,7 +12,7 @@
 //!   point);
 //! - `scenario.json` (required: the surfaces, re-built as in the run and tessellated as the
 //!   ParaView output draws them);
-//! - `bruise.csv`, `transitions.csv` (optional: which contacts are over a bruise threshold, and
+//! - `apple_contacts.csv`, `transitions.csv` (optional: which contacts bruised an apple, and
 //!   when apples slide, roll or fly; without them the page says what it falls back to).
 //! - `rollers.csv` (optional: the free-turning rollers' angles per sample, to draw them turning;
 //!   a run from before it was written draws them without their turn, and says so).
@@ -666,18 +666,20 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
     let states_b64 = b64(&st);
 
     // Contacts, with their bruise verdicts.
-    let bruise_path = run_dir.join("bruise.csv");
+    let bruise_path = run_dir.join(crate::output::APPLE_CONTACTS_CSV);
     let risks = if bruise_path.is_file() {
         Some(read_bruise(&bruise_path)?)
     } else {
         None
     };
-    let default_threshold = crate::analysis::bruise::DEFAULT_PEAK_FORCE_N;
+    // The paper's firm-variety force threshold: the mark of a run folder without
+    // apple_contacts.csv, and the force bar's reference tick.
+    let default_threshold = PAPER_FIRM_FORCE_N;
     let mut thresholds: Vec<f64> = match &risks {
         Some(r) => r.1.clone(),
         None => {
             notes.push(format!(
-                "no bruise.csv: contacts are marked over the bruise threshold by their impact peak force over {default_threshold} N only"
+                "no apple_contacts.csv: contacts are marked as bruising by their impact peak force over {default_threshold} N only"
             ));
             vec![default_threshold]
         }
@@ -846,8 +848,11 @@ fn fmt_mm(m: f64) -> String {
     }
 }
 
-/// bruise.csv: (contact index, apple) -> exceeded thresholds ("" when none), and the force
-/// thresholds in use.
+/// The paper's bruise threshold for firm varieties (N; the `paper-firm` damage preset).
+const PAPER_FIRM_FORCE_N: f64 = 80.0;
+
+/// apple_contacts.csv: (contact index, apple) -> what the contact did ("" when nothing), and the
+/// force thresholds in use (none: the damage models are not force thresholds).
 type Risks = (BTreeMap<(usize, String), String>, Vec<f64>);
 
 #[cfg(test)]

@@ -327,45 +327,35 @@ pub(super) fn read_curves(
         .collect())
 }
 
+/// `apple_contacts.csv`: (contact index, apple) -> what the contact did ("bruise" when the hit
+/// bruised the apple by its damage model, else the static thresholds it exceeded, "" when
+/// none).
 pub(super) fn read_bruise(path: &Path) -> Result<Risks, ViewError> {
     let (mut r, h) = open_csv(path)?;
-    let (cc, ca, cr, ce, cf) = (
+    let (cc, ca, cb, ce) = (
         column(path, &h, "contact")?,
         column(path, &h, "apple")?,
-        column(path, &h, "at_risk")?,
+        column(path, &h, "bruised")?,
         column(path, &h, "exceeded")?,
-        column(path, &h, "force_threshold_n")?,
     );
     let mut map = BTreeMap::new();
-    let mut thr = Vec::new();
     for rec in r.records() {
         let rec = rec.map_err(|e| csv_err(path, e))?;
         let line = rec.position().map_or(0, |p| p.line());
         let k = contact_index(path, line, &rec[cc])?;
-        let f = num(path, line, "force_threshold_n", &rec[cf])?;
-        if !thr.contains(&f) {
-            thr.push(f);
-        }
-        let risk = match &rec[cr] {
-            "true" => {
-                let e = rec[ce].to_string();
-                if e.is_empty() {
-                    "risk".to_string()
-                } else {
-                    e
-                }
-            }
-            "false" => String::new(),
+        let risk = match &rec[cb] {
+            "true" => "bruise".to_string(),
+            "false" => rec[ce].to_string(),
             other => {
                 return Err(bad(
                     path,
-                    format!("line {line}: at_risk = '{other}' is not true or false"),
+                    format!("line {line}: bruised = '{other}' is not true or false"),
                 ))
             }
         };
         map.insert((k, rec[ca].to_string()), risk);
     }
-    Ok((map, thr))
+    Ok((map, Vec::new()))
 }
 
 pub(super) fn read_contacts(

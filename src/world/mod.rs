@@ -19,6 +19,7 @@ pub mod motion;
 pub mod roster;
 mod surface_specs;
 pub mod surfaces;
+pub mod zones;
 
 use crate::contact::Material;
 use crate::contact::{LawParts, SubModels};
@@ -107,17 +108,29 @@ pub struct BinBox {
     pub frame: Pose,
     /// Inside length (x), width (y) and wall height (z) (m).
     pub inner_size_m: [f64; 3],
+    /// The motion that carries the bin, if it moves (a bin filler lowers it): `frame` is its
+    /// pose at t = 0 with every offset zero.
+    pub motion: Option<motion::Motion>,
 }
 
 impl BinBox {
-    /// A point in the bin's frame: x, y from the floor's centre, z up from the floor's top face.
-    pub fn local(&self, p: Vec3) -> Vec3 {
-        self.frame.inverse_transform_point(p)
+    /// The bin's frame at time `t_s` (where its motion has it then).
+    pub fn frame_at(&self, t_s: f64) -> Pose {
+        match &self.motion {
+            Some(m) => m.carry(t_s) * self.frame,
+            None => self.frame,
+        }
     }
 
-    /// Whether the point `p` (an apple's centre) is inside the bin.
-    pub fn contains(&self, p: Vec3) -> bool {
-        let q = self.local(p);
+    /// A point in the bin's frame at time `t_s`: x, y from the floor's centre, z up from the
+    /// floor's top face.
+    pub fn local(&self, p: Vec3, t_s: f64) -> Vec3 {
+        self.frame_at(t_s).inverse_transform_point(p)
+    }
+
+    /// Whether the point `p` (an apple's centre) is inside the bin at time `t_s`.
+    pub fn contains(&self, p: Vec3, t_s: f64) -> bool {
+        let q = self.local(p, t_s);
         let [lx, ly, h] = self.inner_size_m;
         q.x.abs() <= lx / 2.0 && q.y.abs() <= ly / 2.0 && q.z >= 0.0 && q.z <= h
     }
@@ -302,6 +315,15 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     };
 
     world.add_surface_specs(sc, base_dir)?;
+    // A bin moves with its floor's body.
+    for b in 0..world.bins.len() {
+        let floor = format!("{}/floor", world.bins[b].name);
+        let k = (0..world.surface_colliders.len())
+            .find(|&k| world.layer.surface_name(SurfaceId(k as u32)) == floor);
+        world.bins[b].motion = k
+            .and_then(|k| world.surface_motion(k))
+            .map(|(m, _)| m.clone());
+    }
     let plan = roster::plan(sc)?;
     for (a, origin) in &plan.initial {
         world.add_apple(a, *origin)?;
@@ -656,6 +678,7 @@ fn bins(sc: &Scenario) -> Result<Vec<BinBox>, ScenarioError> {
                 name: b.name.clone(),
                 frame: Pose::from_parts(vec3(b.position_m), rotation),
                 inner_size_m: b.inner_size_m,
+                motion: None,
             });
         }
     }

@@ -45,6 +45,10 @@ pub struct RosterApple {
     pub mass_kg: f64,
     /// Where it came from.
     pub origin: Origin,
+    /// A virtual instrumented sphere (`apples[].probe`), not fruit: left out of every fruit
+    /// figure (bruises, grades, the audit).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub probe: bool,
 }
 
 /// Every apple the world holds, in the layer's order (`AppleId`): the listed ones, the generated
@@ -128,6 +132,7 @@ pub fn entry(spec: &AppleSpec, density_kg_m3: Option<f64>, origin: Origin) -> Ro
         radius_m: spec.diameter_m / 2.0,
         mass_kg: apple_mass(spec, density_kg_m3),
         origin,
+        probe: spec.probe.is_some(),
     }
 }
 
