@@ -12,7 +12,8 @@ use std::sync::OnceLock;
 pub struct Args {
     /// Batch spec (JSON), or a folder whose *.json scenario files are the runs.
     spec: PathBuf,
-    /// Output folder: batch.json, runs/<id>/, merged.csv [default: out/<spec name>].
+    /// Output folder: batch.json, runs/<id>/, and merged.csv once every run of the batch has
+    /// ended [default: out/<spec name>].
     #[arg(long, short)]
     out: Option<PathBuf>,
     /// Runs at the same time (each run uses one thread) [default: the number of cores].
@@ -291,6 +292,36 @@ pub fn main(a: Args) -> Result<(), String> {
             report.skipped,
             report.failed.len(),
             out.join(batch::manifest::RUNS).display()
+        );
+    }
+    // The batch's table, as soon as every run of the whole batch has ended (done or failed):
+    // the last shard to finish writes it; `applesim merge OUT` rewrites it at any time.
+    let ended = b.runs.iter().all(|r| {
+        batch::manifest::is_done(&out, &r.id) || batch::manifest::failed_path(&out, &r.id).is_file()
+    });
+    if ended {
+        let m = batch::merge(&out).map_err(|e| e.to_string())?;
+        if !a.quiet {
+            println!(
+                "wrote {}: {} rows, {} ok, {} failed",
+                m.csv.display(),
+                m.rows,
+                m.ok,
+                m.failed.len()
+            );
+        }
+    } else if !a.quiet {
+        let left = b
+            .runs
+            .iter()
+            .filter(|r| {
+                !batch::manifest::is_done(&out, &r.id)
+                    && !batch::manifest::failed_path(&out, &r.id).is_file()
+            })
+            .count();
+        println!(
+            "{left} runs of the batch have not ended (other shards): merged.csv is written when the last of them ends, or now, with rows for the missing runs, by `applesim merge {}`",
+            out.display()
         );
     }
     let runs = out.join(batch::manifest::RUNS);
