@@ -826,16 +826,39 @@ fn a_closed_output_pipe_ends_the_command_quietly() {
 fn the_batch_writes_its_table_when_every_run_has_ended() {
     let out = scratch("auto_merge");
     let spec = repo(SWEEP);
-    let first = ok(&applesim(&["batch", s(&spec), "--out", s(&out), "--shard", "1/2"]));
-    assert!(!out.join("merged.csv").exists(), "written before the batch ended");
+    let first = ok(&applesim(&[
+        "batch",
+        s(&spec),
+        "--out",
+        s(&out),
+        "--shard",
+        "1/2",
+    ]));
+    assert!(
+        !out.join("merged.csv").exists(),
+        "written before the batch ended"
+    );
     assert!(
         first.contains("runs of the batch have not ended (other shards)"),
         "{first}"
     );
-    let last = ok(&applesim(&["batch", s(&spec), "--out", s(&out), "--shard", "2/2"]));
-    assert!(last.contains("merged.csv: 21 rows, 21 ok, 0 failed"), "{last}");
+    let last = ok(&applesim(&[
+        "batch",
+        s(&spec),
+        "--out",
+        s(&out),
+        "--shard",
+        "2/2",
+    ]));
+    assert!(
+        last.contains("merged.csv: 21 rows, 21 ok, 0 failed"),
+        "{last}"
+    );
     let by_batch = std::fs::read(out.join("merged.csv")).unwrap();
     ok(&applesim(&["merge", s(&out)]));
-    assert_eq!(text(&by_batch), text(&std::fs::read(out.join("merged.csv")).unwrap()));
+    assert_eq!(
+        text(&by_batch),
+        text(&std::fs::read(out.join("merged.csv")).unwrap())
+    );
     let _ = std::fs::remove_dir_all(out);
 }

@@ -630,3 +630,41 @@ fn a_source_mass_is_every_fed_apples_mass() {
     assert!(!rows.is_empty());
     assert!(rows.iter().all(|r| &r[m] == "0.15"), "{:?}", rows[0]);
 }
+
+/// Issue 31 item 6: the closing line lists every file the run wrote, read back from the folder
+/// (charts, the page and the probes' files included), sorted.
+#[test]
+fn the_closing_line_lists_every_file_of_the_folder() {
+    for (scenario, args) in [
+        ("scenarios/handling_line_probe.json", vec![]),
+        ("scenarios/drop_on_steel.json", vec!["--plots"]),
+    ] {
+        let dir = tmp(&format!("closing_{}", args.len()));
+        let out = dir.join("out");
+        let o = applesim_run(&repo(scenario), &out, &args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = String::from_utf8_lossy(&o.stdout);
+        let prefix = format!("wrote {}/{{", out.display());
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(&prefix))
+            .unwrap_or_else(|| panic!("no closing line: {text}"));
+        let listed: Vec<&str> = line[prefix.len()..line.len() - 1].split(", ").collect();
+        let mut files: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| {
+                let e = e.unwrap();
+                let n = e.file_name().to_string_lossy().to_string();
+                if e.file_type().unwrap().is_dir() {
+                    n + "/"
+                } else {
+                    n
+                }
+            })
+            .collect();
+        files.sort();
+        println!("{line}");
+        assert_eq!(listed, files);
+        assert!(files.iter().any(|f| f == "audit.md"));
+    }
+}

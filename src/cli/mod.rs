@@ -8,6 +8,7 @@ mod merge;
 mod plot;
 mod report;
 mod run;
+mod time_left;
 mod tradeoff;
 mod validate;
 mod view;

@@ -66,13 +66,19 @@ pub fn main(a: Args) -> Result<(), String> {
     let (sc, base) = super::load_scenario(&scenario)?;
     // The bar only on a terminal: a pipe or a log file gets no control characters.
     let bar = (std::io::stderr().is_terminal() && !a.quiet).then(|| progress_bar(sc.duration_s));
+    // Time left from the recent simulated-time rate (the bar's own estimate misreads a run
+    // whose cost changes; super::time_left).
+    let mut left = super::time_left::TimeLeft::default();
+    let started = std::time::Instant::now();
     let mut progress = |f: f64| {
         if let Some(b) = &bar {
+            let eta = left.observe(started.elapsed().as_secs_f64(), f);
             b.set_position((f * 1000.0).round() as u64);
             b.set_message(format!(
-                "{} of {} s simulated",
+                "{} of {} s simulated, {} left",
                 human(f * sc.duration_s, 3, 2),
-                secs(sc.duration_s)
+                secs(sc.duration_s),
+                eta.map_or_else(|| "?".to_string(), super::time_left::show)
             ));
         }
     };
@@ -211,11 +217,11 @@ fn written(dir: &Path) -> Vec<String> {
 fn progress_bar(duration_s: f64) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
     bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {msg}, {eta} left")
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {msg}")
             .expect("valid template")
             .progress_chars("=> "),
     );
-    bar.set_message(format!("0 of {} s simulated", secs(duration_s)));
+    bar.set_message(format!("0 of {} s simulated, ? left", secs(duration_s)));
     bar
 }
 
