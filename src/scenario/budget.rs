@@ -30,14 +30,66 @@ pub const BODIES_ROW_BYTES: f64 = 200.0;
 /// 70; rounded up).
 pub const ROLLERS_ROW_BYTES: f64 = 100.0;
 
+/// Memory a probe apple's kept trace may cost per sample (bytes): a sample is a time and a
+/// reading (16 bytes), held in the window being recorded and then in the trace, each vector up
+/// to twice its length as it grows (4 x 16).
+pub const PROBE_SAMPLE_BYTES: f64 = 64.0;
+
+/// Bytes of one row of `probe_NAME_trace.csv` (measured: 28.6 on a 10 MHz trace of the handling
+/// line, a time and a reading in full precision; rounded up).
+pub const PROBE_ROW_BYTES: f64 = 40.0;
+
+/// How many samples the trace of a probe apple of `sc` can keep: every sampling instant of the
+/// run, `duration_s` times its rate (the windows kept around impacts cannot hold more; how many
+/// impacts a line gives is not known before the run). Listed in order of the apples: (index,
+/// samples).
+pub fn probe_samples(sc: &Scenario) -> Vec<(usize, f64)> {
+    sc.apples
+        .iter()
+        .enumerate()
+        .filter_map(|(k, a)| {
+            let p = a.probe?;
+            Some((k, (sc.duration_s * p.sample_rate_hz).floor() + 1.0))
+        })
+        .collect()
+}
+
+/// The probe whose trace weighs most, with its samples, if the scenario has probes.
+fn largest_probe(sc: &Scenario) -> Option<(usize, f64)> {
+    probe_samples(sc)
+        .into_iter()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// The refusal of a probe trace's estimate (`what`: memory or output) naming the probe's rate.
+fn probe_refusal(sc: &Scenario, k: usize, samples: f64, what: &str, limit: &str) -> ScenarioError {
+    let a = &sc.apples[k];
+    let rate = a.probe.map_or(0.0, |p| p.sample_rate_hz);
+    ScenarioError::invalid(
+        format!("apples[{k}].probe.sample_rate_hz"),
+        format!(
+            "the probe '{}' sampled at {} Hz over {} s can keep {samples:.3e} samples in its trace, {what}, more than {limit}: sample less often, or raise {limit_field}",
+            a.name,
+            super::ranges::num(rate),
+            super::ranges::num(sc.duration_s),
+            limit_field = limit.split(" =").next().unwrap_or(limit),
+        ),
+    )
+}
+
 /// How many free-turning rollers `sc` has (a bed counts each of its rollers): the rows of
 /// `rollers.csv` per sample.
+/// Counted from the specs, never by expanding a bed: the budgets are checked before a bed's
+/// `count` is (a count of 4294967295 expanded here asked for 1.2 TB).
 pub fn free_rollers(sc: &Scenario) -> f64 {
     sc.surfaces
         .iter()
-        .flat_map(|s| s.units())
-        .filter(|u| matches!(u, super::SurfaceSpec::Roller(r) if r.free_turning.is_some()))
-        .count() as f64
+        .map(|s| match s {
+            super::SurfaceSpec::Roller(r) if r.free_turning.is_some() => 1.0,
+            super::SurfaceSpec::RollerBed(b) if b.free_turning.is_some() => f64::from(b.count),
+            _ => 0.0,
+        })
+        .sum()
 }
 
 /// How many apples a run of `sc` can hold: the listed ones, every generator's count and every

@@ -249,11 +249,13 @@ pub fn validate(sc: &Scenario) -> R {
     }
     prefixes(sc)?;
     apple_count(sc)?;
+    bed_counts(sc)?;
     super::budget::check_memory(sc, sc.model.max_memory_mb)?;
     super::budget::check_output(sc, sc.model.max_output_mb)?;
     for (k, s) in sc.surfaces.iter().enumerate() {
         surface(&format!("surfaces[{k}]"), s, &mats, &mut names)?;
     }
+    troughs(sc)?;
     // The apples present at the start, each with the generator that made it (None: listed).
     let mut all = sc.apples.clone();
     let mut made_by: Vec<Option<usize>> = vec![None; all.len()];
@@ -669,15 +671,10 @@ fn surface(
         }
         SurfaceSpec::Roller(r) => roller(f, r, mats)?,
         SurfaceSpec::RollerBed(b) => {
-            if !(1..=MAX_BED_ROLLERS).contains(&b.count) {
-                return Err(ScenarioError::invalid(
-                    format!("{f}.count"),
-                    format!(
-                        "{} rollers: a roller bed has 1 to {MAX_BED_ROLLERS}",
-                        b.count
-                    ),
-                ));
-            }
+            bed_count(f, b.count)?;
+            // The fields every roller shares (radius, length, material, rates, the first
+            // position) before the pitch that is compared with them.
+            roller(f, &b.roller(0), mats)?;
             let axis = vec3(super::motion::unit_axis(&format!("{f}.axis"), b.axis)?);
             let dir = vec3(super::motion::unit_axis(
                 &format!("{f}.pitch_direction"),
@@ -703,9 +700,27 @@ fn surface(
                     ),
                 ));
             }
-            // Every roller is a roller (its fields are the bed's).
-            for r in b.rollers() {
-                roller(f, &r, mats)?;
+            // The rollers differ only in their positions: the last one must be in range too.
+            let last = b.roller(b.count - 1);
+            if !last
+                .position_m
+                .iter()
+                .all(|x| ranges::POSITION.contains(x.abs()))
+            {
+                let p = last.position_m;
+                return Err(ScenarioError::invalid(
+                    format!("{f}.pitch_m"),
+                    format!(
+                        "{} rollers {} m apart put the last one, '{}', at [{}, {}, {}] m, outside the range of fruit handling ({}): fewer rollers or a shorter pitch_m",
+                        b.count,
+                        num(b.pitch_m),
+                        last.name,
+                        num(p[0]),
+                        num(p[1]),
+                        num(p[2]),
+                        ranges::POSITION.describe()
+                    ),
+                ));
             }
         }
     }
@@ -715,8 +730,77 @@ fn surface(
     Ok(())
 }
 
+/// A trough must be wider than every apple that can reach it: a trough tighter than an apple
+/// is a conforming contact, outside Hertz theory (K1 + K2 <= 0). Checked against the largest
+/// apple of every list, generator and source before the run (a fed apple met it 0.28 s into the
+/// run, refused with no field). The field is the trough's `radius_m`.
+fn troughs(sc: &Scenario) -> R {
+    let mut largest: Vec<(f64, String)> = Vec::new();
+    for (k, a) in sc.apples.iter().enumerate() {
+        largest.push((a.diameter_m / 2.0, format!("apple '{}' (apples[{k}])", a.name)));
+    }
+    for (k, g) in sc.generators.iter().enumerate() {
+        let d = match g {
+            GeneratorSpec::Grid(s) => s.diameter_m.max_m(),
+            GeneratorSpec::RandomFill(s) => s.diameter_m.max_m(),
+            GeneratorSpec::File(s) => s
+                .loaded
+                .as_ref()
+                .map_or(0.0, |l| l.0.iter().map(|a| a.diameter_m).fold(0.0, f64::max)),
+        };
+        largest.push((d / 2.0, format!("the apples of generators[{k}]")));
+    }
+    for (k, src) in sc.sources.iter().enumerate() {
+        largest.push((
+            src.diameter_m.max_m() / 2.0,
+            format!("the apples of sources[{k}] ('{}')", src.name),
+        ));
+    }
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        let SurfaceSpec::Chute(c) = s else { continue };
+        let (ChuteProfile::Trough, Some(rs)) = (c.profile, c.radius_m) else {
+            continue;
+        };
+        if let Some((r, who)) = largest.iter().find(|(r, _)| *r >= rs) {
+            return Err(ScenarioError::invalid(
+                format!("surfaces[{k}].radius_m"),
+                format!(
+                    "the trough '{}' of radius {} m is tighter than {who}, radius up to {} m: that would be a conforming contact (K1 + K2 <= 0), outside Hertz theory; make radius_m larger than the largest apple's radius",
+                    c.name,
+                    num(rs),
+                    num(*r)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The most rollers a roller bed may have (each is a rapier body and a surface).
 pub const MAX_BED_ROLLERS: u32 = 10_000;
+
+/// A roller bed's `count` in range (`f` the bed's JSON path).
+fn bed_count(f: &str, count: u32) -> R {
+    if !(1..=MAX_BED_ROLLERS).contains(&count) {
+        return Err(ScenarioError::invalid(
+            format!("{f}.count"),
+            format!("{count} rollers: a roller bed has 1 to {MAX_BED_ROLLERS}"),
+        ));
+    }
+    Ok(())
+}
+
+/// Every roller bed's `count` in range, checked before anything counts or expands the beds'
+/// rollers (the budgets, the surfaces' own checks): a count of 4294967295 expanded first asked
+/// for 1.2 TB and aborted, one of 1e6 took 0.9 GB before it was refused.
+fn bed_counts(sc: &Scenario) -> R {
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        if let SurfaceSpec::RollerBed(b) = s {
+            bed_count(&format!("surfaces[{k}]"), b.count)?;
+        }
+    }
+    Ok(())
+}
 
 /// The checks of a roller (`f` its JSON path; a roller bed's rollers share the bed's fields).
 fn roller(f: &str, r: &RollerSpec, mats: &BTreeMap<&str, Material>) -> R {
