@@ -100,8 +100,12 @@ pub fn planned_apples(sc: &Scenario) -> f64 {
     sc.apples.len() as f64 + generated + fed
 }
 
-/// The memory a run of `sc` is estimated to need (bytes).
+/// The memory a run of `sc` is estimated to need (bytes): its apples, and its probes' traces.
 pub fn memory_bytes(sc: &Scenario) -> f64 {
+    apples_memory_bytes(sc) + probes_memory_bytes(sc)
+}
+
+fn apples_memory_bytes(sc: &Scenario) -> f64 {
     let per_apple = BYTES_PER_APPLE
         + if sc.output.force_history {
             HISTORY_BYTES_PER_APPLE
@@ -111,11 +115,37 @@ pub fn memory_bytes(sc: &Scenario) -> f64 {
     planned_apples(sc) * per_apple
 }
 
-/// Refuses a scenario whose estimated memory exceeds `max_memory_mb`, naming the field to change.
+fn probes_memory_bytes(sc: &Scenario) -> f64 {
+    probe_samples(sc)
+        .iter()
+        .map(|(_, n)| n * PROBE_SAMPLE_BYTES)
+        .sum()
+}
+
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Refuses a scenario whose estimated memory exceeds `max_memory_mb`, naming the field to change:
+/// a probe's `sample_rate_hz` when its trace weighs more than the apples (a probe sampling at
+/// 10 MHz over a 30 s line asked for 8 GiB and aborted), else the apples' field.
 pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioError> {
     let bytes = memory_bytes(sc);
     let limit = max_memory_mb * 1024.0 * 1024.0;
     if bytes > limit {
+        if let Some((k, samples)) = largest_probe(sc) {
+            if samples * PROBE_SAMPLE_BYTES >= apples_memory_bytes(sc) {
+                return Err(probe_refusal(
+                    sc,
+                    k,
+                    samples,
+                    &format!(
+                        "about {:.1} GiB of memory ({PROBE_SAMPLE_BYTES} bytes per sample; the run's estimate {:.1} GiB in all)",
+                        samples * PROBE_SAMPLE_BYTES / GIB,
+                        bytes / GIB
+                    ),
+                    &format!("model.max_memory_mb = {max_memory_mb} MiB"),
+                ));
+            }
+        }
         let field = if sc.sources.iter().any(|s| f64::from(s.count) > 1e5) {
             "sources"
         } else if sc.generators.is_empty() {
@@ -129,7 +159,7 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
                 "the scenario holds {:.3e} apples, about {:.1} GiB of memory for the run (estimated {:.0} KiB per apple{}), more than model.max_memory_mb = {max_memory_mb} MiB: fewer apples, or raise model.max_memory_mb",
                 planned_apples(sc),
                 bytes / (1024.0 * 1024.0 * 1024.0),
-                bytes / planned_apples(sc) / 1024.0,
+                apples_memory_bytes(sc) / planned_apples(sc) / 1024.0,
                 if sc.output.force_history {
                     " with force histories; output.force_history: false saves most of it"
                 } else {
@@ -145,15 +175,45 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
 /// row per apple per sample, and `rollers.csv`, one row per free-turning roller per sample (the
 /// other files grow with the contacts, far less).
 pub fn output_bytes(sc: &Scenario) -> f64 {
+    samples_output_bytes(sc) + probes_output_bytes(sc)
+}
+
+/// `bodies.csv` and `rollers.csv`.
+fn samples_output_bytes(sc: &Scenario) -> f64 {
     let samples = (sc.duration_s / sc.output.sample_interval_s).floor() + 2.0;
     samples * (planned_apples(sc) * BODIES_ROW_BYTES + free_rollers(sc) * ROLLERS_ROW_BYTES)
 }
 
+/// The probes' `probe_NAME_trace.csv`, at most a row per sampling instant.
+fn probes_output_bytes(sc: &Scenario) -> f64 {
+    probe_samples(sc)
+        .iter()
+        .map(|(_, n)| n * PROBE_ROW_BYTES)
+        .sum()
+}
+
 /// Refuses a scenario whose output is estimated beyond `max_output_mb`, naming the field to
-/// change (a sample interval of 1e-9 s over 1 ms wrote a 97 MB `bodies.csv` for one apple).
+/// change (a sample interval of 1e-9 s over 1 ms wrote a 97 MB `bodies.csv` for one apple; a
+/// probe at 10 MHz wrote 573 MB of trace in two seconds of line: its `sample_rate_hz` is named
+/// when its trace is the larger part).
 pub fn check_output(sc: &Scenario, max_output_mb: f64) -> Result<(), ScenarioError> {
     let bytes = output_bytes(sc);
     if bytes > max_output_mb * 1024.0 * 1024.0 {
+        if let Some((k, samples)) = largest_probe(sc) {
+            if samples * PROBE_ROW_BYTES >= samples_output_bytes(sc) {
+                return Err(probe_refusal(
+                    sc,
+                    k,
+                    samples,
+                    &format!(
+                        "about {:.1} GiB of probe_NAME_trace.csv ({PROBE_ROW_BYTES} bytes per row; the run's output {:.1} GiB in all)",
+                        samples * PROBE_ROW_BYTES / GIB,
+                        bytes / GIB
+                    ),
+                    &format!("model.max_output_mb = {max_output_mb} MiB"),
+                ));
+            }
+        }
         return Err(ScenarioError::invalid(
             "output.sample_interval_s",
             format!(

@@ -241,6 +241,7 @@ pub fn validate(sc: &Scenario) -> R {
     for (k, a) in sc.apples.iter().enumerate() {
         apple(&format!("apples[{k}]"), a, &mats, &mut names)?;
     }
+    probe_files(sc)?;
     for (k, g) in sc.generators.iter().enumerate() {
         generator(&format!("generators[{k}]"), g, &mats)?;
     }
@@ -522,6 +523,41 @@ fn apple(
         ranges::PROBE_RATE.check(&format!("{f}.probe.sample_rate_hz"), p.sample_rate_hz)?;
         ranges::PROBE_TRIGGER.check(&format!("{f}.probe.trigger_g"), p.trigger_g)?;
         ranges::PROBE_WINDOW.check(&format!("{f}.probe.window_s"), p.window_s)?;
+    }
+    Ok(())
+}
+
+/// A probe apple's name makes its files' names ([`crate::record::probe::file_stem`]): two that
+/// make the same file would write one over the other (the first probe's record lost), and one
+/// too long for a file name would fail after the whole run. Both refused here, naming the
+/// second apple's name.
+fn probe_files(sc: &Scenario) -> R {
+    use crate::record::probe::{file_stem, MAX_PROBE_NAME_CHARS};
+    let mut stems: BTreeMap<String, usize> = BTreeMap::new();
+    for (k, a) in sc.apples.iter().enumerate() {
+        if a.probe.is_none() {
+            continue;
+        }
+        let chars = a.name.chars().count();
+        if chars > MAX_PROBE_NAME_CHARS {
+            return Err(ScenarioError::invalid(
+                format!("apples[{k}].name"),
+                format!(
+                    "a probe's name of {chars} characters: its files are named after it (probe_NAME_trace.csv), give at most {MAX_PROBE_NAME_CHARS}"
+                ),
+            ));
+        }
+        let stem = file_stem(&a.name);
+        if let Some(&j) = stems.get(&stem) {
+            return Err(ScenarioError::invalid(
+                format!("apples[{k}].name"),
+                format!(
+                    "the probe '{}' would write the same files as the probe '{}' (apples[{j}]): {stem}_trace.csv (a name's characters other than letters, digits, '-' and '_' become '_'); rename one of them",
+                    a.name, sc.apples[j].name
+                ),
+            ));
+        }
+        stems.insert(stem, k);
     }
     Ok(())
 }
