@@ -66,6 +66,10 @@ pub(super) struct Detection {
     pair_scan: Option<Vec<u32>>,
     scratch: Vec<SurfaceHit>,
     chain: Vec<u32>,
+    /// Apples taken out of the run ([`Detection::retire`]): they touch nothing any more.
+    retired: Vec<bool>,
+    /// The fastest moving surface this step (m/s; see [`SurfaceNow::shape_speed_m_s`]).
+    pub surface_speed_m_s: f64,
 }
 
 impl Detection {
@@ -80,7 +84,25 @@ impl Detection {
             pair_scan: None,
             scratch: Vec::new(),
             chain: Vec::new(),
+            retired: Vec::new(),
+            surface_speed_m_s: 0.0,
         }
+    }
+
+    /// Takes apple `k` out of the run: from the next pass on it has no surface candidate and no
+    /// apple contact (those open close then), wherever its body is. An apple that left the scene
+    /// is parked far away, and a far place may still lie inside a surface (below an upward plane:
+    /// a half-space reaches down without end).
+    pub fn retire(&mut self, k: usize) {
+        if self.retired.len() <= k {
+            self.retired.resize(k + 1, false);
+        }
+        self.retired[k] = true;
+        self.rebuild_candidates = true;
+    }
+
+    fn is_retired(&self, k: usize) -> bool {
+        self.retired.get(k).copied().unwrap_or(false)
     }
 
     /// A new apple: the first one sets the grid's skin (its cells follow the largest radius).
@@ -200,6 +222,14 @@ impl Detection {
             let (i, j) = (p.i as usize, p.j as usize);
             let (ai, aj) = (!asleep[i], !asleep[j]);
             if !ai && !aj {
+                continue;
+            }
+            if self.is_retired(i) || self.is_retired(j) {
+                // Taken out of the run: its contact (if any) ends here.
+                if p.contact != NONE {
+                    parted.push(p);
+                    self.grid.pairs_mut()[k].contact = NONE;
+                }
                 continue;
             }
             let d = frame.pos[i] - frame.pos[j];
@@ -511,6 +541,9 @@ impl Detection {
         let mut fresh: Vec<SurfaceCandidate> = Vec::new();
         let mut hits = std::mem::take(&mut self.scratch);
         for (a, &p) in cx.frame.pos.iter().enumerate() {
+            if self.is_retired(a) {
+                continue;
+            }
             let r = cx.frame.radius[a];
             let ball = Aabb::new(p - Vec3::splat(r), p + Vec3::splat(r));
             for &(s, ref bx) in &boxes {
