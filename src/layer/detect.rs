@@ -139,10 +139,14 @@ impl Detection {
     ) {
         let half_skin = 0.5 * self.grid.skin_m();
         let mut any_changed = false;
+        self.surface_speed_m_s = 0.0;
         for (surf, now) in registry.surfaces.iter().zip(self.surf_now.iter_mut()) {
             let (seen, rebuild) = now.observe(surf, bodies, colliders, half_skin);
             any_changed |= seen == Seen::Changed;
             self.rebuild_candidates |= rebuild;
+            if !surf.rigid {
+                self.surface_speed_m_s = self.surface_speed_m_s.max(now.shape_speed_m_s());
+            }
         }
         if any_changed {
             for c in &self.candidates {

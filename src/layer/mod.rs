@@ -342,6 +342,14 @@ impl ContactLayer {
                 if let Some(limit) = limit {
                     self.out.stats.limit(limit, StepLimit::Motion);
                 }
+                let parts = adaptive::surface_motion_limit(
+                    &c,
+                    self.detection.surface_speed_m_s,
+                    self.detection.skin_m(),
+                );
+                if let Some(limit) = parts {
+                    self.out.stats.limit(limit, StepLimit::Motion);
+                }
                 request.choose(self.out.stats.dt_limit_s)
             }
             None => request.dt_s,

@@ -400,6 +400,30 @@ impl Simulation {
     /// overlap beyond the limit, an impact in too few steps) names the field that sets the step.
     fn guard(&self, e: LayerError) -> SimError {
         match e {
+            // `auto` and `adaptive` steps are set by the accuracy and capped by max_time_step_s:
+            // the step that would work is given as that cap.
+            LayerError::Unstable {
+                a,
+                b,
+                time_s,
+                what,
+                suggested_dt_s: Some(dt),
+            } if self.step_field != "time_step_s" => SimError::Guard {
+                field: self.step_field,
+                error: LayerError::Unstable {
+                    a,
+                    b,
+                    time_s,
+                    what: match what.split_once("; use time_step_s <=") {
+                        Some((head, _)) => format!(
+                            "{head}; use max_time_step_s <= {dt:.3e} (the {} step's cap) or a higher accuracy",
+                            self.step_policy
+                        ),
+                        None => what,
+                    },
+                    suggested_dt_s: Some(dt),
+                },
+            },
             LayerError::Unstable { .. } | LayerError::NonFinite { .. } => SimError::Guard {
                 field: self.step_field,
                 error: e,
