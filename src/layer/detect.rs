@@ -439,8 +439,13 @@ impl Detection {
                             let record =
                                 best.and_then(|(k, _)| cx.contacts.get_mut(k).record.as_mut());
                             let ke = if energy_loss { law.ke } else { 1.0 };
+                            let turned = surf.turned_by_contacts;
                             let (t_stick, h_damping) = if friction && law.friction > 0.0 {
-                                let m_t = 1.0 / registry.apples[a].inv_tangential_mass;
+                                // A free-turning roller's surface point moves with the slip too
+                                // (its R^2 / I), as in the kernel's tangential mass.
+                                let m_t = 1.0
+                                    / (registry.apples[a].inv_tangential_mass
+                                        + turned.unwrap_or(0.0));
                                 let u = hit.overlap_m;
                                 (
                                     stick_half_period(law.g_star_pa, r_star, u, m_t),
@@ -462,6 +467,14 @@ impl Detection {
                                 h_damping,
                             );
                             cx.out.stats.limit(lim.0, lim.1);
+                            if turned.is_some() {
+                                // A light free roller's spin rings on the stick spring faster
+                                // than the impact: four steps per half period at all times
+                                // (k_t h^2 / m_t = 0.62, stable; docs/physics.md 12.5).
+                                cx.out
+                                    .stats
+                                    .limit((0.25 * t_stick).min(h_damping), lim.1);
+                            }
                         }
                     }
                     let slot = match best {

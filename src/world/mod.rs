@@ -378,6 +378,12 @@ impl World {
         self.free_rollers.iter().map(|f| f.state()).collect()
     }
 
+    /// The first free-turning roller whose spin ran away, if one did
+    /// ([`free_roller::FreeRoller::runaway`]).
+    pub fn runaway_roller(&self) -> Option<free_roller::RollerRunaway> {
+        self.free_rollers.iter().find_map(|f| f.runaway())
+    }
+
     /// Whether the scene has a free-turning roller (then the run writes `rollers.csv`).
     pub fn has_free_rollers(&self) -> bool {
         !self.free_rollers.is_empty()
