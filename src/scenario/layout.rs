@@ -397,7 +397,12 @@ fn in_range(p: Vec3) -> bool {
 
 /// A point as messages write it.
 fn show(p: Vec3) -> String {
-    format!("[{}, {}, {}] m", num(p.x), num(p.y), num(p.z))
+    format!(
+        "[{}, {}, {}] m",
+        ranges::num3(p.x),
+        ranges::num3(p.y),
+        ranges::num3(p.z)
+    )
 }
 
 fn surface_position(s: &SurfaceSpec) -> [f64; 3] {
@@ -448,7 +453,11 @@ fn resolve_surfaces(surfaces: &mut [SurfaceSpec]) -> Result<(), ScenarioError> {
                     ));
                 }
                 let _ = port;
-                for (name, x) in [("gap_m", p.gap_m), ("drop_m", p.drop_m), ("side_m", p.side_m)] {
+                for (name, x) in [
+                    ("gap_m", p.gap_m),
+                    ("drop_m", p.drop_m),
+                    ("side_m", p.side_m),
+                ] {
                     ranges::OFFSET.check(&format!("{field}.place.{name}"), x)?;
                 }
                 pending.push(k);

@@ -447,10 +447,17 @@ pub fn free_roller_stability(sc: &Scenario, world: &World) -> Vec<RollerStabilit
         consider(&material, light.0, light.1, light.2);
     }
     for s in &sc.sources {
-        let density = mat(&s.material).and_then(|m| m.density_kg_m3).unwrap_or(0.0);
+        let density = mat(&s.material)
+            .and_then(|m| m.density_kg_m3)
+            .unwrap_or(0.0);
         for d in [s.diameter_m.min_m().max(1e-3), s.diameter_m.max_m()] {
             let m = s.mass_kg.unwrap_or_else(|| sphere_mass(d, density));
-            consider(&s.material, d / 2.0, m, format!("the apples of source '{}'", s.name));
+            consider(
+                &s.material,
+                d / 2.0,
+                m,
+                format!("the apples of source '{}'", s.name),
+            );
         }
     }
     for (k, spec) in sc.surfaces.iter().enumerate() {
@@ -493,8 +500,12 @@ pub fn free_roller_stability(sc: &Scenario, world: &World) -> Vec<RollerStabilit
                 crate::contact::friction::mindlin_stiffness(law.g_star_pa, (r_star * u).sqrt());
             let apple_inv = 3.5 / m;
             let m_t = 1.0 / (apple_inv + rr * rr / i);
-            let history = (law.models.tangential == crate::contact::TangentialModel::History)
-                .then(|| 2.0 * crate::contact::damping::SQRT_FIVE_SIXTHS * law.beta.abs() * (k_t * m).sqrt());
+            let history =
+                (law.models.tangential == crate::contact::TangentialModel::History).then(|| {
+                    2.0 * crate::contact::damping::SQRT_FIVE_SIXTHS
+                        * law.beta.abs()
+                        * (k_t * m).sqrt()
+                });
             let h = stable_step(k_t, m_t, history);
             if h.is_finite() && worst.as_ref().is_none_or(|w| h < w.max_step_s) {
                 worst = Some(RollerStability {
@@ -534,20 +545,20 @@ pub fn check_free_rollers(
         let fixed = matches!(sc.time_step_s, TimeStep::Fixed(_));
         if (fixed && dt > r.max_step_s * (1.0 + 1e-9)) || r.max_step_s < floor {
             let how = if fixed && r.max_step_s >= floor {
-                format!(", or time_step_s <= {:.3e} s", r.max_step_s)
+                format!(", or time_step_s <= {:e} s", round_down(r.max_step_s))
             } else {
                 String::new()
             };
             return Err(ScenarioError::invalid(
                 r.field.clone(),
                 format!(
-                    "{} kg m^2 is too light for the roller '{}' at a step of {dt:e} s: its spin, updated from the friction of its contact with {} (stick stiffness k_t = {} N/m), is stable only for steps up to {:.3e} s (k_t h^2 / m_t <= 1, m_t = 1 / (7/(2 m) + R_r^2 / I); docs/physics.md 12.5); give at least {:.3e} kg m^2{how}",
+                    "{} kg m^2 is too light for the roller '{}' at a step of {dt:e} s: its spin, updated from the friction of its contact with {} (stick stiffness k_t = {} N/m), is stable only for steps up to {:e} s (k_t h^2 / m_t <= 1 with the Mindlin dashpot, m_t = 1 / (7/(2 m) + R_r^2 / I); docs/physics.md 12.5); give at least {:e} kg m^2{how}",
                     scenario::ranges::num(r.inertia_kg_m2),
                     r.roller,
                     r.apple,
                     scenario::ranges::num3(r.stiffness_n_m),
-                    r.max_step_s,
-                    r.min_inertia_kg_m2(dt),
+                    round_down(r.max_step_s),
+                    round_up(r.min_inertia_kg_m2(dt)),
                 ),
             ));
         }
@@ -633,21 +644,48 @@ pub fn check_tunnelling(
         return Ok(());
     }
     let tunnel_s = reach / v;
-    let resolve_s = plan
-        .stiffest
-        .as_ref()
-        .map_or(f64::INFINITY, |s| {
-            s.contact_time_s / sc.required_steps_per_impact().max(1.0)
-        });
-    let ok = tunnel_s.min(resolve_s);
+    let resolve_s = plan.stiffest.as_ref().map_or(f64::INFINITY, |s| {
+        s.contact_time_s / sc.required_steps_per_impact().max(1.0)
+    });
+    let ok = round_down(tunnel_s.min(resolve_s));
     Err(ScenarioError::invalid(
         "time_step_s",
         format!(
-            "{dt:e} s lets apples pass through parts unseen: the scene can close on '{part}' ({} mm thick) at up to {} m/s, {} mm in one step, more than an apple's radius ({} mm) and half the part; use time_step_s <= {ok:.3e} s (or \"auto\")",
+            "{dt:e} s lets apples pass through parts unseen: the scene can close on '{part}' ({} mm thick) at up to {} m/s, {} mm in one step, more than an apple's radius ({} mm) and half the part; use time_step_s <= {ok:e} s (or \"auto\")",
             scenario::ranges::num3(thickness * 1e3),
             scenario::ranges::num3(v),
             scenario::ranges::num3(v * dt * 1e3),
             scenario::ranges::num3(r_min * 1e3),
         ),
     ))
+}
+
+/// `x` rounded down to 4 significant digits: a step stated as the one that works must not be
+/// printed a hair above it (5.9576e-4 printed 5.958e-4 gave an impact 9.99995 steps).
+fn round_down(x: f64) -> f64 {
+    if !(x.is_finite() && x > 0.0) {
+        return x;
+    }
+    let scale = 10f64.powi(3 - x.log10().floor() as i32);
+    let y = (x * scale).floor() / scale;
+    // The division may land a hair above the digits; keep it at or below x.
+    if y > x {
+        ((x * scale).floor() - 1.0) / scale
+    } else {
+        y
+    }
+}
+
+/// `x` rounded up to 4 significant digits (a smallest value stated must be enough).
+fn round_up(x: f64) -> f64 {
+    if !(x.is_finite() && x > 0.0) {
+        return x;
+    }
+    let scale = 10f64.powi(3 - x.log10().floor() as i32);
+    let y = (x * scale).ceil() / scale;
+    if y < x {
+        ((x * scale).ceil() + 1.0) / scale
+    } else {
+        y
+    }
 }
