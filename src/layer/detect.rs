@@ -471,9 +471,7 @@ impl Detection {
                                 // A light free roller's spin rings on the stick spring faster
                                 // than the impact: four steps per half period at all times
                                 // (k_t h^2 / m_t = 0.62, stable; docs/physics.md 12.5).
-                                cx.out
-                                    .stats
-                                    .limit((0.25 * t_stick).min(h_damping), lim.1);
+                                cx.out.stats.limit((0.25 * t_stick).min(h_damping), lim.1);
                             }
                         }
                     }

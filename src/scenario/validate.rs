@@ -773,16 +773,18 @@ fn surface(
 fn troughs(sc: &Scenario) -> R {
     let mut largest: Vec<(f64, String)> = Vec::new();
     for (k, a) in sc.apples.iter().enumerate() {
-        largest.push((a.diameter_m / 2.0, format!("apple '{}' (apples[{k}])", a.name)));
+        largest.push((
+            a.diameter_m / 2.0,
+            format!("apple '{}' (apples[{k}])", a.name),
+        ));
     }
     for (k, g) in sc.generators.iter().enumerate() {
         let d = match g {
             GeneratorSpec::Grid(s) => s.diameter_m.max_m(),
             GeneratorSpec::RandomFill(s) => s.diameter_m.max_m(),
-            GeneratorSpec::File(s) => s
-                .loaded
-                .as_ref()
-                .map_or(0.0, |l| l.0.iter().map(|a| a.diameter_m).fold(0.0, f64::max)),
+            GeneratorSpec::File(s) => s.loaded.as_ref().map_or(0.0, |l| {
+                l.0.iter().map(|a| a.diameter_m).fold(0.0, f64::max)
+            }),
         };
         largest.push((d / 2.0, format!("the apples of generators[{k}]")));
     }
