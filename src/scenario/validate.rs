@@ -383,6 +383,38 @@ fn inside_bounds(sc: &Scenario, all: &[AppleSpec], field: impl Fn(usize) -> Stri
         outside(b.min_m),
         outside(b.max_m)
     );
+    // When no apple and no spawn point is inside, the box is the mistake (a mistyped bound),
+    // not the apples: the bound that excludes the first one is named.
+    let spawn_inside = |s: &crate::scenario::SourceSpec| {
+        let j = s.jitter_m;
+        b.contains([0, 1, 2].map(|i| s.position_m[i] - j))
+            && b.contains([0, 1, 2].map(|i| s.position_m[i] + j))
+    };
+    let none_inside =
+        !all.iter().any(|a| b.contains(a.position_m)) && !sc.sources.iter().any(spawn_inside);
+    let first = all
+        .first()
+        .map(|a| a.position_m)
+        .or_else(|| sc.sources.first().map(|s| s.position_m));
+    if let (true, Some(p)) = (none_inside, first) {
+        for i in 0..3 {
+            let (side, bound) = if p[i] < b.min_m[i] {
+                ("min_m", b.min_m[i])
+            } else if p[i] > b.max_m[i] {
+                ("max_m", b.max_m[i])
+            } else {
+                continue;
+            };
+            return Err(ScenarioError::invalid(
+                format!("model.scene_bounds.{side}[{i}]"),
+                format!(
+                    "{} m leaves every apple and spawn point outside the box (the first at {}): every apple would leave the scene at once",
+                    num(bound),
+                    outside(p)
+                ),
+            ));
+        }
+    }
     for (k, a) in all.iter().enumerate() {
         if !b.contains(a.position_m) {
             return Err(ScenarioError::invalid(
