@@ -1117,7 +1117,8 @@ fn line_with(f: impl FnOnce(&mut Value)) -> String {
 /// refused before the run, naming the field as the user wrote it.
 #[test]
 fn line_layout_mistakes_name_the_field_as_written() {
-    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, Vec<&str>)> = vec![
+    type Case = (&'static str, Box<dyn FnOnce(&mut Value)>, Vec<&'static str>);
+    let cases: Vec<Case> = vec![
         (
             "place_gap_1e308",
             Box::new(|v| v["surfaces"][1]["place"]["gap_m"] = json!(1e308)),

@@ -73,8 +73,7 @@ fn a_step_that_lets_an_apple_pass_through_a_thin_wall_is_refused_with_the_step_t
         let sc = applesim::scenario::from_json(&scene(moving, 20.0, ok).to_string(), name).unwrap();
         let mut series = applesim::record::series::MemorySeries::default();
         let e = applesim::sim::run(&sc, &repo("scenarios"), &mut series)
-            .err()
-            .expect("refused")
+            .expect_err("refused")
             .to_string();
         println!("{name} at {ok:e} s: {e}");
         assert!(

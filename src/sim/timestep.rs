@@ -423,7 +423,9 @@ pub fn free_roller_stability(sc: &Scenario, world: &World) -> Vec<RollerStabilit
     };
     // Per material, the largest apple and the lightest one (k_t grows with both radius and
     // mass, m_t shrinks with the mass).
-    let mut extremes: Vec<(String, (f64, f64, String), (f64, f64, String))> = Vec::new();
+    // (material, its largest apple, its lightest apple), each (radius, mass, description).
+    type Pick = (f64, f64, String);
+    let mut extremes: Vec<(String, Pick, Pick)> = Vec::new();
     for a in world.roster.apples() {
         let what = format!("apple '{}'", a.name);
         match extremes.iter_mut().find(|e| e.0 == a.material) {
@@ -480,7 +482,7 @@ pub fn free_roller_stability(sc: &Scenario, world: &World) -> Vec<RollerStabilit
         for (am, ra, m, what) in &apples {
             let Some(a) = mat(am) else { continue };
             let c = sc.pair_law(am, &roller.material);
-            if c.friction <= 0.0 || !(*m > 0.0) {
+            if c.friction <= 0.0 || !(m.is_finite() && *m > 0.0) {
                 continue;
             }
             let law = crate::contact::PairLaw::new(
