@@ -9,8 +9,15 @@
 //! Never a panic (exit 101, "panicked"), an abort (a signal, exit 134) or a hang (a case still
 //! running after [`HANG_S`] is killed and counted as a hang: a detector, not a timing test).
 //!
-//! The mutations are drawn by a seeded generator (ChaCha8, seed [`SEED`]), so the cases are the
-//! same on every run and machine. Each kind of mutation gets the same number of cases, spread
+//! Two campaigns: the shipped scenarios (`scenarios/*.json`, `scenarios/paper/*.json`) under the
+//! 25 generic kinds, and (issue 28) the line scenarios (`scenarios/lines/*.json`, the probe line,
+//! and `tests/fuzz/feature_*.json`, written to hold every line feature: motion profiles, powered
+//! and free rollers, a roller bed, a pad, `on` and `place`, probes, scene bounds, sleep settings)
+//! under [`FEATURE_KINDS`]: seven kinds aimed at the features and thirteen generic ones,
+//! [`FEATURE_CASES`] cases.
+//!
+//! The mutations are drawn by a seeded generator (ChaCha8, seed [`SEED`]; the line campaign
+//! [`SEED`] + 10), so the cases are the same on every run and machine. Each kind of mutation gets the same number of cases, spread
 //! over the shipped scenarios (`scenarios/*.json`, `scenarios/paper/*.json` that are scenarios,
 //! not batch specs). To keep accepted runs short, every mutated scenario first has its
 //! `duration_s` capped at [`DURATION_CAP_S`] and `model.max_steps` set to [`MAX_STEPS`]; a
