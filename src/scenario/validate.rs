@@ -309,7 +309,8 @@ pub fn validate(sc: &Scenario) -> R {
     }
     inside_bounds(sc, &all, |k| match made_by[k] {
         None => format!("apples[{k}].position_m"),
-        Some(g) => format!("generators[{g}]"),
+        // The field that places the generator's apples.
+        Some(_) => sc.initial_apple_field(k),
     })?;
     check_apple_overlaps(&all, |j, i| match (made_by[j], made_by[i]) {
         (None, _) => format!("apples[{j}].position_m"),
