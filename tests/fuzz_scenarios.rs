@@ -1218,11 +1218,21 @@ fn check_outputs(
         if f.starts_with(out) && ext == "csv" {
             let text = std::fs::read_to_string(&f).map_err(|e| format!("{}: {e}", f.display()))?;
             for (n, line) in text.lines().enumerate().skip(1) {
-                let cells = csv_cells(line);
+                // A name may stand inside a text cell ("apples on NaN", "NaN/floor"): names that
+                // would read as a number that is not finite are taken out first.
+                let cells: Vec<String> = csv_cells(line)
+                    .into_iter()
+                    .filter(|c| !names.contains(c))
+                    .map(|c| {
+                        names
+                            .iter()
+                            .filter(|n| n.parse::<f64>().is_ok_and(|x| !x.is_finite()))
+                            .fold(c, |c, n| c.replace(n.as_str(), " "))
+                    })
+                    .collect();
                 for cell in cells
                     .iter()
-                    .filter(|c| !names.contains(*c))
-                    .flat_map(|c| c.split_whitespace())
+                    .flat_map(|c| c.split(|ch: char| ch.is_whitespace() || ch == '/'))
                 {
                     if cell.parse::<f64>().is_ok_and(|x| !x.is_finite()) {
                         return Err(format!("{name} line {}: '{cell}'", n + 1));
