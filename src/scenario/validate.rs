@@ -115,19 +115,47 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
     })?;
     // The modulus derived from the other one and nu must make sense too (nu near -1 makes
     // G = E / (2 (1 + nu)) explode).
+    // The field named: Poisson's ratio when a typical one (0.3) would have made the derived
+    // modulus sensible, else the modulus given (G = E / 2.6 of 2000 Pa is out of range whatever
+    // nu: the modulus is the mistake).
+    let given = if m.shear_modulus_pa.is_some() {
+        ("shear_modulus_pa", m.shear_modulus_pa.unwrap_or(0.0))
+    } else {
+        ("youngs_modulus_pa", m.youngs_modulus_pa.unwrap_or(0.0))
+    };
+    let typical = if m.shear_modulus_pa.is_some() {
+        2.0 * given.1 * 1.3
+    } else {
+        given.1 / 2.6
+    };
+    let culprit = if ranges::MODULUS.contains(typical) {
+        "poisson_ratio"
+    } else {
+        given.0
+    };
     for (derived, symbol, v) in [
         ("shear", "G", built.shear_modulus_pa),
         ("Young's", "E", built.youngs_modulus_pa),
     ] {
         if !ranges::MODULUS.contains(v) {
             return Err(ScenarioError::invalid(
-                format!("{base}.poisson_ratio"),
-                format!(
-                    "{} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
-                    num(nu),
-                    ranges::num3(v),
-                    ranges::MODULUS.describe()
-                ),
+                format!("{base}.{culprit}"),
+                if culprit == "poisson_ratio" {
+                    format!(
+                        "{} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
+                        num(nu),
+                        ranges::num3(v),
+                        ranges::MODULUS.describe()
+                    )
+                } else {
+                    format!(
+                        "{} Pa with poisson_ratio {} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
+                        num(given.1),
+                        num(nu),
+                        ranges::num3(v),
+                        ranges::MODULUS.describe()
+                    )
+                },
             ));
         }
     }
@@ -750,10 +778,19 @@ fn surface(
                 b.pitch_direction,
             )?);
             if axis.dot(dir).abs() > 1e-9 {
+                // Lines are laid out along the world axes: when only one of the two is along an
+                // axis, the other is the likely mistake and is named (the pitch direction
+                // otherwise).
+                let aligned = |v: [f64; 3]| v.iter().filter(|x| **x != 0.0).count() == 1;
+                let (field, other) = if aligned(b.pitch_direction) && !aligned(b.axis) {
+                    ("axis", "pitch_direction")
+                } else {
+                    ("pitch_direction", "axis")
+                };
                 return Err(ScenarioError::invalid(
-                    format!("{f}.pitch_direction"),
+                    format!("{f}.{field}"),
                     format!(
-                        "it makes {:.3} deg with the axis: the rollers must follow each other across their axes (pitch_direction at right angles to axis)",
+                        "it makes {:.3} deg with the {other}: the rollers must follow each other across their axes (pitch_direction at right angles to axis)",
                         axis.dot(dir).clamp(-1.0, 1.0).acos().to_degrees()
                     ),
                 ));
