@@ -922,10 +922,16 @@ fn roller(f: &str, r: &RollerSpec, mats: &BTreeMap<&str, Material>) -> R {
     super::motion::unit_axis(&format!("{f}.axis"), r.axis)?;
     let w = r.angular_velocity_rad_s;
     ranges::ANGULAR_SPEED.check_abs(&format!("{f}.angular_velocity_rad_s"), w)?;
-    // Its surface speed is a speed like any other.
+    // Its surface speed is a speed like any other. The field named: the radius when the rate
+    // would be sensible on any roller of a line (0.5 m, a drum), else the rate.
     if !ranges::SPEED.contains((w * r.radius_m).abs()) {
+        let field = if ranges::SPEED.contains((w * 0.5).abs()) {
+            "radius_m"
+        } else {
+            "angular_velocity_rad_s"
+        };
         return Err(ScenarioError::invalid(
-                format!("{f}.angular_velocity_rad_s"),
+                format!("{f}.{field}"),
                 format!(
                     "{} rad/s on a radius of {} m moves the roller's surface at {} m/s, outside the range of fruit handling ({})",
                     num(w),
