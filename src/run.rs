@@ -139,8 +139,17 @@ pub fn into_dir(
     let mut sink = output::rollers::RunSamples {
         bodies: &mut bodies,
         rollers: rollers.as_mut(),
+        failed: None,
     };
-    let mut result = sim.run(&mut sink, progress)?;
+    let mut result = match sim.run(&mut sink, progress) {
+        Ok(r) => r,
+        // A sample that could not be written names its file (and so the folder).
+        Err(crate::sim::SimError::Io(source)) => {
+            let path = out_dir.join(sink.failed.unwrap_or("bodies.csv"));
+            return Err(RunError::Io { path, source });
+        }
+        Err(e) => return Err(e.into()),
+    };
     bodies.commit().map_err(io_at(&bodies_path))?;
     if let Some(r) = rollers {
         r.commit().map_err(io_at(&rollers_path))?;

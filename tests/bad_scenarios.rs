@@ -1086,3 +1086,166 @@ fn endless_runs_are_refused_up_front_with_the_step_estimate() {
         ],
     );
 }
+
+/// A small line for the layout mistakes of issue 28: a belt (1.2 m long, 0.3 m wide, top at
+/// 0.8 m), a flat chute placed at its discharge end, a trough, and an apple and a source `on`
+/// the belt. `f` changes it before it is written.
+fn line_with(f: impl FnOnce(&mut Value)) -> String {
+    let mut v = json!({
+        "duration_s": 0.01, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81],
+        "materials": { "apple": { "preset": "apple-paper" }, "steel": { "preset": "steel" } },
+        "contact": { "friction": 0.5, "ke": 0.09, "lambda_s_m": 1000 },
+        "apples": [{ "name": "a1", "material": "apple", "diameter_m": 0.075,
+                     "on": { "surface": "belt", "along_m": 0.2 } }],
+        "sources": [{ "name": "feed", "material": "apple", "diameter_m": 0.075,
+                      "on": { "surface": "belt", "along_m": 0.6 }, "rate_per_s": 1, "count": 1 }],
+        "surfaces": [
+            { "name": "belt", "type": "conveyor", "material": "steel", "size_m": [1.2, 0.3, 0.04],
+              "position_m": [0, 0, 0.78], "belt_velocity_m_s": 0.5 },
+            { "name": "chute", "type": "chute", "profile": "flat", "material": "steel",
+              "length_m": 1.0, "width_m": 0.3, "incline_deg": 20,
+              "place": { "at": "belt.discharge", "gap_m": 0.01, "drop_m": 0.04 } },
+            { "name": "trough", "type": "chute", "profile": "trough", "material": "steel",
+              "length_m": 1.0, "radius_m": 0.1, "incline_deg": 10, "position_m": [0, 2, 0.5] }
+        ]
+    });
+    f(&mut v);
+    serde_json::to_string_pretty(&v).unwrap()
+}
+
+/// Issue 28, "Messages that blame a field the file does not have" and "Also": each mistake is
+/// refused before the run, naming the field as the user wrote it.
+#[test]
+fn line_layout_mistakes_name_the_field_as_written() {
+    type Case = (&'static str, Box<dyn FnOnce(&mut Value)>, Vec<&'static str>);
+    let cases: Vec<Case> = vec![
+        (
+            "place_gap_1e308",
+            Box::new(|v| v["surfaces"][1]["place"]["gap_m"] = json!(1e308)),
+            vec!["error: surfaces[1].place.gap_m: 1e308 m is outside the range of fruit handling (|d| <= 10000 m)"],
+        ),
+        (
+            "place_drop_1e5",
+            Box::new(|v| v["surfaces"][1]["place"]["drop_m"] = json!(1e5)),
+            vec!["error: surfaces[1].place.drop_m: 1e5 m is outside the range"],
+        ),
+        (
+            "place_sum_out_of_range",
+            Box::new(|v| {
+                v["surfaces"][0]["position_m"] = json!([9000, 0, 0.78]);
+                v["surfaces"][1]["place"]["gap_m"] = json!(5000);
+            }),
+            vec!["error: surfaces[1].place: 'belt.discharge' with gap_m 5000", "outside the range of fruit handling"],
+        ),
+        (
+            "on_along_1e9",
+            Box::new(|v| v["sources"][0]["on"]["along_m"] = json!(1e9)),
+            vec!["error: sources[0].on.along_m: 1e9 m is off surface 'belt': along_m runs from 0 (its upstream end, the feed port) to 1.2 m"],
+        ),
+        (
+            "on_along_negative",
+            Box::new(|v| v["apples"][0]["on"]["along_m"] = json!(-5)),
+            vec!["error: apples[0].on.along_m: -5 m is off surface 'belt'"],
+        ),
+        (
+            "on_side_5",
+            Box::new(|v| v["apples"][0]["on"]["side_m"] = json!(5)),
+            vec!["error: apples[0].on.side_m: 5 m is off surface 'belt': its face is 0.3 m wide, side_m runs from -0.15 to 0.15 m"],
+        ),
+        (
+            "on_clearance_negative",
+            Box::new(|v| v["apples"][0]["on"]["clearance_m"] = json!(-0.01)),
+            vec!["error: apples[0].on.clearance_m: -0.01 m is outside the range", "a negative clearance starts the apple inside the surface"],
+        ),
+        (
+            "trough_tighter_than_fed_apples",
+            Box::new(|v| {
+                v["sources"][0]["diameter_m"] = json!({"mean_m": 0.15, "spread_m": 0.06});
+                v["sources"][0]["on"] = json!({"surface": "trough", "along_m": 0.1});
+            }),
+            vec!["error: surfaces[2].radius_m: the trough 'trough' of radius 0.1 m is tighter than the apples of sources[0] ('feed'), radius up to 0.105 m"],
+        ),
+        (
+            "random_fill_inverted",
+            Box::new(|v| {
+                v["generators"] = json!([{ "type": "random_fill", "name": "g", "material": "apple",
+                    "diameter_m": 0.07, "count": 5, "region_min_m": [0, 3, 1],
+                    "region_max_m": [1, 4, 0], "seed": 1, "velocity_m_s": [0, 0, 0] }]);
+            }),
+            vec!["error: generators[0].region_max_m[2]: 0 m is not above region_min_m[2] = 1 m"],
+        ),
+        (
+            "on_a_trough_side",
+            Box::new(|v| v["apples"][0]["on"] = json!({"surface": "trough", "side_m": 0.02})),
+            vec!["error: apples[0].on.side_m: 0.02 m: on the trough 'trough' an apple rests on its bottom line, side_m must be 0"],
+        ),
+        (
+            "long_name_shortened",
+            Box::new(|v| v["surfaces"][1]["place"]["at"] = json!(format!("{}.discharge", "b".repeat(100_000)))),
+            // The quoted name is one word of 100,002 characters (quotes included): its first
+            // and last 40 are kept.
+            vec![Box::leak(
+                format!(
+                    "error: surfaces[1].place.at: no surface named '{b}...(100002 characters)...{b}' (surfaces: belt, chute, trough)",
+                    b = "b".repeat(39)
+                )
+                .into_boxed_str(),
+            )],
+        ),
+    ];
+    for (name, f, needles) in cases {
+        let text = line_with(f);
+        refused(name, &text, &needles);
+    }
+}
+
+/// Issue 28: a surface named "belt.a" can be a place target (`"at": "belt.a.discharge"`: the
+/// port follows the last dot), and the line it starts runs.
+#[test]
+fn a_surface_name_with_a_dot_is_a_place_target() {
+    let text = line_with(|v| {
+        v["surfaces"][0]["name"] = json!("belt.a");
+        v["surfaces"][1]["place"]["at"] = json!("belt.a.discharge");
+        v["apples"][0]["on"]["surface"] = json!("belt.a");
+        v["sources"][0]["on"]["surface"] = json!("belt.a");
+    });
+    let sc = applesim::scenario::from_json(&text, "dots").unwrap();
+    applesim::scenario::validate(&sc).unwrap();
+    let plain = applesim::scenario::from_json(&line_with(|_| {}), "plain").unwrap();
+    match (&sc.surfaces[1], &plain.surfaces[1]) {
+        (applesim::scenario::SurfaceSpec::Chute(a), applesim::scenario::SurfaceSpec::Chute(b)) => {
+            assert_eq!(a.position_m, b.position_m)
+        }
+        _ => unreachable!(),
+    }
+}
+
+/// Issue 28, "Also": a write failing with EFBIG (a file size limit, SIGXFSZ ignored) while the
+/// run streams bodies.csv names the file in the result folder, not "writing samples".
+#[test]
+fn a_write_failing_with_efbig_names_the_folder() {
+    let dir = tmp("efbig");
+    let mut v = base();
+    v["duration_s"] = json!(0.05);
+    v["output"]["sample_interval_s"] = json!(1e-5);
+    let file = dir.join("scenario.json");
+    std::fs::write(&file, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    let out = dir.join("out");
+    // 64 blocks of 512 bytes: bodies.csv outgrows it within the run.
+    let cmd = format!(
+        "trap '' XFSZ; ulimit -f 64; exec '{}' run '{}' --out '{}' --quiet",
+        env!("CARGO_BIN_EXE_applesim"),
+        file.display(),
+        out.display()
+    );
+    let o = Command::new("sh").args(["-c", &cmd]).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    println!("{}", err.trim());
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("writing {}", out.join("bodies.csv").display())),
+        "{err}"
+    );
+    assert!(err.contains("File too large"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -66,6 +66,10 @@ pub(super) struct Detection {
     pair_scan: Option<Vec<u32>>,
     scratch: Vec<SurfaceHit>,
     chain: Vec<u32>,
+    /// Apples taken out of the run ([`Detection::retire`]): they touch nothing any more.
+    retired: Vec<bool>,
+    /// The fastest moving surface this step (m/s; see [`SurfaceNow::shape_speed_m_s`]).
+    pub surface_speed_m_s: f64,
 }
 
 impl Detection {
@@ -80,7 +84,25 @@ impl Detection {
             pair_scan: None,
             scratch: Vec::new(),
             chain: Vec::new(),
+            retired: Vec::new(),
+            surface_speed_m_s: 0.0,
         }
+    }
+
+    /// Takes apple `k` out of the run: from the next pass on it has no surface candidate and no
+    /// apple contact (those open close then), wherever its body is. An apple that left the scene
+    /// is parked far away, and a far place may still lie inside a surface (below an upward plane:
+    /// a half-space reaches down without end).
+    pub fn retire(&mut self, k: usize) {
+        if self.retired.len() <= k {
+            self.retired.resize(k + 1, false);
+        }
+        self.retired[k] = true;
+        self.rebuild_candidates = true;
+    }
+
+    fn is_retired(&self, k: usize) -> bool {
+        self.retired.get(k).copied().unwrap_or(false)
     }
 
     /// A new apple: the first one sets the grid's skin (its cells follow the largest radius).
@@ -117,10 +139,14 @@ impl Detection {
     ) {
         let half_skin = 0.5 * self.grid.skin_m();
         let mut any_changed = false;
+        self.surface_speed_m_s = 0.0;
         for (surf, now) in registry.surfaces.iter().zip(self.surf_now.iter_mut()) {
             let (seen, rebuild) = now.observe(surf, bodies, colliders, half_skin);
             any_changed |= seen == Seen::Changed;
             self.rebuild_candidates |= rebuild;
+            if !surf.rigid {
+                self.surface_speed_m_s = self.surface_speed_m_s.max(now.shape_speed_m_s());
+            }
         }
         if any_changed {
             for c in &self.candidates {
@@ -200,6 +226,14 @@ impl Detection {
             let (i, j) = (p.i as usize, p.j as usize);
             let (ai, aj) = (!asleep[i], !asleep[j]);
             if !ai && !aj {
+                continue;
+            }
+            if self.is_retired(i) || self.is_retired(j) {
+                // Taken out of the run: its contact (if any) ends here.
+                if p.contact != NONE {
+                    parted.push(p);
+                    self.grid.pairs_mut()[k].contact = NONE;
+                }
                 continue;
             }
             let d = frame.pos[i] - frame.pos[j];
@@ -405,8 +439,13 @@ impl Detection {
                             let record =
                                 best.and_then(|(k, _)| cx.contacts.get_mut(k).record.as_mut());
                             let ke = if energy_loss { law.ke } else { 1.0 };
+                            let turned = surf.turned_by_contacts;
                             let (t_stick, h_damping) = if friction && law.friction > 0.0 {
-                                let m_t = 1.0 / registry.apples[a].inv_tangential_mass;
+                                // A free-turning roller's surface point moves with the slip too
+                                // (its R^2 / I), as in the kernel's tangential mass.
+                                let m_t = 1.0
+                                    / (registry.apples[a].inv_tangential_mass
+                                        + turned.unwrap_or(0.0));
                                 let u = hit.overlap_m;
                                 (
                                     stick_half_period(law.g_star_pa, r_star, u, m_t),
@@ -428,6 +467,12 @@ impl Detection {
                                 h_damping,
                             );
                             cx.out.stats.limit(lim.0, lim.1);
+                            if turned.is_some() {
+                                // A light free roller's spin rings on the stick spring faster
+                                // than the impact: four steps per half period at all times
+                                // (k_t h^2 / m_t = 0.62, stable; docs/physics.md 12.5).
+                                cx.out.stats.limit((0.25 * t_stick).min(h_damping), lim.1);
+                            }
                         }
                     }
                     let slot = match best {
@@ -511,6 +556,9 @@ impl Detection {
         let mut fresh: Vec<SurfaceCandidate> = Vec::new();
         let mut hits = std::mem::take(&mut self.scratch);
         for (a, &p) in cx.frame.pos.iter().enumerate() {
+            if self.is_retired(a) {
+                continue;
+            }
             let r = cx.frame.radius[a];
             let ball = Aabb::new(p - Vec3::splat(r), p + Vec3::splat(r));
             for &(s, ref bx) in &boxes {

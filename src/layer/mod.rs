@@ -251,6 +251,13 @@ impl ContactLayer {
         Ok(id)
     }
 
+    /// Takes an apple out of the run (it left the scene): from the next step on it touches no
+    /// surface and no apple, wherever its body is, and its open contacts end at that step. The
+    /// caller stops its body (`World::take_out` disables it in rapier and parks it far away).
+    pub fn take_out_apple(&mut self, id: AppleId) {
+        self.detection.retire(id.0 as usize);
+    }
+
     /// Checks that no apple can meet a concave surface tighter than itself (conforming contact).
     pub fn check_conformity(&self) -> Result<(), LayerError> {
         self.registry.check_conformity()
@@ -333,6 +340,14 @@ impl ContactLayer {
                     self.detection.skin_m(),
                 );
                 if let Some(limit) = limit {
+                    self.out.stats.limit(limit, StepLimit::Motion);
+                }
+                let parts = adaptive::surface_motion_limit(
+                    &c,
+                    self.detection.surface_speed_m_s,
+                    self.detection.skin_m(),
+                );
+                if let Some(limit) = parts {
                     self.out.stats.limit(limit, StepLimit::Motion);
                 }
                 request.choose(self.out.stats.dt_limit_s)

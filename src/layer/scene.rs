@@ -170,6 +170,29 @@ impl SurfaceNow {
         (seen, rebuild)
     }
 
+    /// The fastest any point of its shape moves (m/s): its body's velocity and the turn of its
+    /// shape (a cylinder's spin about its own axis moves its material, not its shape; a
+    /// half-space counts its translation only). 0 for a fixed surface (a belt moves its material
+    /// only).
+    pub fn shape_speed_m_s(&self) -> f64 {
+        if !self.exists || (self.lin == Vec3::ZERO && self.ang == Vec3::ZERO) {
+            return 0.0;
+        }
+        let ang = if self.axisymmetric {
+            let axis = self.pose.rotation * Vec3::Y;
+            self.ang - axis * self.ang.dot(axis)
+        } else {
+            self.ang
+        };
+        let reach = (self.pose.translation - self.com).length() + self.extent_m;
+        let turn = if reach.is_finite() {
+            ang.length() * reach
+        } else {
+            0.0
+        };
+        self.lin.length() + turn
+    }
+
     /// The hits of an apple (centre, radius) with this surface, keeping those whose overlap
     /// exceeds -margin (see [`surface::surface_hits`]); planes without the shape dispatch
     /// ([`crate::contact::geometry::sphere_plane`]).

@@ -25,19 +25,10 @@ pub const IMPACTS_HEADER: [&str; 9] = [
 ];
 
 /// The file name stem of a probe: `probe_NAME`, with every character of the apple's name but
-/// letters, digits, `-` and `_` replaced by `_` (a name may hold `/` or spaces).
+/// letters, digits, `-` and `_` replaced by `_` (a name may hold `/` or spaces); see
+/// [`crate::record::probe::file_stem`].
 pub fn stem(apple: &str) -> String {
-    let safe: String = apple
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    format!("probe_{safe}")
+    crate::record::probe::file_stem(apple)
 }
 
 /// The transfer point of each of the probe's impacts: that of the probe's contact whose impact

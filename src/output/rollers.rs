@@ -68,16 +68,23 @@ pub struct RunSamples<'a> {
     pub bodies: &'a mut BodiesCsv,
     /// `rollers.csv`, if the scene has a free-turning roller.
     pub rollers: Option<&'a mut RollersCsv>,
+    /// The file whose write failed, if one did (`bodies.csv` or `rollers.csv`): the run's error
+    /// names it, and so the folder (a disk full or a file size limit, EFBIG, mid-run).
+    pub failed: Option<&'static str>,
 }
 
 impl SampleSink for RunSamples<'_> {
     fn sample(&mut self, time_s: f64, apples: &[AppleState]) -> std::io::Result<()> {
-        self.bodies.sample(time_s, apples)
+        self.bodies
+            .sample(time_s, apples)
+            .inspect_err(|_| self.failed = Some("bodies.csv"))
     }
 
     fn sample_rollers(&mut self, time_s: f64, rollers: &[RollerSample]) -> std::io::Result<()> {
         match self.rollers.as_mut() {
-            Some(r) => r.write(time_s, rollers),
+            Some(r) => r
+                .write(time_s, rollers)
+                .inspect_err(|_| self.failed = Some(ROLLERS_CSV)),
             None => Ok(()),
         }
     }

@@ -51,6 +51,31 @@ impl Default for ProbeSpec {
     }
 }
 
+/// Longest name of a probe apple (characters): its name makes the names of its two files,
+/// `probe_NAME_trace.csv` and `probe_NAME_impacts.csv`, each written first under a temporary
+/// name `.probe_NAME_impacts.csv.tmp-PID`: 31 characters more than NAME, and a file name has at
+/// most 255 bytes on the common file systems (every character of NAME is one byte there, see
+/// [`file_stem`]). 200 leaves a margin.
+pub const MAX_PROBE_NAME_CHARS: usize = 200;
+
+/// The file name stem of a probe apple's files: `probe_NAME`, with every character of the
+/// apple's name but ASCII letters, digits, `-` and `_` replaced by `_` (a name may hold `/`,
+/// spaces or letters a file system may not keep). Two names can make one stem ("a 1" and
+/// "a_1"): validation refuses that, and names longer than [`MAX_PROBE_NAME_CHARS`].
+pub fn file_stem(apple: &str) -> String {
+    let safe: String = apple
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    format!("probe_{safe}")
+}
+
 /// One impact as the device reports it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ProbeImpact {

@@ -30,14 +30,66 @@ pub const BODIES_ROW_BYTES: f64 = 200.0;
 /// 70; rounded up).
 pub const ROLLERS_ROW_BYTES: f64 = 100.0;
 
+/// Memory a probe apple's kept trace may cost per sample (bytes): a sample is a time and a
+/// reading (16 bytes), held in the window being recorded and then in the trace, each vector up
+/// to twice its length as it grows (4 x 16).
+pub const PROBE_SAMPLE_BYTES: f64 = 64.0;
+
+/// Bytes of one row of `probe_NAME_trace.csv` (measured: 28.6 on a 10 MHz trace of the handling
+/// line, a time and a reading in full precision; rounded up).
+pub const PROBE_ROW_BYTES: f64 = 40.0;
+
+/// How many samples the trace of a probe apple of `sc` can keep: every sampling instant of the
+/// run, `duration_s` times its rate (the windows kept around impacts cannot hold more; how many
+/// impacts a line gives is not known before the run). Listed in order of the apples: (index,
+/// samples).
+pub fn probe_samples(sc: &Scenario) -> Vec<(usize, f64)> {
+    sc.apples
+        .iter()
+        .enumerate()
+        .filter_map(|(k, a)| {
+            let p = a.probe?;
+            Some((k, (sc.duration_s * p.sample_rate_hz).floor() + 1.0))
+        })
+        .collect()
+}
+
+/// The probe whose trace weighs most, with its samples, if the scenario has probes.
+fn largest_probe(sc: &Scenario) -> Option<(usize, f64)> {
+    probe_samples(sc)
+        .into_iter()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// The refusal of a probe trace's estimate (`what`: memory or output) naming the probe's rate.
+fn probe_refusal(sc: &Scenario, k: usize, samples: f64, what: &str, limit: &str) -> ScenarioError {
+    let a = &sc.apples[k];
+    let rate = a.probe.map_or(0.0, |p| p.sample_rate_hz);
+    ScenarioError::invalid(
+        format!("apples[{k}].probe.sample_rate_hz"),
+        format!(
+            "the probe '{}' sampled at {} Hz over {} s can keep {samples:.3e} samples in its trace, {what}, more than {limit}: sample less often, or raise {limit_field}",
+            a.name,
+            super::ranges::num(rate),
+            super::ranges::num(sc.duration_s),
+            limit_field = limit.split(" =").next().unwrap_or(limit),
+        ),
+    )
+}
+
 /// How many free-turning rollers `sc` has (a bed counts each of its rollers): the rows of
 /// `rollers.csv` per sample.
+/// Counted from the specs, never by expanding a bed: the budgets are checked before a bed's
+/// `count` is (a count of 4294967295 expanded here asked for 1.2 TB).
 pub fn free_rollers(sc: &Scenario) -> f64 {
     sc.surfaces
         .iter()
-        .flat_map(|s| s.units())
-        .filter(|u| matches!(u, super::SurfaceSpec::Roller(r) if r.free_turning.is_some()))
-        .count() as f64
+        .map(|s| match s {
+            super::SurfaceSpec::Roller(r) if r.free_turning.is_some() => 1.0,
+            super::SurfaceSpec::RollerBed(b) if b.free_turning.is_some() => f64::from(b.count),
+            _ => 0.0,
+        })
+        .sum()
 }
 
 /// How many apples a run of `sc` can hold: the listed ones, every generator's count and every
@@ -48,8 +100,12 @@ pub fn planned_apples(sc: &Scenario) -> f64 {
     sc.apples.len() as f64 + generated + fed
 }
 
-/// The memory a run of `sc` is estimated to need (bytes).
+/// The memory a run of `sc` is estimated to need (bytes): its apples, and its probes' traces.
 pub fn memory_bytes(sc: &Scenario) -> f64 {
+    apples_memory_bytes(sc) + probes_memory_bytes(sc)
+}
+
+fn apples_memory_bytes(sc: &Scenario) -> f64 {
     let per_apple = BYTES_PER_APPLE
         + if sc.output.force_history {
             HISTORY_BYTES_PER_APPLE
@@ -59,11 +115,37 @@ pub fn memory_bytes(sc: &Scenario) -> f64 {
     planned_apples(sc) * per_apple
 }
 
-/// Refuses a scenario whose estimated memory exceeds `max_memory_mb`, naming the field to change.
+fn probes_memory_bytes(sc: &Scenario) -> f64 {
+    probe_samples(sc)
+        .iter()
+        .map(|(_, n)| n * PROBE_SAMPLE_BYTES)
+        .sum()
+}
+
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Refuses a scenario whose estimated memory exceeds `max_memory_mb`, naming the field to change:
+/// a probe's `sample_rate_hz` when its trace weighs more than the apples (a probe sampling at
+/// 10 MHz over a 30 s line asked for 8 GiB and aborted), else the apples' field.
 pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioError> {
     let bytes = memory_bytes(sc);
     let limit = max_memory_mb * 1024.0 * 1024.0;
     if bytes > limit {
+        if let Some((k, samples)) = largest_probe(sc) {
+            if samples * PROBE_SAMPLE_BYTES >= apples_memory_bytes(sc) {
+                return Err(probe_refusal(
+                    sc,
+                    k,
+                    samples,
+                    &format!(
+                        "about {:.1} GiB of memory ({PROBE_SAMPLE_BYTES} bytes per sample; the run's estimate {:.1} GiB in all)",
+                        samples * PROBE_SAMPLE_BYTES / GIB,
+                        bytes / GIB
+                    ),
+                    &format!("model.max_memory_mb = {max_memory_mb} MiB"),
+                ));
+            }
+        }
         let field = if sc.sources.iter().any(|s| f64::from(s.count) > 1e5) {
             "sources"
         } else if sc.generators.is_empty() {
@@ -77,7 +159,7 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
                 "the scenario holds {:.3e} apples, about {:.1} GiB of memory for the run (estimated {:.0} KiB per apple{}), more than model.max_memory_mb = {max_memory_mb} MiB: fewer apples, or raise model.max_memory_mb",
                 planned_apples(sc),
                 bytes / (1024.0 * 1024.0 * 1024.0),
-                bytes / planned_apples(sc) / 1024.0,
+                apples_memory_bytes(sc) / planned_apples(sc) / 1024.0,
                 if sc.output.force_history {
                     " with force histories; output.force_history: false saves most of it"
                 } else {
@@ -93,15 +175,45 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
 /// row per apple per sample, and `rollers.csv`, one row per free-turning roller per sample (the
 /// other files grow with the contacts, far less).
 pub fn output_bytes(sc: &Scenario) -> f64 {
+    samples_output_bytes(sc) + probes_output_bytes(sc)
+}
+
+/// `bodies.csv` and `rollers.csv`.
+fn samples_output_bytes(sc: &Scenario) -> f64 {
     let samples = (sc.duration_s / sc.output.sample_interval_s).floor() + 2.0;
     samples * (planned_apples(sc) * BODIES_ROW_BYTES + free_rollers(sc) * ROLLERS_ROW_BYTES)
 }
 
+/// The probes' `probe_NAME_trace.csv`, at most a row per sampling instant.
+fn probes_output_bytes(sc: &Scenario) -> f64 {
+    probe_samples(sc)
+        .iter()
+        .map(|(_, n)| n * PROBE_ROW_BYTES)
+        .sum()
+}
+
 /// Refuses a scenario whose output is estimated beyond `max_output_mb`, naming the field to
-/// change (a sample interval of 1e-9 s over 1 ms wrote a 97 MB `bodies.csv` for one apple).
+/// change (a sample interval of 1e-9 s over 1 ms wrote a 97 MB `bodies.csv` for one apple; a
+/// probe at 10 MHz wrote 573 MB of trace in two seconds of line: its `sample_rate_hz` is named
+/// when its trace is the larger part).
 pub fn check_output(sc: &Scenario, max_output_mb: f64) -> Result<(), ScenarioError> {
     let bytes = output_bytes(sc);
     if bytes > max_output_mb * 1024.0 * 1024.0 {
+        if let Some((k, samples)) = largest_probe(sc) {
+            if samples * PROBE_ROW_BYTES >= samples_output_bytes(sc) {
+                return Err(probe_refusal(
+                    sc,
+                    k,
+                    samples,
+                    &format!(
+                        "about {:.1} GiB of probe_NAME_trace.csv ({PROBE_ROW_BYTES} bytes per row; the run's output {:.1} GiB in all)",
+                        samples * PROBE_ROW_BYTES / GIB,
+                        bytes / GIB
+                    ),
+                    &format!("model.max_output_mb = {max_output_mb} MiB"),
+                ));
+            }
+        }
         return Err(ScenarioError::invalid(
             "output.sample_interval_s",
             format!(

@@ -511,6 +511,13 @@ pub fn expand(
             // 1000 attempts per apple.
             let volume = (hi - lo).max(Vec3::ZERO).element_product();
             let smallest = s.diameter_m.min_m();
+            if (hi - lo - Vec3::splat(smallest)).min_element() < 0.0 {
+                // The region, not the count: no apple fits in it at all.
+                return Err(ScenarioError::invalid(
+                    format!("{field}.region_max_m"),
+                    format!("the region is smaller than an apple of {smallest} m"),
+                ));
+            }
             let needed = s.count as f64 * std::f64::consts::PI / 6.0 * smallest.powi(3);
             if needed > 0.64 * volume {
                 return Err(ScenarioError::invalid(

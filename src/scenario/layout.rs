@@ -12,7 +12,8 @@
 //! The resolved positions are written into `position_m`, so `scenario.json` (the scenario as
 //! run) holds both; a `position_m` given beside a `place` must agree with it.
 
-use super::surfaces::{RotationSpec, SurfaceSpec};
+use super::ranges::{self, num};
+use super::surfaces::{ChuteProfile, RotationSpec, SurfaceSpec};
 use super::{Scenario, ScenarioError};
 use crate::math::{vec3, Vec3};
 use rapier3d_f64::math::Rotation;
@@ -79,6 +80,11 @@ struct Frame {
     flow: Vec3,
     /// Outward normal of the face apples ride on, local.
     up: Vec3,
+    /// Length of the face apples ride on, along the flow from the upstream port (m).
+    length_m: f64,
+    /// Half its width across the flow (m); `None` for a trough, whose apples ride on its
+    /// bottom line.
+    half_width_m: Option<f64>,
 }
 
 fn rotation(r: &Option<RotationSpec>, field: &str) -> Result<Rotation, ScenarioError> {
@@ -88,7 +94,24 @@ fn rotation(r: &Option<RotationSpec>, field: &str) -> Result<Rotation, ScenarioE
     }
 }
 
+/// The frame of a surface that has ports, its sizes range-checked first (a port of a belt
+/// 1e308 m long is no place: the belt's `size_m` is the mistake, not the place's).
 fn frame_of(s: &SurfaceSpec, field: &str) -> Result<Option<Frame>, ScenarioError> {
+    let sizes = |name: &str, v: [f64; 3]| ranges::LENGTH.check_each(&format!("{field}.{name}"), v);
+    let size = |name: &str, x: f64| ranges::LENGTH.check(&format!("{field}.{name}"), x);
+    match s {
+        SurfaceSpec::Conveyor(c) => sizes("size_m", c.size_m)?,
+        SurfaceSpec::Box(b) => sizes("size_m", b.size_m)?,
+        SurfaceSpec::Chute(c) => {
+            size("length_m", c.length_m)?;
+            ranges::INCLINE.check(&format!("{field}.incline_deg"), c.incline_deg)?;
+            if let Some(w) = c.width_m {
+                size("width_m", w)?;
+            }
+        }
+        SurfaceSpec::Bin(b) => sizes("inner_size_m", b.inner_size_m)?,
+        _ => {}
+    }
     Ok(Some(match s {
         SurfaceSpec::Conveyor(c) => {
             let [l, _, t] = c.size_m;
@@ -101,6 +124,8 @@ fn frame_of(s: &SurfaceSpec, field: &str) -> Result<Option<Frame>, ScenarioError
                 ],
                 flow: Vec3::new(sign, 0.0, 0.0),
                 up: Vec3::Z,
+                length_m: l,
+                half_width_m: Some(c.size_m[1] / 2.0),
             }
         }
         SurfaceSpec::Box(b) => {
@@ -114,6 +139,8 @@ fn frame_of(s: &SurfaceSpec, field: &str) -> Result<Option<Frame>, ScenarioError
                 ],
                 flow: Vec3::X,
                 up: Vec3::Z,
+                length_m: l,
+                half_width_m: Some(b.size_m[1] / 2.0),
             }
         }
         SurfaceSpec::Chute(c) => {
@@ -128,6 +155,12 @@ fn frame_of(s: &SurfaceSpec, field: &str) -> Result<Option<Frame>, ScenarioError
                 ],
                 flow: Vec3::X,
                 up: Vec3::Z,
+                length_m: c.length_m,
+                // A flat chute without its width is refused by validation, naming width_m.
+                half_width_m: match c.profile {
+                    ChuteProfile::Trough => None,
+                    ChuteProfile::Flat => Some(c.width_m.map_or(f64::INFINITY, |w| w / 2.0)),
+                },
             }
         }
         SurfaceSpec::Bin(b) => Frame {
@@ -138,6 +171,8 @@ fn frame_of(s: &SurfaceSpec, field: &str) -> Result<Option<Frame>, ScenarioError
             ],
             flow: Vec3::X,
             up: Vec3::Z,
+            length_m: b.inner_size_m[0],
+            half_width_m: Some(b.inner_size_m[1] / 2.0),
         },
         SurfaceSpec::Plane(_)
         | SurfaceSpec::Mesh(_)
@@ -280,12 +315,94 @@ fn put_on(
             "missing: give the position, or a `place`",
         ));
     }
+    ranges::POSITION.check_each(&format!("{sf}.position_m"), origin)?;
+    // The apple's centre must be over the face it is put on: off it, the apple would start in
+    // mid-air beside the surface (or inside its side), wherever the scenario meant it to ride.
+    let length = frame.length_m;
+    if !(0.0..=length).contains(&on.along_m) {
+        return Err(ScenarioError::invalid(
+            format!("{field}.on.along_m"),
+            format!(
+                "{} m is off surface '{}': along_m runs from 0 (its upstream end, the {} port) to {} m (its length)",
+                num(on.along_m),
+                on.surface,
+                frame.ports[0].0,
+                num(length)
+            ),
+        ));
+    }
+    match frame.half_width_m {
+        Some(hw) if on.side_m.abs() > hw => {
+            return Err(ScenarioError::invalid(
+                format!("{field}.on.side_m"),
+                format!(
+                    "{} m is off surface '{}': its face is {} m wide, side_m runs from -{} to {} m",
+                    num(on.side_m),
+                    on.surface,
+                    num(2.0 * hw),
+                    num(hw),
+                    num(hw)
+                ),
+            ));
+        }
+        None if on.side_m != 0.0 => {
+            return Err(ScenarioError::invalid(
+                format!("{field}.on.side_m"),
+                format!(
+                    "{} m: on the trough '{}' an apple rests on its bottom line, side_m must be 0",
+                    num(on.side_m),
+                    on.surface
+                ),
+            ));
+        }
+        _ => {}
+    }
+    ranges::CLEARANCE
+        .check(&format!("{field}.on.clearance_m"), on.clearance_m)
+        .map_err(|e| match e {
+            ScenarioError::Invalid { field, message } if on.clearance_m < 0.0 => {
+                ScenarioError::invalid(
+                    field,
+                    format!("{message}: a negative clearance starts the apple inside the surface"),
+                )
+            }
+            e => e,
+        })?;
     let start = frame.ports[0].1;
     let side = frame.up.cross(frame.flow);
     let local =
         start + frame.flow * on.along_m + side * on.side_m + frame.up * (radius + on.clearance_m);
     let want = vec3(origin) + frame.rotation * local;
+    if !in_range(want) {
+        return Err(ScenarioError::invalid(
+            format!("{field}.on.clearance_m"),
+            format!(
+                "{} m above surface '{}' puts the apple at {}, outside the range of fruit handling ({})",
+                num(on.clearance_m),
+                on.surface,
+                show(want),
+                ranges::POSITION.describe()
+            ),
+        ));
+    }
     settle(pos, want, field)
+}
+
+/// Whether every coordinate of `p` is in the position range.
+fn in_range(p: Vec3) -> bool {
+    [p.x, p.y, p.z]
+        .iter()
+        .all(|x| ranges::POSITION.contains(x.abs()))
+}
+
+/// A point as messages write it.
+fn show(p: Vec3) -> String {
+    format!(
+        "[{}, {}, {}] m",
+        ranges::num3(p.x),
+        ranges::num3(p.y),
+        ranges::num3(p.z)
+    )
 }
 
 fn surface_position(s: &SurfaceSpec) -> [f64; 3] {
@@ -313,7 +430,8 @@ fn resolve_surfaces(surfaces: &mut [SurfaceSpec]) -> Result<(), ScenarioError> {
         };
         match place {
             Some(p) => {
-                let (target, port) = p.at.split_once('.').ok_or_else(|| {
+                // Ports have no dots, names may: the port follows the last one.
+                let (target, port) = p.at.rsplit_once('.').ok_or_else(|| {
                     ScenarioError::invalid(
                         format!("{field}.place.at"),
                         format!("'{}': write SURFACE.PORT, e.g. \"belt.discharge\"", p.at),
@@ -335,6 +453,13 @@ fn resolve_surfaces(surfaces: &mut [SurfaceSpec]) -> Result<(), ScenarioError> {
                     ));
                 }
                 let _ = port;
+                for (name, x) in [
+                    ("gap_m", p.gap_m),
+                    ("drop_m", p.drop_m),
+                    ("side_m", p.side_m),
+                ] {
+                    ranges::OFFSET.check(&format!("{field}.place.{name}"), x)?;
+                }
                 pending.push(k);
             }
             None if is_unset(pos) => {
@@ -355,7 +480,7 @@ fn resolve_surfaces(surfaces: &mut [SurfaceSpec]) -> Result<(), ScenarioError> {
                 Some((Some(p), _)) => p.clone(),
                 _ => unreachable!("pending surfaces have a place"),
             };
-            let (target, port) = p.at.split_once('.').expect("checked above");
+            let (target, port) = p.at.rsplit_once('.').expect("checked above");
             let t = names
                 .iter()
                 .position(|x| x == target)
@@ -391,7 +516,9 @@ fn resolve_surfaces(surfaces: &mut [SurfaceSpec]) -> Result<(), ScenarioError> {
                         ),
                     )
                 })?;
-            let origin = vec3(surface_position(&surfaces[t]));
+            let origin = surface_position(&surfaces[t]);
+            ranges::POSITION.check_each(&format!("{tf}.position_m"), origin)?;
+            let origin = vec3(origin);
             let point = origin + ref_frame.rotation * local;
             let flow = horizontal(ref_frame.rotation * ref_frame.flow);
             let left_dir = Vec3::Z.cross(flow);
@@ -414,6 +541,20 @@ fn resolve_surfaces(surfaces: &mut [SurfaceSpec]) -> Result<(), ScenarioError> {
                     )
                 })?;
             let want = target_point - own.rotation * offset;
+            if !in_range(want) {
+                return Err(ScenarioError::invalid(
+                    format!("{field}.place"),
+                    format!(
+                        "'{}' with gap_m {}, drop_m {} and side_m {} puts the surface at {}, outside the range of fruit handling ({})",
+                        p.at,
+                        num(p.gap_m),
+                        num(p.drop_m),
+                        num(p.side_m),
+                        show(want),
+                        ranges::POSITION.describe()
+                    ),
+                ));
+            }
             let (_, pos) = place_of(&mut surfaces[k]).expect("placeable");
             settle(pos, want, &field)?;
             progressed = true;

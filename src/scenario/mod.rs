@@ -70,20 +70,73 @@ impl ScenarioError {
     }
 }
 
-/// `s` with its control characters escaped (`\n`, `\u{1b}`), so that it prints as one line.
+/// `s` with its control characters escaped (`\n`, `\u{1b}`), so that it prints as one line, and
+/// shortened where a user's text would swamp it ([`shorten`]: a 100,000-character name was
+/// echoed in full).
 pub(crate) fn one_line(s: String) -> String {
-    if !s.contains(char::is_control) {
+    let s = if s.contains(char::is_control) {
+        s.chars()
+            .map(|c| {
+                if c.is_control() {
+                    c.escape_default().to_string()
+                } else {
+                    c.to_string()
+                }
+            })
+            .collect()
+    } else {
+        s
+    };
+    shorten(s)
+}
+
+/// Longest run of characters without white space an error line shows whole ([`shorten`]).
+pub const MAX_ECHOED_WORD_CHARS: usize = 120;
+
+/// Longest error line shown whole, in characters ([`shorten`]).
+pub const MAX_ECHOED_LINE_CHARS: usize = 4000;
+
+/// An error line as it is shown: every run of more than [`MAX_ECHOED_WORD_CHARS`] characters
+/// without white space (a long name, alone or inside a field path) keeps its first and last 40
+/// characters around `...(N characters)...`, and a line still longer than
+/// [`MAX_ECHOED_LINE_CHARS`] keeps its first 2000 and last 1000 characters likewise. Short
+/// lines are returned as they are.
+pub fn shorten(s: String) -> String {
+    const KEEP: usize = 40;
+    let cut = |chars: &[char], head: usize, tail: usize| -> String {
+        let mut out: String = chars[..head].iter().collect();
+        out.push_str(&format!("...({} characters)...", chars.len()));
+        out.extend(&chars[chars.len() - tail..]);
+        out
+    };
+    if s.len() <= MAX_ECHOED_WORD_CHARS {
         return s;
     }
-    s.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_default().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
+    let mut out = String::with_capacity(s.len().min(2 * MAX_ECHOED_LINE_CHARS));
+    let mut word: Vec<char> = Vec::new();
+    let flush = |word: &mut Vec<char>, out: &mut String| {
+        if word.len() > MAX_ECHOED_WORD_CHARS {
+            out.push_str(&cut(word, KEEP, KEEP));
+        } else {
+            out.extend(word.iter());
+        }
+        word.clear();
+    };
+    for c in s.chars() {
+        if c.is_whitespace() {
+            flush(&mut word, &mut out);
+            out.push(c);
+        } else {
+            word.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    let chars: Vec<char> = out.chars().collect();
+    if chars.len() > MAX_ECHOED_LINE_CHARS {
+        cut(&chars, 2000, 1000)
+    } else {
+        out
+    }
 }
 
 /// A complete scenario.

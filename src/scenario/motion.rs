@@ -140,6 +140,12 @@ pub fn validate(f: &str, m: &MotionSpec) -> Result<(), ScenarioError> {
                     }
                 }
             }
+            (None, None) => {
+                return Err(ScenarioError::invalid(
+                    f,
+                    "missing: give velocity_m_s or keyframes, exactly one",
+                ))
+            }
             _ => {
                 return Err(ScenarioError::invalid(
                     format!("{f}.velocity_m_s"),
@@ -179,6 +185,12 @@ pub fn validate(f: &str, m: &MotionSpec) -> Result<(), ScenarioError> {
                         ));
                     }
                 }
+            }
+            (None, None) => {
+                return Err(ScenarioError::invalid(
+                    f,
+                    "missing: give angular_velocity_rad_s or keyframes, exactly one",
+                ))
             }
             _ => {
                 return Err(ScenarioError::invalid(

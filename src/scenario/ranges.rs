@@ -272,6 +272,23 @@ pub const POSITION: Range = magnitude(
     "m",
     "each coordinate of `position_m`, `point_m`, `origin_m`, `region_min_m`, `region_max_m`, `motion.translation.keyframes` offsets, and of every generated apple",
 );
+/// How far a `place` moves a surface from the port it is put at.
+pub const OFFSET: Range = magnitude(
+    "placement offset",
+    "|d|",
+    1e4,
+    "m",
+    "`place.gap_m`, `place.drop_m`, `place.side_m`",
+);
+/// The gap between an apple put `on` a surface and the surface.
+pub const CLEARANCE: Range = closed(
+    "clearance",
+    "c",
+    0.0,
+    1e4,
+    "m",
+    "`on.clearance_m` (0: the apple touches the surface)",
+);
 /// Apple diameters.
 pub const DIAMETER: Range = closed(
     "apple diameter",
@@ -653,6 +670,8 @@ pub const TABLE: &[Range] = &[
     ANGULAR_SPEED,
     ACCELERATION,
     POSITION,
+    OFFSET,
+    CLEARANCE,
     DIAMETER,
     DIAMETER_SPREAD,
     MASS,

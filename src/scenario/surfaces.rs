@@ -578,29 +578,31 @@ impl RollerBedSpec {
     /// `pitch_direction` (normalised; a zero direction leaves them all at `position_m`, which
     /// validation refuses).
     pub fn rollers(&self) -> Vec<RollerSpec> {
+        (0..self.count).map(|i| self.roller(i)).collect()
+    }
+
+    /// The bed's roller `i` (`NAME/i`), built alone: validation checks a bed's fields on its
+    /// first and last rollers without expanding the others.
+    pub fn roller(&self, i: u32) -> RollerSpec {
         let d = vec3(self.pitch_direction);
         let step = if d.length() > 0.0 {
             d.normalize() * self.pitch_m
         } else {
             Vec3::ZERO
         };
-        (0..self.count)
-            .map(|i| {
-                let c = vec3(self.position_m) + step * f64::from(i);
-                RollerSpec {
-                    name: format!("{}/{i}", self.name),
-                    material: self.material.clone(),
-                    radius_m: self.radius_m,
-                    length_m: self.length_m,
-                    position_m: [c.x, c.y, c.z],
-                    axis: self.axis,
-                    angular_velocity_rad_s: self.angular_velocity_rad_s,
-                    contact_model: self.contact_model,
-                    motion: self.motion.clone(),
-                    free_turning: self.free_turning.clone(),
-                }
-            })
-            .collect()
+        let c = vec3(self.position_m) + step * f64::from(i);
+        RollerSpec {
+            name: format!("{}/{i}", self.name),
+            material: self.material.clone(),
+            radius_m: self.radius_m,
+            length_m: self.length_m,
+            position_m: [c.x, c.y, c.z],
+            axis: self.axis,
+            angular_velocity_rad_s: self.angular_velocity_rad_s,
+            contact_model: self.contact_model,
+            motion: self.motion.clone(),
+            free_turning: self.free_turning.clone(),
+        }
     }
 }
 

@@ -127,19 +127,47 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
     };
     // The modulus derived from the other one and nu must make sense too (nu near -1 makes
     // G = E / (2 (1 + nu)) explode).
+    // The field named: Poisson's ratio when a typical one (0.3) would have made the derived
+    // modulus sensible, else the modulus given (G = E / 2.6 of 2000 Pa is out of range whatever
+    // nu: the modulus is the mistake).
+    let given = if m.shear_modulus_pa.is_some() {
+        ("shear_modulus_pa", m.shear_modulus_pa.unwrap_or(0.0))
+    } else {
+        ("youngs_modulus_pa", m.youngs_modulus_pa.unwrap_or(0.0))
+    };
+    let typical = if m.shear_modulus_pa.is_some() {
+        2.0 * given.1 * 1.3
+    } else {
+        given.1 / 2.6
+    };
+    let culprit = if ranges::MODULUS.contains(typical) {
+        "poisson_ratio"
+    } else {
+        given.0
+    };
     for (derived, symbol, v) in [
         ("shear", "G", built.shear_modulus_pa),
         ("Young's", "E", built.youngs_modulus_pa),
     ] {
         if !ranges::MODULUS.contains(v) {
             return Err(ScenarioError::invalid(
-                format!("{base}.poisson_ratio"),
-                format!(
-                    "{} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
-                    num(nu),
-                    ranges::num3(v),
-                    ranges::MODULUS.describe()
-                ),
+                format!("{base}.{culprit}"),
+                if culprit == "poisson_ratio" {
+                    format!(
+                        "{} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
+                        num(nu),
+                        ranges::num3(v),
+                        ranges::MODULUS.describe()
+                    )
+                } else {
+                    format!(
+                        "{} Pa with poisson_ratio {} gives a {derived} modulus {symbol} = {} Pa, outside the range of fruit handling ({})",
+                        num(given.1),
+                        num(nu),
+                        ranges::num3(v),
+                        ranges::MODULUS.describe()
+                    )
+                },
             ));
         }
     }
@@ -253,6 +281,7 @@ pub fn validate(sc: &Scenario) -> R {
     for (k, a) in sc.apples.iter().enumerate() {
         apple(&format!("apples[{k}]"), a, &mats, &mut names)?;
     }
+    probe_files(sc)?;
     for (k, g) in sc.generators.iter().enumerate() {
         generator(&format!("generators[{k}]"), g, &mats)?;
     }
@@ -261,11 +290,13 @@ pub fn validate(sc: &Scenario) -> R {
     }
     prefixes(sc)?;
     apple_count(sc)?;
+    bed_counts(sc)?;
     super::budget::check_memory(sc, sc.model.max_memory_mb)?;
     super::budget::check_output(sc, sc.model.max_output_mb)?;
     for (k, s) in sc.surfaces.iter().enumerate() {
         surface(&format!("surfaces[{k}]"), s, &mats, &mut names)?;
     }
+    troughs(sc)?;
     // The apples present at the start, each with the generator that made it (None: listed).
     let mut all = sc.apples.clone();
     let mut made_by: Vec<Option<usize>> = vec![None; all.len()];
@@ -318,7 +349,8 @@ pub fn validate(sc: &Scenario) -> R {
     }
     inside_bounds(sc, &all, |k| match made_by[k] {
         None => format!("apples[{k}].position_m"),
-        Some(g) => format!("generators[{g}]"),
+        // The field that places the generator's apples.
+        Some(_) => sc.initial_apple_field(k),
     })?;
     check_apple_overlaps(&all, |j, i| match (made_by[j], made_by[i]) {
         (None, _) => format!("apples[{j}].position_m"),
@@ -392,6 +424,38 @@ fn inside_bounds(sc: &Scenario, all: &[AppleSpec], field: impl Fn(usize) -> Stri
         outside(b.min_m),
         outside(b.max_m)
     );
+    // When no apple and no spawn point is inside, the box is the mistake (a mistyped bound),
+    // not the apples: the bound that excludes the first one is named.
+    let spawn_inside = |s: &crate::scenario::SourceSpec| {
+        let j = s.jitter_m;
+        b.contains([0, 1, 2].map(|i| s.position_m[i] - j))
+            && b.contains([0, 1, 2].map(|i| s.position_m[i] + j))
+    };
+    let none_inside =
+        !all.iter().any(|a| b.contains(a.position_m)) && !sc.sources.iter().any(spawn_inside);
+    let first = all
+        .first()
+        .map(|a| a.position_m)
+        .or_else(|| sc.sources.first().map(|s| s.position_m));
+    if let (true, Some(p)) = (none_inside, first) {
+        for i in 0..3 {
+            let (side, bound) = if p[i] < b.min_m[i] {
+                ("min_m", b.min_m[i])
+            } else if p[i] > b.max_m[i] {
+                ("max_m", b.max_m[i])
+            } else {
+                continue;
+            };
+            return Err(ScenarioError::invalid(
+                format!("model.scene_bounds.{side}[{i}]"),
+                format!(
+                    "{} m leaves every apple and spawn point outside the box (the first at {}): every apple would leave the scene at once",
+                    num(bound),
+                    outside(p)
+                ),
+            ));
+        }
+    }
     for (k, a) in all.iter().enumerate() {
         if !b.contains(a.position_m) {
             return Err(ScenarioError::invalid(
@@ -532,6 +596,41 @@ fn apple(
         ranges::PROBE_RATE.check(&format!("{f}.probe.sample_rate_hz"), p.sample_rate_hz)?;
         ranges::PROBE_TRIGGER.check(&format!("{f}.probe.trigger_g"), p.trigger_g)?;
         ranges::PROBE_WINDOW.check(&format!("{f}.probe.window_s"), p.window_s)?;
+    }
+    Ok(())
+}
+
+/// A probe apple's name makes its files' names ([`crate::record::probe::file_stem`]): two that
+/// make the same file would write one over the other (the first probe's record lost), and one
+/// too long for a file name would fail after the whole run. Both refused here, naming the
+/// second apple's name.
+fn probe_files(sc: &Scenario) -> R {
+    use crate::record::probe::{file_stem, MAX_PROBE_NAME_CHARS};
+    let mut stems: BTreeMap<String, usize> = BTreeMap::new();
+    for (k, a) in sc.apples.iter().enumerate() {
+        if a.probe.is_none() {
+            continue;
+        }
+        let chars = a.name.chars().count();
+        if chars > MAX_PROBE_NAME_CHARS {
+            return Err(ScenarioError::invalid(
+                format!("apples[{k}].name"),
+                format!(
+                    "a probe's name of {chars} characters: its files are named after it (probe_NAME_trace.csv), give at most {MAX_PROBE_NAME_CHARS}"
+                ),
+            ));
+        }
+        let stem = file_stem(&a.name);
+        if let Some(&j) = stems.get(&stem) {
+            return Err(ScenarioError::invalid(
+                format!("apples[{k}].name"),
+                format!(
+                    "the probe '{}' would write the same files as the probe '{}' (apples[{j}]): {stem}_trace.csv (a name's characters other than letters, digits, '-' and '_' become '_'); rename one of them",
+                    a.name, sc.apples[j].name
+                ),
+            ));
+        }
+        stems.insert(stem, k);
     }
     Ok(())
 }
@@ -681,25 +780,29 @@ fn surface(
         }
         SurfaceSpec::Roller(r) => roller(f, r, mats)?,
         SurfaceSpec::RollerBed(b) => {
-            if !(1..=MAX_BED_ROLLERS).contains(&b.count) {
-                return Err(ScenarioError::invalid(
-                    format!("{f}.count"),
-                    format!(
-                        "{} rollers: a roller bed has 1 to {MAX_BED_ROLLERS}",
-                        b.count
-                    ),
-                ));
-            }
+            bed_count(f, b.count)?;
+            // The fields every roller shares (radius, length, material, rates, the first
+            // position) before the pitch that is compared with them.
+            roller(f, &b.roller(0), mats)?;
             let axis = vec3(super::motion::unit_axis(&format!("{f}.axis"), b.axis)?);
             let dir = vec3(super::motion::unit_axis(
                 &format!("{f}.pitch_direction"),
                 b.pitch_direction,
             )?);
             if axis.dot(dir).abs() > 1e-9 {
+                // Lines are laid out along the world axes: when only one of the two is along an
+                // axis, the other is the likely mistake and is named (the pitch direction
+                // otherwise).
+                let aligned = |v: [f64; 3]| v.iter().filter(|x| **x != 0.0).count() == 1;
+                let (field, other) = if aligned(b.pitch_direction) && !aligned(b.axis) {
+                    ("axis", "pitch_direction")
+                } else {
+                    ("pitch_direction", "axis")
+                };
                 return Err(ScenarioError::invalid(
-                    format!("{f}.pitch_direction"),
+                    format!("{f}.{field}"),
                     format!(
-                        "it makes {:.3} deg with the axis: the rollers must follow each other across their axes (pitch_direction at right angles to axis)",
+                        "it makes {:.3} deg with the {other}: the rollers must follow each other across their axes (pitch_direction at right angles to axis)",
                         axis.dot(dir).clamp(-1.0, 1.0).acos().to_degrees()
                     ),
                 ));
@@ -715,9 +818,27 @@ fn surface(
                     ),
                 ));
             }
-            // Every roller is a roller (its fields are the bed's).
-            for r in b.rollers() {
-                roller(f, &r, mats)?;
+            // The rollers differ only in their positions: the last one must be in range too.
+            let last = b.roller(b.count - 1);
+            if !last
+                .position_m
+                .iter()
+                .all(|x| ranges::POSITION.contains(x.abs()))
+            {
+                let p = last.position_m;
+                return Err(ScenarioError::invalid(
+                    format!("{f}.pitch_m"),
+                    format!(
+                        "{} rollers {} m apart put the last one, '{}', at [{}, {}, {}] m, outside the range of fruit handling ({}): fewer rollers or a shorter pitch_m",
+                        b.count,
+                        num(b.pitch_m),
+                        last.name,
+                        num(p[0]),
+                        num(p[1]),
+                        num(p[2]),
+                        ranges::POSITION.describe()
+                    ),
+                ));
             }
         }
     }
@@ -727,8 +848,79 @@ fn surface(
     Ok(())
 }
 
+/// A trough must be wider than every apple that can reach it: a trough tighter than an apple
+/// is a conforming contact, outside Hertz theory (K1 + K2 <= 0). Checked against the largest
+/// apple of every list, generator and source before the run (a fed apple met it 0.28 s into the
+/// run, refused with no field). The field is the trough's `radius_m`.
+fn troughs(sc: &Scenario) -> R {
+    let mut largest: Vec<(f64, String)> = Vec::new();
+    for (k, a) in sc.apples.iter().enumerate() {
+        largest.push((
+            a.diameter_m / 2.0,
+            format!("apple '{}' (apples[{k}])", a.name),
+        ));
+    }
+    for (k, g) in sc.generators.iter().enumerate() {
+        let d = match g {
+            GeneratorSpec::Grid(s) => s.diameter_m.max_m(),
+            GeneratorSpec::RandomFill(s) => s.diameter_m.max_m(),
+            GeneratorSpec::File(s) => s.loaded.as_ref().map_or(0.0, |l| {
+                l.0.iter().map(|a| a.diameter_m).fold(0.0, f64::max)
+            }),
+        };
+        largest.push((d / 2.0, format!("the apples of generators[{k}]")));
+    }
+    for (k, src) in sc.sources.iter().enumerate() {
+        largest.push((
+            src.diameter_m.max_m() / 2.0,
+            format!("the apples of sources[{k}] ('{}')", src.name),
+        ));
+    }
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        let SurfaceSpec::Chute(c) = s else { continue };
+        let (ChuteProfile::Trough, Some(rs)) = (c.profile, c.radius_m) else {
+            continue;
+        };
+        if let Some((r, who)) = largest.iter().find(|(r, _)| *r >= rs) {
+            return Err(ScenarioError::invalid(
+                format!("surfaces[{k}].radius_m"),
+                format!(
+                    "the trough '{}' of radius {} m is tighter than {who}, radius up to {} m: that would be a conforming contact (K1 + K2 <= 0), outside Hertz theory; make radius_m larger than the largest apple's radius",
+                    c.name,
+                    num(rs),
+                    num(*r)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The most rollers a roller bed may have (each is a rapier body and a surface).
 pub const MAX_BED_ROLLERS: u32 = 10_000;
+
+/// A roller bed's `count` in range (`f` the bed's JSON path).
+fn bed_count(f: &str, count: u32) -> R {
+    if !(1..=MAX_BED_ROLLERS).contains(&count) {
+        return Err(ScenarioError::invalid(
+            format!("{f}.count"),
+            format!("{count} rollers: a roller bed has 1 to {MAX_BED_ROLLERS}"),
+        ));
+    }
+    Ok(())
+}
+
+/// Every roller bed's `count` in range, checked before anything counts or expands the beds'
+/// rollers (the budgets, the surfaces' own checks): a count of 4294967295 expanded first asked
+/// for 1.2 TB and aborted, one of 1e6 took 0.9 GB before it was refused.
+fn bed_counts(sc: &Scenario) -> R {
+    for (k, s) in sc.surfaces.iter().enumerate() {
+        if let SurfaceSpec::RollerBed(b) = s {
+            bed_count(&format!("surfaces[{k}]"), b.count)?;
+        }
+    }
+    Ok(())
+}
 
 /// The checks of a roller (`f` its JSON path; a roller bed's rollers share the bed's fields).
 fn roller(f: &str, r: &RollerSpec, mats: &BTreeMap<&str, Material>) -> R {
@@ -742,10 +934,16 @@ fn roller(f: &str, r: &RollerSpec, mats: &BTreeMap<&str, Material>) -> R {
     super::motion::unit_axis(&format!("{f}.axis"), r.axis)?;
     let w = r.angular_velocity_rad_s;
     ranges::ANGULAR_SPEED.check_abs(&format!("{f}.angular_velocity_rad_s"), w)?;
-    // Its surface speed is a speed like any other.
+    // Its surface speed is a speed like any other. The field named: the radius when the rate
+    // would be sensible on any roller of a line (0.5 m, a drum), else the rate.
     if !ranges::SPEED.contains((w * r.radius_m).abs()) {
+        let field = if ranges::SPEED.contains((w * 0.5).abs()) {
+            "radius_m"
+        } else {
+            "angular_velocity_rad_s"
+        };
         return Err(ScenarioError::invalid(
-                format!("{f}.angular_velocity_rad_s"),
+                format!("{f}.{field}"),
                 format!(
                     "{} rad/s on a radius of {} m moves the roller's surface at {} m/s, outside the range of fruit handling ({})",
                     num(w),

@@ -73,6 +73,23 @@ pub enum SimError {
         /// The fastest apple then.
         apple: String,
     },
+    /// A free-turning roller's spin ran away (not finite, or its surface faster than any speed
+    /// of fruit handling): its update is unstable at this step (docs/physics.md 12.5).
+    #[error("{field}: the spin of the free-turning roller '{roller}' ran away at t = {} s: {spin_rad_s:e} rad/s, a surface speed of {surface_speed_m_s:e} m/s (beyond |v| <= 100 m/s, or not finite): its explicit update from the contacts' friction is unstable with {inertia_kg_m2:e} kg m^2 at this step; give a larger moment of inertia or a shorter step", crate::math::secs(*time_s))]
+    RollerRunaway {
+        /// The JSON path of the roller's moment of inertia.
+        field: String,
+        /// The roller.
+        roller: String,
+        /// Simulated time.
+        time_s: f64,
+        /// Its rate then (rad/s).
+        spin_rad_s: f64,
+        /// Its surface speed then (m/s).
+        surface_speed_m_s: f64,
+        /// Its moment of inertia (kg m^2).
+        inertia_kg_m2: f64,
+    },
     /// The run would take too many steps.
     #[error("model.max_steps: the run needs more than model.max_steps = {max_steps} steps (at t = {} s of {} s with steps of {dt_s:e} s): use a larger time_step_s, \"auto\" or \"adaptive\", or raise model.max_steps", crate::math::secs(*time_s), crate::math::secs(*duration_s))]
     TooManySteps {
@@ -276,6 +293,8 @@ impl Simulation {
         // plan. Refused with the estimate before anything is stepped.
         let world = world::build(sc, base_dir)?;
         let plan = timestep::plan(sc, &world);
+        timestep::check_free_rollers(sc, &world, &plan).map_err(BuildError::from)?;
+        timestep::check_tunnelling(sc, &world, &plan).map_err(BuildError::from)?;
         timestep::check_steps(sc, &world, &plan).map_err(BuildError::from)?;
         let v_bound = timestep::speed_bound(sc, &world).max(0.01);
         let belt_or_moving = sc.surfaces.iter().any(|s| s.is_moving());
@@ -410,6 +429,30 @@ impl Simulation {
     /// overlap beyond the limit, an impact in too few steps) names the field that sets the step.
     fn guard(&self, e: LayerError) -> SimError {
         match e {
+            // `auto` and `adaptive` steps are set by the accuracy and capped by max_time_step_s:
+            // the step that would work is given as that cap.
+            LayerError::Unstable {
+                a,
+                b,
+                time_s,
+                what,
+                suggested_dt_s: Some(dt),
+            } if self.step_field != "time_step_s" => SimError::Guard {
+                field: self.step_field,
+                error: LayerError::Unstable {
+                    a,
+                    b,
+                    time_s,
+                    what: match what.split_once("; use time_step_s <=") {
+                        Some((head, _)) => format!(
+                            "{head}; use max_time_step_s <= {dt:.3e} (the {} step's cap) or a higher accuracy",
+                            self.step_policy
+                        ),
+                        None => what,
+                    },
+                    suggested_dt_s: Some(dt),
+                },
+            },
             LayerError::Unstable { .. } | LayerError::NonFinite { .. } => SimError::Guard {
                 field: self.step_field,
                 error: e,
@@ -522,6 +565,16 @@ impl Simulation {
                 field: self.step_field,
                 body: name,
                 time_s: self.time_s,
+            });
+        }
+        if let Some(r) = self.world.runaway_roller() {
+            return Err(SimError::RollerRunaway {
+                field: r.field,
+                roller: r.roller,
+                time_s: self.time_s,
+                spin_rad_s: r.spin_rad_s,
+                surface_speed_m_s: r.surface_speed_m_s,
+                inertia_kg_m2: r.inertia_kg_m2,
             });
         }
         self.step += 1;

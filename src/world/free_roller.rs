@@ -45,6 +45,9 @@ pub struct FreeRoller {
     inertia_kg_m2: f64,
     /// Bearing friction torque (N m).
     bearing_torque_n_m: f64,
+    /// The JSON path of its moment of inertia, for a refusal of its spin
+    /// (`surfaces[k].free_turning.moment_of_inertia_kg_m2`).
+    field: String,
     /// Rate about the axis over the last step (rad/s; right-hand rule about the axis).
     rate_rad_s: f64,
     /// Angle turned since the start (rad).
@@ -67,6 +70,21 @@ pub struct RollerSample {
     pub surface_speed_m_s: f64,
 }
 
+/// A free-turning roller whose spin ran away ([`FreeRoller::runaway`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RollerRunaway {
+    /// The JSON path of its moment of inertia.
+    pub field: String,
+    /// The roller's name.
+    pub roller: String,
+    /// Its rate (rad/s).
+    pub spin_rad_s: f64,
+    /// Its surface speed (m/s).
+    pub surface_speed_m_s: f64,
+    /// Its moment of inertia (kg m^2).
+    pub inertia_kg_m2: f64,
+}
+
 /// A free-turning roller's state at the end of a run (`summary.json`, `free_rollers`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FreeRollerState {
@@ -80,9 +98,12 @@ pub struct FreeRollerState {
 
 impl FreeRoller {
     /// A free roller on `surface` of the motion `m` (its spin axis and initial rate), with its
-    /// radius, inertia and bearing torque (validated).
+    /// radius, inertia and bearing torque (validated); `field` is the JSON path of its moment of
+    /// inertia, named if its spin runs away ([`Self::runaway`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         name: &str,
+        field: &str,
         surface: SurfaceId,
         m: &Motion,
         radius_m: f64,
@@ -98,9 +119,27 @@ impl FreeRoller {
             radius_m,
             inertia_kg_m2,
             bearing_torque_n_m,
+            field: field.to_string(),
             rate_rad_s,
             angle_rad: 0.0,
         }
+    }
+
+    /// Whether its spin ran away: a rate that is not finite, or a surface speed beyond the speed
+    /// range of fruit handling (100 m/s; no apple of a valid scene turns a roller that fast).
+    /// The explicit update of a roller too light for the step rings and grows without bound
+    /// (docs/physics.md 12.5); the run is refused then rather than finished with it.
+    pub fn runaway(&self) -> Option<RollerRunaway> {
+        let speed = (self.rate_rad_s * self.radius_m).abs();
+        (!(self.rate_rad_s.is_finite() && crate::scenario::ranges::SPEED.contains(speed))).then(
+            || RollerRunaway {
+                field: self.field.clone(),
+                roller: self.name.clone(),
+                spin_rad_s: self.rate_rad_s,
+                surface_speed_m_s: speed,
+                inertia_kg_m2: self.inertia_kg_m2,
+            },
+        )
     }
 
     /// The angle turned since the start (rad): the pose's spin angle.
@@ -170,6 +209,7 @@ mod tests {
             radius_m: 0.03,
             inertia_kg_m2: i,
             bearing_torque_n_m: tb,
+            field: "surfaces[0].free_turning.moment_of_inertia_kg_m2".into(),
             rate_rad_s: w0,
             angle_rad: 0.0,
         }

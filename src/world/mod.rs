@@ -400,6 +400,12 @@ impl World {
         self.free_rollers.iter().map(|f| f.state()).collect()
     }
 
+    /// The first free-turning roller whose spin ran away, if one did
+    /// ([`free_roller::FreeRoller::runaway`]).
+    pub fn runaway_roller(&self) -> Option<free_roller::RollerRunaway> {
+        self.free_rollers.iter().find_map(|f| f.runaway())
+    }
+
     /// Whether the scene has a free-turning roller (then the run writes `rollers.csv`).
     pub fn has_free_rollers(&self) -> bool {
         !self.free_rollers.is_empty()
@@ -635,8 +641,8 @@ impl World {
     }
 
     /// Takes apple `k` out of the simulation (it left the scene at `at`): rapier no longer moves
-    /// it, and it is parked far from everything, each apple at its own spot, where no contact
-    /// can reach it; [`Self::shown_position`] still gives `at`, the place where it left. An
+    /// it, the layer no longer looks for its contacts ([`ContactLayer::take_out_apple`]), and it
+    /// is parked far from everything, each apple at its own spot; [`Self::shown_position`] still gives `at`, the place where it left. An
     /// apple falling for ever would otherwise cost steps for nothing (an adaptive run shortens
     /// its steps so that no apple moves more than half of rapier's prediction distance per step,
     /// which a fast fall makes tiny), and one frozen where it left would be an obstacle hanging
@@ -647,6 +653,9 @@ impl World {
         }
         let parked = self.taken_out.iter().filter(|x| x.is_some()).count();
         self.taken_out[k] = Some(at);
+        // The layer forgets it: a parking spot may lie inside a surface (every spot below an
+        // upward plane does), which once failed the run with an overlap of 100 km.
+        self.layer.take_out_apple(AppleId(k as u32));
         if let Some(rb) = self.physics.bodies.get_mut(self.apple_bodies[k]) {
             rb.set_linvel(Vec3::ZERO, false);
             rb.set_angvel(Vec3::ZERO, false);

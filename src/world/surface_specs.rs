@@ -80,6 +80,7 @@ impl World {
                         let id = SurfaceId(self.surface_colliders.len() as u32 - 1);
                         self.free_rollers.push(free_roller::FreeRoller::new(
                             &r.name,
+                            &format!("{field}.free_turning.moment_of_inertia_kg_m2"),
                             id,
                             &m,
                             r.radius_m,

@@ -87,3 +87,73 @@ pub fn e_star_of(a: (f64, f64), b: (f64, f64)) -> f64 {
     let e = |(g, nu): (f64, f64)| 2.0 * g * (1.0 + nu);
     1.0 / ((1.0 - a.1 * a.1) / e(a) + (1.0 - b.1 * b.1) / e(b))
 }
+
+/// Runs `applesim run` on the scenario `v` written into a fresh folder under the system's
+/// temporary folder, through `sh -c` with `limits` before it (e.g. `ulimit -v 400000;`), and
+/// returns (exit code, standard error, seconds, the run folder). The folder is left for the
+/// caller to look into and remove.
+pub fn run_cli(
+    name: &str,
+    v: &serde_json::Value,
+    limits: &str,
+) -> (Option<i32>, String, f64, PathBuf) {
+    let dir = std::env::temp_dir().join(format!("applesim-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("scenario.json");
+    std::fs::write(&file, serde_json::to_string_pretty(v).unwrap()).unwrap();
+    let out = dir.join("out");
+    let cmd = format!(
+        "{limits} exec '{}' run '{}' --out '{}' --quiet",
+        env!("CARGO_BIN_EXE_applesim"),
+        file.display(),
+        out.display()
+    );
+    let start = std::time::Instant::now();
+    let o = std::process::Command::new("sh")
+        .args(["-c", &cmd])
+        .output()
+        .unwrap();
+    let secs = start.elapsed().as_secs_f64();
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    println!(
+        "{name}: exit {:?} in {secs:.2} s: {}",
+        o.status.code(),
+        err.trim()
+    );
+    (o.status.code(), err, secs, dir)
+}
+
+/// Asserts that `applesim run` refuses `v` with exit 1, one `error: FIELD: ...` line holding
+/// every one of `needles`, within `max_s` seconds, and writes no output folder; returns the line.
+#[track_caller]
+pub fn refused_cli(
+    name: &str,
+    v: &serde_json::Value,
+    limits: &str,
+    field: &str,
+    needles: &[&str],
+    max_s: f64,
+) -> String {
+    let (code, err, secs, dir) = run_cli(name, v, limits);
+    assert_eq!(code, Some(1), "{name}: exit {code:?}: {err}");
+    let lines: Vec<&str> = err.trim_end().lines().collect();
+    assert_eq!(lines.len(), 1, "{name}: not one line: {err}");
+    assert!(
+        lines[0].starts_with(&format!("error: {field}: ")),
+        "{name}: the line does not lead with {field}: {err}"
+    );
+    for n in needles {
+        assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
+    }
+    assert!(
+        secs <= max_s,
+        "{name}: refused after {secs:.2} s (limit {max_s} s)"
+    );
+    assert!(
+        !dir.join("out").exists(),
+        "{name}: an output folder was written"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    lines[0].to_string()
+}

@@ -20,6 +20,23 @@ pub(super) fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Materi
             mass_density(f, s.mass_kg, s.diameter_m.min_m(), s.diameter_m.max_m())?;
             ranges::POSITION.check_each(&format!("{f}.region_min_m"), s.region_min_m)?;
             ranges::POSITION.check_each(&format!("{f}.region_max_m"), s.region_max_m)?;
+            // The region's own field, not the count that could not be placed in it.
+            for i in 0..3 {
+                let (lo, hi) = (s.region_min_m[i], s.region_max_m[i]);
+                let d = s.diameter_m.min_m();
+                if hi - lo < d {
+                    return Err(ScenarioError::invalid(
+                        format!("{f}.region_max_m[{i}]"),
+                        format!(
+                            "{} m is {} region_min_m[{i}] = {} m: the region must hold whole apples, at least {} m (the smallest diameter) across",
+                            num(hi),
+                            if hi <= lo { "not above" } else { "too close to" },
+                            num(lo),
+                            num(d)
+                        ),
+                    ));
+                }
+            }
             ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
         }
         GeneratorSpec::File(s) => {
