@@ -6,7 +6,8 @@
 //! colour changes the rendered pixels, and a screenshot is not blank.
 //!
 //! Chromium is required, never skipped: without it the test fails and says how to install it
-//! (`.ci/run` installs it when missing). `APPLESIM_CHROMIUM` names another binary.
+//! (`tools/test`, the README's test command, installs it when missing). `APPLESIM_CHROMIUM`
+//! names another binary.
 
 use headless_chrome::browser::tab::point::Point;
 use headless_chrome::protocol::cdp::types::Event;
