@@ -490,9 +490,11 @@ fn rolls_match_liggghts() {
     // After the stop (section (c)), from the stored records: LIGGGHTS's cdt apple (no bound on
     // its torque at rest) rolls back 7.2 um within 20 ms, then creeps back at a steady
     // 2.65e-6 m/s (0.8e-6 on the soft plate); its epsd2 apple rocks by 23 um (0.355845-0.355868
-    // m; 36 um on the soft plate).
+    // m; 36 um on the soft plate); at dt 1e-6 s the cdt apple creeps at 0.20e-6 m/s (the creep is
+    // the step's).
     for (name, back_um, creep_um_s) in [
         ("roll_cdt_dt1e-05", 7.2, 2.65),
+        ("roll_cdt_dt1e-06", 7.3, 0.20),
         ("roll_cdt_soft_dt1e-05", 11.5, 0.79),
     ] {
         let l = stored(&res, "roll", name);
