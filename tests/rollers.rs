@@ -771,3 +771,72 @@ fn the_gravity_roller_ramp_balances_its_energy_and_its_rollers_spin_down_at_m_ov
     let _ = std::fs::remove_dir_all(out.parent().unwrap());
     let _ = std::fs::remove_dir_all(two.parent().unwrap());
 }
+
+/// docs/lines.md section 7 (and README's shipped-scenario table): an apple in a pocket of a roller
+/// bed rests on two rollers whose contacts lie alpha = asin(p / (2 (R + R_r))) either side of
+/// the bed's normal: 28.7 degrees for the gravity ramp's 75 mm apples on 25 mm rollers at a 60 mm
+/// pitch (26.1 at 55 mm, 23.6 at 50 mm, the rollers touching: the closest pitch a `roller_bed`
+/// allows), so its 30 degree bed is steeper than the pocket angle. Read from the shipped
+/// scenario's geometry: its bed's pitch, radius and slope, and its four apples, each released
+/// 0.5 mm above the pocket of rollers 2k and 2k + 1 (equidistant from both axes, with its
+/// contacts at +-alpha from the bed's normal).
+#[test]
+fn the_gravity_ramp_is_steeper_than_its_pocket_angle() {
+    let v: Value = serde_json::from_str(
+        &std::fs::read_to_string(repo("scenarios/lines/gravity_roller_ramp.json")).unwrap(),
+    )
+    .unwrap();
+    let bed = &v["surfaces"][0];
+    let f = |x: &Value| x.as_f64().unwrap();
+    let (rr, p) = (f(&bed["radius_m"]), f(&bed["pitch_m"]));
+    let dir: Vec<f64> = bed["pitch_direction"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(f)
+        .collect();
+    let origin: Vec<f64> = bed["position_m"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(f)
+        .collect();
+    let slope = (-dir[2]).atan2(dir[0]).to_degrees();
+    let pocket = |pitch: f64, ra: f64| (pitch / (2.0 * (ra + rr))).asin().to_degrees();
+    for a in v["apples"].as_array().unwrap() {
+        let ra = f(&a["diameter_m"]) / 2.0;
+        let alpha = pocket(p, ra);
+        println!(
+            "{}: pocket angle {alpha:.3} degrees, bed {slope:.3} degrees",
+            a["name"]
+        );
+        assert!((alpha - 28.7).abs() <= 0.05 && slope > alpha);
+    }
+    assert!((slope - 30.0).abs() < 1e-9);
+    assert!((pocket(0.055, 0.0375) - 26.1).abs() <= 0.05);
+    assert!((pocket(0.05, 0.0375) - 23.6).abs() <= 0.05);
+    // The apples in their pockets: apple k midway between the axes of rollers 2k and 2k + 1,
+    // 0.5 mm (along the bed's normal) above where it would rest on both, which is
+    // sqrt((R + R_r)^2 - (p/2)^2) above the axes' plane: there its contacts are alpha from the
+    // normal.
+    let ra = 0.0375;
+    let normal = [-dir[2], dir[0]]; // the bed's normal in x-z, pointing up
+    let rest = ((ra + rr).powi(2) - (p / 2.0).powi(2)).sqrt();
+    assert!(((rest / (ra + rr)).acos().to_degrees() - 28.7).abs() <= 0.05);
+    for (k, a) in v["apples"].as_array().unwrap().iter().enumerate() {
+        let c: Vec<f64> = a["position_m"].as_array().unwrap().iter().map(f).collect();
+        let d = [c[0] - origin[0], c[2] - origin[2]];
+        let along = d[0] * dir[0] + d[1] * dir[2];
+        let up = d[0] * normal[0] + d[1] * normal[1];
+        println!(
+            "apple {k}: {:.4} pitches along the bed, {:.4} mm above its pocket",
+            along / p,
+            1e3 * (up - rest)
+        );
+        assert!(
+            (along - (2 * k) as f64 * p - p / 2.0).abs() < 2e-6,
+            "apple {k}"
+        );
+        assert!((up - rest - 0.5e-3).abs() < 2e-6, "apple {k}");
+    }
+}
