@@ -54,10 +54,16 @@ fn twin(name: &str) -> Value {
     serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap()
 }
 
-fn run_twin(v: &Value, what: &str) -> (RunResult, MemorySeries) {
+/// Parses a twin (its `file` generator read from bench/models/scenarios/) and validates it.
+fn parse_twin(v: &Value, what: &str) -> Scenario {
     let mut sc: Scenario = scenario::from_json(&v.to_string(), what).unwrap();
     sc.read_files(&repo("bench/models/scenarios")).unwrap();
     scenario::validate(&sc).unwrap();
+    sc
+}
+
+fn run_twin(v: &Value, what: &str) -> (RunResult, MemorySeries) {
+    let sc = parse_twin(v, what);
     let mut series = MemorySeries::default();
     let r = sim::run(&sc, &repo("bench/models/scenarios"), &mut series)
         .unwrap_or_else(|e| panic!("{what}: {e}"));
@@ -370,8 +376,6 @@ struct Stop {
     x_m: f64,
     deceleration: f64,
     x_after_min: f64,
-    x_after_max: f64,
-    x_final: f64,
     vx_final: f64,
 }
 
@@ -395,20 +399,18 @@ fn stop_of(rows: &[[f64; 3]]) -> Stop {
         x_m: x,
         deceleration: -slope,
         x_after_min: after.iter().cloned().fold(f64::INFINITY, f64::min),
-        x_after_max: after.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-        x_final: rows.last().unwrap()[1],
         vx_final: rows.last().unwrap()[2],
     }
 }
 
-fn applesim_roll(name: &str) -> (Stop, RunResult) {
-    let (r, s) = run_twin(&twin(name), name);
+fn applesim_roll(name: &str) -> Stop {
+    let (_, s) = run_twin(&twin(name), name);
     let rows: Vec<[f64; 3]> = s
         .of(0)
         .iter()
         .map(|(t, a)| [*t, a.position.x, a.velocity.x])
         .collect();
-    (stop_of(&rows), r)
+    stop_of(&rows)
 }
 
 /// docs/liggghts_models.md, section (c) and "The comparison": the rolling apple (v0 0.5 m/s,
@@ -539,7 +541,7 @@ fn rolls_match_liggghts() {
             None,
         ),
     ] {
-        let (a, r) = applesim_roll(name);
+        let a = applesim_roll(name);
         let l = stored(&res, "roll", lig);
         println!(
             "{name}: applesim stops after {:.6} m at {:.5} s (LIGGGHTS {:.6} m, {:.5} s); decel {:.6}",
@@ -584,7 +586,6 @@ fn rolls_match_liggghts() {
             );
             assert_printed("applesim epsd2 rocks back, um", rock * 1e6, 23.0, 0);
             assert_eq!(a.vx_final, 0.0, "asleep at 2 s");
-            let _ = (&r, a.x_after_max, a.x_final);
         }
     }
 }
@@ -659,33 +660,44 @@ fn data_file(path: &Path) -> Vec<(u32, f64, [f64; 3])> {
     out
 }
 
-/// applesim's settled pile of the twin scenario `name` (pile_epsd2_dt1e-4 or pile_cdt_dt1e-4),
-/// from gen.py's start (`jitter` 0) or from LIGGGHTS's jittered start `jitter` (the same apples,
-/// names and order, each moved sideways by up to 1 um; bench/models/applesim.py scatter).
-fn applesim_pile(name: &str, jitter: u32) -> Pile {
+/// The pile twin `name` (e.g. pile_epsd2_dt1e-4) from gen.py's start (`jitter` 0) or from
+/// LIGGGHTS's jittered start `jitter` (the same apples, names and order, each moved sideways by
+/// up to 1 um; bench/models/applesim.py scatter), after `edit`.
+fn pile_twin(name: &str, jitter: u32, edit: impl FnOnce(&mut Value)) -> Scenario {
     let mut v = twin(name);
+    edit(&mut v);
+    if jitter == 0 {
+        return parse_twin(&v, name);
+    }
     let tmp = std::env::temp_dir().join(format!(
         "applesim_parity_{}_{name}_{jitter}.json",
         std::process::id()
     ));
-    if jitter > 0 {
-        let start = data_file(&data(&format!("piles/start_jitter{jitter}.data")));
-        let apples: Vec<Value> = start
-            .iter()
-            .map(|(id, d, p)| serde_json::json!({"name": format!("p{id}"), "diameter_m": d, "position_m": p}))
-            .collect();
-        std::fs::write(&tmp, Value::Array(apples).to_string()).unwrap();
-        v["generators"][0]["file"] = serde_json::json!(tmp.to_str().unwrap());
-    }
-    v["output"]["sample_interval_s"] = serde_json::json!(5.0);
-    let (r, s) = run_twin(&v, name);
+    let start = data_file(&data(&format!("piles/start_jitter{jitter}.data")));
+    let apples: Vec<Value> = start
+        .iter()
+        .map(|(id, d, p)| serde_json::json!({"name": format!("p{id}"), "diameter_m": d, "position_m": p}))
+        .collect();
+    std::fs::write(&tmp, Value::Array(apples).to_string()).unwrap();
+    v["generators"][0]["file"] = serde_json::json!(tmp.to_str().unwrap());
+    let sc = parse_twin(&v, name);
     let _ = std::fs::remove_file(&tmp);
+    sc
+}
+
+/// applesim's settled pile of the twin `name` from start `jitter` ([`pile_twin`]).
+fn applesim_pile(name: &str, jitter: u32) -> Pile {
+    let sc = pile_twin(name, jitter, |v| {
+        v["output"]["sample_interval_s"] = serde_json::json!(5.0)
+    });
+    let mut s = MemorySeries::default();
+    sim::run(&sc, &repo("bench/models/scenarios"), &mut s)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
     let (t, last) = s.samples.last().unwrap();
     assert!(
         (t - 5.0).abs() < 1e-9 && last.len() == 1000,
         "{name}: the settled pile at 5 s"
     );
-    let _ = r;
     geometry(
         &last
             .iter()
@@ -1095,31 +1107,12 @@ fn cdt_piles_match_liggghts() {
 /// gen.py's start or jittered start `jitter`, by `applesim bench`'s measurement: (height, the
 /// apple-apple contacts per apple at 5 s, the mean awake apples over 3-5 s).
 fn applesim_bench(accuracy: &str, jitter: u32) -> (f64, f64, f64) {
-    let mut v = twin(
-        match accuracy {
-            "5e-4" => "pile_epsd2_dt5e-4".to_string(),
-            a => format!("pile_epsd2_adaptive_{a}"),
-        }
-        .as_str(),
-    );
-    let tmp = std::env::temp_dir().join(format!(
-        "applesim_parity_{}_bench_{accuracy}_{jitter}.json",
-        std::process::id()
-    ));
-    if jitter > 0 {
-        let start = data_file(&data(&format!("piles/start_jitter{jitter}.data")));
-        let apples: Vec<Value> = start
-            .iter()
-            .map(|(id, d, p)| serde_json::json!({"name": format!("p{id}"), "diameter_m": d, "position_m": p}))
-            .collect();
-        std::fs::write(&tmp, Value::Array(apples).to_string()).unwrap();
-        v["generators"][0]["file"] = serde_json::json!(tmp.to_str().unwrap());
-    }
-    let mut sc: Scenario = scenario::from_json(&v.to_string(), accuracy).unwrap();
-    sc.read_files(&repo("bench/models/scenarios")).unwrap();
-    scenario::validate(&sc).unwrap();
+    let name = match accuracy {
+        "5e-4" => "pile_epsd2_dt5e-4".to_string(),
+        a => format!("pile_epsd2_adaptive_{a}"),
+    };
+    let sc = pile_twin(&name, jitter, |_| {});
     let b = applesim::bench::run(&sc, &repo("bench/models/scenarios"), &[]).unwrap();
-    let _ = std::fs::remove_file(&tmp);
     let settled = b
         .windows
         .iter()

@@ -1020,17 +1020,7 @@ fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
         let (a, b, c) = (0.5 * G, -vs - floor_v, r + floor_z0 - floor_v * ts - zs);
         let x = (-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
         let (t_cf, v_cf) = (ts + x, -vs + G * x - floor_v);
-        let k = 4.0 / 3.0 * e_star * r.sqrt();
-        let (mut lo, mut hi) = (0.0, 0.5 * r);
-        for _ in 0..200 {
-            let u = 0.5 * (lo + hi);
-            if 0.4 * k * u.powf(2.5) < 0.5 * m * v_cf * v_cf + m * G * u {
-                lo = u;
-            } else {
-                hi = u;
-            }
-        }
-        let p_cf = k * (0.5 * (lo + hi)).powf(1.5);
+        let p_cf = ode::landing_peak(m, v_cf, G, 4.0 / 3.0 * e_star * r.sqrt(), r);
         println!(
             "{what}: first landing at {t:.4} s (closed form {t_cf:.4}), {v:.4} m/s ({v_cf:.4}, {:+.3} %), peak {p:.2} N ({p_cf:.2}, {:+.3} %)",
             100.0 * (v / v_cf - 1.0),

@@ -262,7 +262,7 @@ fn bad_roller_beds_are_refused_naming_the_field() {
 /// The landing's peak force on a roller from the energy balance 1/2 m v^2 + m g u = 2/5 k u^(5/2)
 /// (eq. 12 loads on the Hertz curve when lambda v >> 1; gravity along the normal: the apple
 /// lands on the roller's top), k = 4/3 E* sqrt(R_k) with the elliptic stiffness radius R_k of
-/// docs/physics.md 12.3: u by bisection, then P = k u^(3/2).
+/// docs/physics.md 12.3 ([`ode::landing_peak`]).
 fn landing_peak(m: f64, v: f64, e_star: f64, ra: f64, rr: f64) -> f64 {
     // The elliptic stiffness radius from Johnson's equations, written in tests/common/elliptic.rs.
     let k = 4.0 / 3.0
@@ -270,16 +270,7 @@ fn landing_peak(m: f64, v: f64, e_star: f64, ra: f64, rr: f64) -> f64 {
         * elliptic::sphere_on_cylinder(ra, rr)
             .stiffness_radius_m
             .sqrt();
-    let (mut lo, mut hi) = (0.0, 0.5 * ra);
-    for _ in 0..200 {
-        let u = 0.5 * (lo + hi);
-        if 0.4 * k * u.powf(2.5) < 0.5 * m * v * v + m * G * u {
-            lo = u;
-        } else {
-            hi = u;
-        }
-    }
-    k * (0.5 * (lo + hi)).powf(1.5)
+    ode::landing_peak(m, v, G, k, ra)
 }
 
 /// Item 3: the shipped brush bed (scenarios/lines/brush_bed.json: four rotating brushes of a soft

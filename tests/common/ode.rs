@@ -257,6 +257,22 @@ pub fn elastic_impact(m: f64, v0: f64, k: f64, r_star: f64) -> ElasticImpact {
     }
 }
 
+/// The peak force of a landing at approach speed `v` with gravity along the normal, eq. 12
+/// loading on the Hertz curve (lambda v >> 1) of stiffness `k`: the overlap u of the energy
+/// balance 1/2 m v^2 + m g u = 2/5 k u^(5/2) (by bisection), then P = k u^(3/2).
+pub fn landing_peak(m: f64, v: f64, g: f64, k: f64, r: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 0.5 * r);
+    for _ in 0..200 {
+        let u = 0.5 * (lo + hi);
+        if 0.4 * k * u.powf(2.5) < 0.5 * m * v * v + m * g * u {
+            lo = u;
+        } else {
+            hi = u;
+        }
+    }
+    k * (0.5 * (lo + hi)).powf(1.5)
+}
+
 /// The slip-to-roll closed forms (physics.md section 6), written here.
 #[derive(Debug, Clone, Copy)]
 pub struct SlipToRoll {
