@@ -9,7 +9,6 @@
 //! refused with its own clear message (`model.max_steps`).
 
 mod common;
-use applesim::contact::{material::effective_modulus, normal, theory, Material};
 use applesim::record::series::NoSamples;
 use applesim::scenario;
 use applesim::sim::Simulation;
@@ -44,11 +43,10 @@ fn every_extreme_matches_or_is_refused() {
         let mu = MU[(case / 2 + pick(3)) % 3];
         let dt = DT[(case / 7 + pick(5)) % 5];
         let r = d / 2.0;
-        let apple = Material::from_shear(g1, 0.18, None).unwrap();
-        let plate = Material::from_shear(g2, 0.3, None).unwrap();
-        let k = normal::stiffness(effective_modulus(&apple, &plate), r);
-        let m = applesim::world::sphere_mass(d, 800.0);
-        let cf = theory::elastic_impact(m, v0, k, r);
+        // The closed forms of physics.md sections 2 and 4, written in tests/common/ode.rs.
+        let k = 4.0 / 3.0 * ode::e_star(g1, 0.18, g2, 0.3) * r.sqrt();
+        let m = 800.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        let cf = ode::elastic_impact(m, v0, k, r);
         let gap = 1e-4 * r;
         let duration = (1.5 * cf.contact_time_s + 2.0 * gap / v0).max(2.0 * dt);
         let v = json!({

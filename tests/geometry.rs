@@ -2,7 +2,6 @@
 //! sliding), mesh floor against a plane, drop into a trough.
 
 mod common;
-use applesim::contact::theory;
 use applesim::math::{vec3, Vec3};
 use applesim::scenario::{self, Scenario};
 use common::ode;
@@ -85,7 +84,7 @@ fn apple_at_rest_on_a_moving_belt() {
     // in the belt's frame the apple slides at -V. Within twice README's 0.0006 % on the time and
     // twice docs/transitions.md's 5.1e-5 m/s on the speed after the transition.
     let rho = ode::resting_lever((1.1e6, 0.18), (8.1e10, 0.28), R, M, G, 0.09);
-    let tight = theory::slip_to_roll_with_lever(-v_belt, 0.0, R, rho, mu, G);
+    let tight = ode::slip_to_roll(-v_belt, 0.0, R, rho, mu, G);
     assert_rel(
         "belt: time, lever R - u",
         t_stick,
@@ -192,7 +191,7 @@ fn drop_into_a_trough_uses_the_concave_radius() {
     let r_star_seen = e.max_contact_radius_m.powi(2) / e.max_overlap_m;
     assert_rel("effective radius seen (a^2 / u)", r_star_seen, r_star, 1e-6);
     assert!(r_star_seen > R * 1.5);
-    let cf = theory::elastic_impact(M, v0, hertz_k(r_star), r_star);
+    let cf = ode::elastic_impact(M, v0, hertz_k(r_star), r_star);
     assert_rel("trough peak force", e.peak_force_n, cf.peak_force_n, 0.01);
     assert_rel(
         "trough contact time",

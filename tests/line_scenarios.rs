@@ -45,6 +45,20 @@ fn belt_run(rolling: Option<Rolling>) -> (RunResult, MemorySeries) {
     run(&sc)
 }
 
+/// The rolling-phase acceleration with the model's lever (docs/physics.md 11.3, a flat):
+/// a = mu_r g R rho / (rho^2 + 2/5 R^2), rho = R - u c1/(c1 + c2) the contact point's distance
+/// from the centre (physics.md section 5: the apple's share of the overlap), u the static sag of
+/// eq. 12 at rest, k u^(3/2) (1 + ke)/2 = m g, on the line's rubber (E 5 MPa, nu 0.45) for the
+/// apple-paper flesh (G 1.1 MPa, nu 0.18), ke 0.09. Written here from the docs.
+fn lever_acceleration(radius_m: f64, mass_kg: f64) -> f64 {
+    let c_apple = (1.0 - 0.18f64.powi(2)) / (2.0 * 1.1e6 * 1.18);
+    let c_rubber = (1.0 - 0.45f64.powi(2)) / 5e6;
+    let k = 4.0 / 3.0 / (c_apple + c_rubber) * radius_m.sqrt();
+    let u = ode::resting_sag(k, 0.09, mass_kg * G);
+    let rho = radius_m - u * c_apple / (c_apple + c_rubber);
+    MU_R * G * radius_m * rho / (rho * rho + 0.4 * radius_m * radius_m)
+}
+
 /// Least-squares line through (t, v): (slope, value at t_at).
 fn fit(points: &[(f64, f64)], t_at: f64) -> (f64, f64) {
     let n = points.len() as f64;
@@ -68,8 +82,9 @@ const TABLE: [[f64; 6]; 4] = [
 /// Issue 19's acceptance: each apple fed onto the belt rides at the belt speed, within 2 %, from
 /// t0 + t1 + V/(mu_r g) on (t0 its touch), and is below that before (checked up to
 /// t0 + t1 + 0.9 V/(mu_r g)); the approach is the closed form's: rolling phase accelerating at
-/// 5/7 mu_r g (1 %), starting from 2V/7 raised by the landing's shorter lever arm and the rolling
-/// resistance during the slip (docs/lines.md: 0 to +12 %).
+/// 5/7 mu_r g (docs/lines.md: +0.27 to +0.29 %, the lever R - u c1/(c1 + c2), which predicts the
+/// same: each checked), starting from 2V/7 raised by the landing's shorter lever arm and the
+/// rolling resistance during the slip (docs/lines.md: 10-12 %).
 #[test]
 fn belt_carries_apples_at_belt_speed() {
     let (r, series) = belt_run(None);
@@ -142,18 +157,38 @@ fn belt_carries_apples_at_belt_speed() {
             2.0 * V / 7.0,
             100.0 * (v_start / (2.0 * V / 7.0) - 1.0)
         );
-        // docs/lines.md: +0.27 to +0.29 % (checked at twice, inside the issue's 1 %).
-        assert_ref(
-            "rolling-phase acceleration",
-            acc,
-            a_cf,
-            0.006,
-            "closed form",
+        // docs/lines.md: +0.27 to +0.29 % from 5/7 mu_r g (checked above it and within twice
+        // 0.29 %, inside the issue's 1 %); the model's lever predicts +0.27 to +0.28 %: against
+        // the lever form within 0.0073 % (checked at twice that).
+        let lever = lever_acceleration(a.radius_m, a.mass_kg);
+        println!(
+            "  the lever R - u c1/(c1 + c2) predicts {:+.3} %; measured against it {:+.4} %",
+            100.0 * (lever / a_cf - 1.0),
+            100.0 * (acc / lever - 1.0)
         );
         assert!(
-            (2.0 * V / 7.0..=1.12 * 2.0 * V / 7.0).contains(&v_start),
-            "{}: rolling starts at {v_start} m/s",
+            acc > a_cf && acc / a_cf - 1.0 <= 2.0 * 0.29e-2,
+            "{}: rolling-phase acceleration {acc}",
             a.name
+        );
+        assert!(
+            (0.26e-2..=0.30e-2).contains(&(lever / a_cf - 1.0)),
+            "{}: the lever predicts {lever}",
+            a.name
+        );
+        assert_ref(
+            "rolling phase against the lever",
+            acc,
+            lever,
+            2.0 * 0.0073e-2,
+            "closed form",
+        );
+        let above = v_start / (2.0 * V / 7.0) - 1.0;
+        assert!(
+            (0.09..=0.13).contains(&above),
+            "{}: rolling starts at {v_start} m/s, {:.1} % above 2V/7",
+            a.name,
+            100.0 * above
         );
         for (k, stated) in [0.0, 0.25, 0.5, 0.75, 1.0, 1.25]
             .into_iter()
@@ -195,8 +230,16 @@ fn belt_carries_apples_at_belt_speed() {
             t1 + t_r
         );
         assert!(t_v <= ride && t_v >= ride - 0.1, "{}: V at {t_v} s", a.name);
+        // docs/lines.md: V (0.1 %) 1.348-1.358 s after touch, the 2 % band entered at
+        // 1.278-1.288 s (each range to one unit of its last digit).
         assert!(
-            t_band < t_v && (t_band - t0 - 1.28).abs() <= 0.015,
+            (1.347..=1.359).contains(&(t_v - t0)),
+            "{}: V at {} s after touch",
+            a.name,
+            t_v - t0
+        );
+        assert!(
+            t_band < t_v && (1.277..=1.289).contains(&(t_band - t0)),
             "{}: band at {t_band} s",
             a.name
         );
@@ -218,7 +261,12 @@ fn belt_carries_apples_at_belt_speed() {
         println!(
             "  travelled {d:.3} m by the ride time (closed form {cf_dist:.3} m, lag {lag:.3} m)"
         );
-        assert!((d / cf_dist - 1.0).abs() <= 0.1, "{}: {d} m", a.name);
+        // Beyond the closed form (the early start), by 4.3-5.4 %: checked above it, within twice.
+        assert!(
+            d > cf_dist && d / cf_dist - 1.0 <= 2.0 * 0.054,
+            "{}: {d} m",
+            a.name
+        );
         assert!(
             (0.3655..=0.3705).contains(&d),
             "{}: {d} m, docs/lines.md 0.366-0.370",
@@ -252,8 +300,10 @@ fn belt_carries_apples_at_belt_speed() {
     assert!(worst_after <= 8.2e-4, "{worst_after}");
 }
 
-/// The contrast: with `"rolling": "none"` the same apples ride at 2V/7 for ever (within 3 %:
-/// docs/lines.md measures +1.5 to +1.7 %, the landing's shorter lever arm).
+/// The contrast: with `"rolling": "none"` the same apples ride at 2V/7 for ever (docs/lines.md:
+/// 0.11602-0.11625 m/s to the end, +1.5 to +1.7 %, the landing's shorter lever arm: every sample
+/// from 0.2 s after the touch above 2V/7 and within 3 %, inside twice 1.7 %; the last to the
+/// printed digits).
 #[test]
 fn without_rolling_resistance_apples_lag_at_two_sevenths() {
     let (r, series) = belt_run(Some(Rolling::None));
@@ -267,7 +317,7 @@ fn without_rolling_resistance_apples_lag_at_two_sevenths() {
             if t >= t0 + 0.2 {
                 let v = speed(st.velocity);
                 assert!(
-                    (v / (2.0 * V / 7.0) - 1.0).abs() <= 0.03,
+                    v > 2.0 * V / 7.0 && v / (2.0 * V / 7.0) - 1.0 <= 0.03,
                     "{}: {v} m/s at t = {t} s, not 2V/7",
                     a.name
                 );
@@ -276,6 +326,12 @@ fn without_rolling_resistance_apples_lag_at_two_sevenths() {
         }
         assert!(n > 50);
         let (t_end, st) = *series.of(i).last().unwrap();
+        assert!(
+            (0.116015..=0.116255).contains(&speed(st.velocity)),
+            "{}: ends at {}",
+            a.name,
+            speed(st.velocity)
+        );
         println!(
             "{}: {:.5} m/s at t - t0 = {:.2} s (2V/7 = {:.5}; with rolling resistance it would ride at V after {:.3} s)",
             a.name,
@@ -306,8 +362,9 @@ fn leave(events: &[ContactEvent], i: u32, surface: &str) -> f64 {
 
 /// The fast-to-slow transfer (docs/lines.md): each apple rides the fast belt at V1 (2 %) from
 /// t0 + t1 + V1/(mu_r g) until it leaves it; it lands on the slow belt rolling forward relative
-/// to it (5/7 of the speed difference in the closed form), is slowed at 5/7 mu_r g (1 %) and
-/// rides at V2 (2 %) from t_land + (V1 - V2)/(mu_r g) on, faster than that before.
+/// to it (5/7 of the speed difference in the closed form), is slowed at 5/7 mu_r g (docs/lines.md:
+/// +0.27 to +0.28 %, the lever; checked above it within twice 0.28 %, and against the lever form)
+/// and rides at V2 (2 %) from t_land + (V1 - V2)/(mu_r g) on, faster than that before.
 #[test]
 fn transfer_slows_apples_to_the_slow_belt() {
     let (r, series) = transfer_run();
@@ -379,8 +436,23 @@ fn transfer_slows_apples_to_the_slow_belt() {
             100.0 * (-dec / a_cf - 1.0),
             100.0 * worst_slow
         );
-        // docs/lines.md: +0.27 to +0.28 % (checked at twice, inside the issue's 1 %).
-        assert_ref("slowing on the slow belt", -dec, a_cf, 0.006, "closed form");
+        // docs/lines.md: +0.27 to +0.28 % (checked with its sign at twice 0.28 %, inside the
+        // issue's 1 %), as the lever R - u c1/(c1 + c2) predicts (within 0.018 %, checked at
+        // twice that).
+        assert!(
+            -dec > a_cf && -dec / a_cf - 1.0 <= 2.0 * 0.28e-2,
+            "{}: slowed at {}",
+            a.name,
+            -dec
+        );
+        let lever = lever_acceleration(a.radius_m, a.mass_kg);
+        assert_ref(
+            "slowing against the lever",
+            -dec,
+            lever,
+            2.0 * 0.018e-2,
+            "closed form",
+        );
         // docs/lines.md: rolls on at 0.267-0.268 m/s relative to the slow belt; within
         // 0.011-0.014 % of V1 on the fast belt, 0.045 % of V2 on the slow one (checked at twice).
         assert!(
@@ -421,7 +493,13 @@ fn transfer_slows_apples_to_the_slow_belt() {
         let cf_dist = V_SLOW * dv / (MU_R * G) + 5.0 * dv * dv / (14.0 * MU_R * G);
         let d = x(ride) - x(t_land);
         println!("  {d:.3} m of slow belt from the landing to the ride time (closed form {cf_dist:.3} m)");
-        assert!((d / cf_dist - 1.0).abs() <= 0.1, "{}: {d} m", a.name);
+        // Short of the closed form 0.466 m by 5.4 % (the relative rolling starts 6 % slower):
+        // checked below it, within twice.
+        assert!(
+            d < cf_dist && 1.0 - d / cf_dist <= 2.0 * 0.054,
+            "{}: {d} m",
+            a.name
+        );
         assert!(
             (0.4405..=0.4425).contains(&d),
             "{}: {d} m, docs/lines.md 0.441-0.442",
@@ -448,8 +526,9 @@ fn without_rolling_resistance_the_transfer_does_not_slow_apples_to_the_belt() {
         for (t, st) in series.of(i) {
             let v = speed(st.velocity);
             if t >= t0 + 0.2 && t < t_land.min(t_end) - 0.2 {
+                // docs/lines.md: +1.6 % (above 2V1/7; checked within 3 %, inside twice that).
                 assert!(
-                    (v / (2.0 * V_FAST / 7.0) - 1.0).abs() <= 0.03,
+                    v > 2.0 * V_FAST / 7.0 && v / (2.0 * V_FAST / 7.0) - 1.0 <= 0.03,
                     "{v} m/s at {t} s on the fast belt"
                 );
                 fast.push(v);
@@ -892,7 +971,7 @@ fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
     let fixed = shipped("scenarios/lines/bin_filling.json");
     let filler = shipped("scenarios/lines/bin_filler.json");
     let floor = |sc: &Scenario| {
-        let (r, _) = run(sc);
+        let (r, series) = run(sc);
         assert_eq!(r.apples.len(), 150, "every apple poured");
         let f: Vec<f64> = r
             .events
@@ -902,13 +981,77 @@ fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
             .collect();
         let max = f.iter().copied().fold(0.0, f64::max);
         let over = f.iter().filter(|&&p| p > 80.0).count();
-        (max, over, f.len())
+        // The first apple's landing on the bare floor (no heap yet): not chaotic.
+        let first = r
+            .events
+            .iter()
+            .filter(|e| &*e.b == "bin/floor")
+            .min_by(|a, b| a.t_start_s.total_cmp(&b.t_start_s))
+            .unwrap();
+        let apple = &r.roster.apples()[first.a_index as usize];
+        // Its first sample, in free fall: (time, height, vertical speed).
+        let (ts, st) = series.of(first.a_index)[0];
+        let landing = (
+            apple.radius_m,
+            apple.mass_kg,
+            (ts, st.position.z, st.velocity.z),
+            first.t_start_s,
+            first.approach_speed_m_s,
+            first.peak_force_n,
+        );
+        (max, over, f.len(), landing)
     };
-    let (max_fixed, over_fixed, n_fixed) = floor(&fixed);
-    let (max_filler, over_filler, n_filler) = floor(&filler);
+    let (max_fixed, over_fixed, n_fixed, first_fixed) = floor(&fixed);
+    let (max_filler, over_filler, n_filler, first_filler) = floor(&filler);
     println!(
         "largest apple-floor peak: fixed bin {max_fixed:.1} N ({over_fixed} of {n_fixed} floor contacts above 80 N), bin filler {max_filler:.1} N ({over_filler} of {n_filler})"
     );
+    // The physical check beside these pins: the first apple's landing on each bin's bare floor,
+    // against the closed forms (free fall from its first sample; the fixed floor's top at z = 0,
+    // the lowered one starting 0.2 m higher and sinking at 0.2/15 m/s; the peak from the energy
+    // balance 1/2 m v^2 + m g u = 2/5 k u^(5/2), eq. 12 loading on the Hertz curve at
+    // lambda v >> 1, k = 4/3 E* sqrt(R), apple-paper on plastic-paper).
+    let e_star = e_star_of((1.1e6, 0.18), (1e9, 0.3));
+    for (what, (r, m, (ts, zs, vs), t, v, p), floor_z0, floor_v) in [
+        ("fixed bin", first_fixed, 0.0, 0.0),
+        ("bin filler", first_filler, 0.2, 0.2 / 15.0),
+    ] {
+        // Touch at t = ts + x: zs + vs x - g x^2 / 2 - r = floor_z0 - floor_v (ts + x).
+        let (a, b, c) = (0.5 * G, -vs - floor_v, r + floor_z0 - floor_v * ts - zs);
+        let x = (-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
+        let (t_cf, v_cf) = (ts + x, -vs + G * x - floor_v);
+        let p_cf = ode::landing_peak(m, v_cf, G, 4.0 / 3.0 * e_star * r.sqrt(), r);
+        println!(
+            "{what}: first landing at {t:.4} s (closed form {t_cf:.4}), {v:.4} m/s ({v_cf:.4}, {:+.3} %), peak {p:.2} N ({p_cf:.2}, {:+.3} %)",
+            100.0 * (v / v_cf - 1.0),
+            100.0 * (p / p_cf - 1.0)
+        );
+        // docs/lines.md 3b: the landing speed within 0.002 %, the peak +0.15 % (fixed) and
+        // -0.83 % (lowered: adaptive `balanced`, docs/accuracy.md's peaks within 2 %), each at
+        // twice that with its sign.
+        assert!((t - t_cf).abs() <= 1e-4, "{what}: touch {t} against {t_cf}");
+        assert_ref(
+            &format!("{what}: landing speed"),
+            v,
+            v_cf,
+            2.0 * 0.002e-2,
+            "free fall",
+        );
+        let (lo, hi) = if floor_v == 0.0 {
+            (0.0, 2.0 * 0.15e-2)
+        } else {
+            (-2.0 * 0.83e-2, 0.0)
+        };
+        let dp = p / p_cf - 1.0;
+        assert!(
+            dp > lo && dp < hi,
+            "{what}: peak {dp:+e} against the energy balance"
+        );
+    }
+    // The lowered bin's first landing is the softer by the drop it saves (0.26 m against 0.06 m
+    // above the bare floor).
+    assert!(first_filler.5 < 0.5 * first_fixed.5);
+    assert_eq!((n_fixed, n_filler), (276, 170), "floor contacts");
     assert!(max_filler < max_fixed && over_filler < over_fixed);
     assert!(
         (max_fixed - 279.2).abs() <= 0.1 && over_fixed == 107,

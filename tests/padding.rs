@@ -129,11 +129,17 @@ fn a_hard_drop_on_a_thin_pad_bottoms_out_with_a_warning() {
         "{}",
         v[0]
     );
-    // docs/physics.md 13.4: the thin pad's peak within 2 % of bare steel's (measured below).
-    let off = rel(thin, bare);
-    println!("thin pad against bare steel: {:+.3} %", 100.0 * off);
-    assert!(off.abs() < 0.02, "{off}");
-    assert!(thick < 0.9 * bare);
+    // docs/physics.md 13.3: the thin pad's peak 100.032 N against bare steel's 100.035 N
+    // (-0.003 %, checked with its sign at twice that; the issue's 2 % looser); the 20 mm pad's
+    // 81.19 N (to the digit) under 0.9 of bare.
+    let off = thin / bare - 1.0;
+    println!("thin pad against bare steel: {:+.4} %", 100.0 * off);
+    assert!(off < 0.0 && off >= -2.0 * 0.003e-2, "{off}");
+    assert!((thin - 100.032).abs() <= 0.001 && (bare - 100.035).abs() <= 0.001);
+    assert!(
+        (thick - 81.19).abs() <= 0.01 && thick < 0.9 * bare,
+        "{thick}"
+    );
 }
 
 /// Issue 26: pads of 3 mm under a 20 cm drop and 10 mm under a 40 cm drop pass chi = 1 at
@@ -223,9 +229,11 @@ fn the_padded_transfer_softens_the_landing_as_the_pad_law_predicts() {
         "padded {:.2} N (predicted {want_p:.2} N), bare {:.2} N (predicted {want_b:.2} N), at {:.4} / {:.4} m/s",
         p.peak_force_n, b.peak_force_n, p.approach_speed_m_s, b.approach_speed_m_s
     );
-    // docs/lines.md: within 0.4 % (the issue: 1 %; measured in the doc).
-    assert_rel("padded peak", p.peak_force_n, want_p, 0.004);
-    assert_rel("bare peak", b.peak_force_n, want_b, 0.004);
+    // docs/lines.md section 5: +0.09 % (padded) and +0.20 % (bare) above the prediction (the issue:
+    // 1 %), each checked with its sign at twice that.
+    assert_rel("padded peak", p.peak_force_n, want_p, 2.0 * 0.09e-2);
+    assert_rel("bare peak", b.peak_force_n, want_b, 2.0 * 0.20e-2);
+    assert!(p.peak_force_n > want_p && b.peak_force_n > want_b);
     // The reduction the law predicts.
     let (got, want) = (1.0 - p.peak_force_n / b.peak_force_n, 1.0 - want_p / want_b);
     println!(
@@ -233,7 +241,8 @@ fn the_padded_transfer_softens_the_landing_as_the_pad_law_predicts() {
         100.0 * got,
         100.0 * want
     );
-    assert!((got - want).abs() < 0.003);
+    // 12.51 % against the predicted 12.42 %: 0.09 points more, checked at twice that.
+    assert!(got > want && got - want <= 2.0 * 0.09e-2, "{got} {want}");
 }
 
 fn refusal(v: &Value) -> String {

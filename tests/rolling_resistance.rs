@@ -162,29 +162,29 @@ fn stop_of(s: &[(f64, &AppleState)]) -> Stop {
 }
 
 /// Checks a stop against the closed forms with the lever R (7 v0^2 / (10 mu_r g), 7 v0 / (5 mu_r
-/// g), 5/7 mu_r g) at 0.5 %, twice the stated 0.25 % (the issue's 1 % is looser), and at `tight`
-/// with the lever rho = R - u.
-fn check_stop(what: &str, got: &Stop, v0: f64, mu_r: f64, rho: f64, tight: f64) {
+/// g), 5/7 mu_r g) at `loose` (twice the measured figure physics.md prints beside the stated
+/// 0.25 %; the issue's 1 % is looser), and at `tight` with the lever rho = R - u.
+fn check_stop(what: &str, got: &Stop, v0: f64, mu_r: f64, rho: f64, loose: f64, tight: f64) {
     let a_r = 5.0 / 7.0 * mu_r * G;
     assert_ref(
         &format!("{what}: deceleration, lever R"),
         got.deceleration,
         a_r,
-        5e-3,
+        loose,
         "closed form",
     );
     assert_ref(
         &format!("{what}: stopping distance 7 v0^2 / (10 mu_r g)"),
         got.distance_m,
         7.0 * v0 * v0 / (10.0 * mu_r * G),
-        5e-3,
+        loose,
         "closed form",
     );
     assert_ref(
         &format!("{what}: stopping time 7 v0 / (5 mu_r g)"),
         got.time_s,
         7.0 * v0 / (5.0 * mu_r * G),
-        5e-3,
+        loose,
         "closed form",
     );
     let a = flat_deceleration(mu_r, rho);
@@ -256,6 +256,7 @@ fn constant_torque_on_a_flat_stops_at_the_closed_form() {
             v0,
             mu_r,
             rho,
+            2.0 * 0.16e-2,
             2.0 * 0.036e-2,
         );
     }
@@ -280,6 +281,7 @@ fn elastic_plastic_on_a_flat_stops_at_the_same_closed_form() {
             v0,
             mu_r,
             rho,
+            2.0 * 0.22e-2,
             2.0 * 0.0043e-2,
         );
     }
@@ -383,9 +385,10 @@ fn slope_acceleration(d: Damp, rolling: &str, mu_r: f64, theta_deg: f64, dt: f64
 /// both models roll down at a = g (sin t - mu_r cos t R/rho) / (1 + 2/5 R^2/rho^2) (docs/physics.md
 /// 11.3): within 1 % (the issue) and 0.0007 % (stated; measured 0.00066 %, `constant-torque` at 3
 /// degrees; 0.062 % before resting contacts' eq. 12 step mean took the support into account),
-/// checked at twice that. The plain 5/7 g (sin t - mu_r cos t) within 1 % at 5 degrees (measured
-/// -0.56 %); near the threshold the lever matters: at 3 degrees with eq. 12's sag it is -0.99 %
-/// off, the R - u form over ten times closer (checked).
+/// checked at twice the measured figure. The plain 5/7 g (sin t - mu_r cos t) within 1 % at 5
+/// degrees (measured -0.56 %: below it, checked at 2x with its sign, the issue's 1 % tighter);
+/// near the threshold the lever matters: at 3 degrees with eq. 12's sag it is -0.99 % off (to one
+/// unit of the last digit), the R - u form over ten times closer (checked).
 #[test]
 fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
     let mu_r = 0.03;
@@ -403,7 +406,7 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
                 &format!("{what}: acceleration, lever R - u"),
                 a,
                 cf,
-                2.0 * 0.0007e-2,
+                2.0 * 0.00066e-2,
                 "closed form",
             );
             let plain = 5.0 / 7.0 * G * (th.sin() - mu_r * th.cos());
@@ -415,10 +418,15 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
                     0.01,
                     "closed form",
                 );
+                assert!(a < plain, "{what}: below the plain form (-0.56 %)");
             } else if d == Damp::Eq12 {
                 // Near the threshold the lever matters: the closed form with R - u is closer.
                 let off = rel(a, plain);
                 println!("{what}: 5/7 g (sin - mu_r cos) off by {:.3} %", 100.0 * off);
+                assert!(
+                    a < plain && (off - 0.99e-2).abs() <= 0.01e-2,
+                    "{what}: {off}"
+                );
                 assert!(
                     rel(a, cf) < 0.1 * off,
                     "the lever matters here: {off} against {}",
@@ -432,8 +440,9 @@ fn rolls_down_a_slope_at_the_closed_form_when_tan_exceeds_mu_r() {
 /// docs/physics.md 11.3: with rolling resistance an apple rolls down without slip while
 /// tan t <= (7 mu - 5 mu_r)/2 (44.3 degrees at mu 0.3, mu_r 0.03) and slides beyond, at
 /// g (sin t - mu cos t) whatever resists its rolling. `constant-torque` (viscoelastic): at 40
-/// degrees it rolls at the R - u form (stated 0.0007 %, as above; measured 0.00019 %), at 50
-/// degrees it slides (within 1 %, physics.md section 6's rule; measured to 1e-8).
+/// degrees it rolls at the R - u form (stated 0.0007 %, as above; measured 0.00019 %, checked at
+/// twice that), at 50 degrees it slides (within 1 %, physics.md section 6's rule; measured to
+/// 1e-8, checked at twice that).
 #[test]
 fn slides_beyond_the_rolling_limit_of_the_slope() {
     let (mu, mu_r) = (0.3, 0.03);
@@ -442,14 +451,14 @@ fn slides_beyond_the_rolling_limit_of_the_slope() {
     let th = 40f64.to_radians();
     let (a, rho) = slope_acceleration(Damp::Visco, "constant-torque", mu_r, 40.0, 1e-4);
     let cf = G * (th.sin() - mu_r * th.cos() * R / rho) / (1.0 + 0.4 * R * R / (rho * rho));
-    assert_ref("40 degrees: rolls", a, cf, 2.0 * 0.0007e-2, "closed form");
+    assert_ref("40 degrees: rolls", a, cf, 2.0 * 0.00019e-2, "closed form");
     let th = 50f64.to_radians();
     let (a, _) = slope_acceleration(Damp::Visco, "constant-torque", mu_r, 50.0, 1e-4);
     assert_ref(
         "50 degrees: slides at g (sin t - mu cos t)",
         a,
         G * (th.sin() - mu * th.cos()),
-        0.01,
+        2e-8,
         "closed form",
     );
 }
@@ -457,7 +466,8 @@ fn slides_beyond_the_rolling_limit_of_the_slope() {
 /// Item 2: with `elastic-plastic` and tan t < mu_r (1 and 1.5 degrees: 0.58 and 0.87 mu_r) a
 /// lone apple released at rest stays: the issue's bound, under 1 mm over 2 s. docs/physics.md
 /// 11.3: it settles within 6 um (the rolling spring and the stick spring taking the load:
-/// measured 2.9-5.3 um) and moves less than 0.1 um from 0.5 to 2 s (measured 0.07 nm; 14 nm
+/// measured 2.9-5.3 um) and moves less than 0.1 um from 0.5 to 2 s (measured 0.07 nm, checked
+/// at twice that; 14 nm
 /// before resting contacts' eq. 12 step mean took the support into account), at dt 1e-4 s.
 #[test]
 fn elastic_plastic_holds_an_apple_on_a_slope_below_mu_r() {
@@ -478,7 +488,7 @@ fn elastic_plastic_holds_an_apple_on_a_slope_below_mu_r() {
             );
             assert!(drift.abs() < 1e-3, "the issue's bound");
             assert!(
-                drift.abs() < 6e-6 && late < 1e-7,
+                drift.abs() < 6e-6 && late < 2.0 * 0.07e-9,
                 "drift {drift} m, late {late} m"
             );
         }
@@ -490,7 +500,9 @@ fn elastic_plastic_holds_an_apple_on_a_slope_below_mu_r() {
 /// times |w|), so the apple creeps down at the speed where that bound carries the load. Measured
 /// at 1.5 degrees (tan t = 0.87 mu_r), viscoelastic damping, dt 1e-4 s: 258 um over 2 s, still
 /// moving (191 um from 0.5 to 2 s; 76 and 55 um when the bound used the moment about the contact
-/// point); checked to be more than 10 um. Use `elastic-plastic`.
+/// point); each checked to one unit of its last digit (a regression pin of this build: the creep
+/// speed is set by the stopping bound and the step, no closed form), and both far beyond what
+/// `elastic-plastic` allows (under 6 um). Use `elastic-plastic`.
 #[test]
 fn constant_torque_cannot_hold_an_apple_on_a_gentle_slope() {
     let th = 1.5f64.to_radians();
@@ -510,7 +522,10 @@ fn constant_torque_cannot_hold_an_apple_on_a_gentle_slope() {
     let at = |t: f64| s.iter().find(|(x, _)| *x >= t - 1e-9).unwrap().1.position;
     let (drift, late) = ((at(2.0) - at(0.0)).dot(down), (at(2.0) - at(0.5)).dot(down));
     println!("cdt, 1.5 degrees: drift 0 .. 2 s {drift:.3e} m, 0.5 .. 2 s {late:.3e} m");
-    assert!(drift > 10e-6 && late > 10e-6, "creeps: {drift} m, {late} m");
+    assert!(
+        (drift - 258e-6).abs() <= 1e-6 && (late - 191e-6).abs() <= 1e-6,
+        "creeps: {drift} m, {late} m"
+    );
 }
 
 /// An apple at rest at its sag on a steel belt running at `v_belt` along +x.
@@ -540,11 +555,11 @@ fn belt_scene(
 /// Item 3: an apple set at rest on a belt reaches the belt speed V after T = (rho/R) V / (mu_r g)
 /// (docs/physics.md 11.3, the slip phase included) and rides with it. Within 1 % (the issue) and
 /// 0.01 % (stated; measured 0.0099 % at most; 0.027 % before resting contacts' eq. 12 step mean
-/// took the support into account), checked at twice that. The issue's first-order form
-/// 2V/(7 mu g) + V/(mu_r g) is 2.0-3.3 % late (2 mu_r / (7 mu) = 1.7 and 2.9 % from neglecting the
-/// rolling resistance during the slip, the rest from the lever; checked to be more than 1 % off).
-/// After T the centre speed stays within 2 % of V (the issue) and 0.1 % (stated; measured 0.091 %,
-/// checked at twice that). Default model (eq. 12, `elastic-plastic`) and `constant-torque` with
+/// took the support into account), checked at twice the measured figure. The issue's first-order
+/// form 2V/(7 mu g) + V/(mu_r g) is 2.0-3.3 % late (2 mu_r / (7 mu) = 1.7 and 2.9 % from
+/// neglecting the rolling resistance during the slip, the rest from the lever; checked within one
+/// unit of the last digit of that range, late). After T the centre speed stays within 2 % of V
+/// (the issue) and 0.1 % (stated; measured 0.091 %, checked at twice that). Default model (eq. 12, `elastic-plastic`) and `constant-torque` with
 /// viscoelastic damping; belt 0.4 m/s with mu_r 0.03 and 0.8 m/s with 0.05, friction 0.5.
 #[test]
 fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
@@ -576,7 +591,7 @@ fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
                 &format!("{what}: time to V, (rho/R) V/(mu_r g)"),
                 t_reach,
                 exact,
-                2.0 * 0.01e-2,
+                2.0 * 0.0099e-2,
                 "closed form",
             );
             let first_order = 2.0 * v_belt / (7.0 * mu * G) + t_cf;
@@ -585,7 +600,7 @@ fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
                 "{what}: the first-order form {first_order:.5} s is {:.3} % off",
                 100.0 * off
             );
-            assert!(off > 0.01);
+            assert!(t_reach < first_order && (0.019..=0.034).contains(&off));
             let worst = s
                 .iter()
                 .filter(|(t, _)| *t >= exact)
@@ -596,22 +611,23 @@ fn a_belt_brings_an_apple_to_its_speed_at_the_closed_form_time() {
                 100.0 * worst / v_belt
             );
             assert!(worst <= 0.02 * v_belt, "rides with the belt (the issue)");
-            assert!(worst <= 2.0 * 0.1e-2 * v_belt, "rides with the belt");
+            assert!(worst <= 2.0 * 0.091e-2 * v_belt, "rides with the belt");
         }
     }
 }
 
 /// The 27-apple pile of tests/slope_rest.rs (sleeping off) with the given `rolling_damping`
-/// (None: the default) and otherwise default rolling resistance; the largest displacement of an
-/// apple from 2 to 4 s and from 4 to 6 s, and the apple-apple contacts open at the end.
-fn pile(eta_r: Option<f64>) -> (f64, f64, usize) {
+/// (None: the default) and otherwise default rolling resistance, run for `duration_s`: the
+/// largest displacement of an apple between two sample times (every 0.5 s), and the apple-apple
+/// contacts open at the end.
+fn pile(eta_r: Option<f64>, duration_s: f64) -> (impl Fn(f64, f64) -> f64, usize) {
     let plane = |name: &str, p: [f64; 3], n: [f64; 3]| json!({"name": name, "type": "plane", "material": "steel", "point_m": p, "normal": n});
     let mut contact = json!({"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000});
     if let Some(e) = eta_r {
         contact["rolling_damping"] = json!(e);
     }
     let v = json!({
-        "duration_s": 6.0, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
+        "duration_s": duration_s, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -G],
         "output": {"sample_interval_s": 0.5, "force_history": false, "transitions": {"enabled": false}},
         "materials": {
             "apple": {"youngs_modulus_pa": 2.6e6, "poisson_ratio": 0.18, "density_kg_m3": 800},
@@ -629,50 +645,66 @@ fn pile(eta_r: Option<f64>) -> (f64, f64, usize) {
     });
     let sc = scenario::from_json(&v.to_string(), "pile").unwrap();
     let (r, s) = run(&sc);
-    let at = |t: f64| {
-        &s.samples
-            .iter()
-            .find(|(x, _)| (*x - t).abs() < 1e-9)
-            .unwrap()
-            .1
-    };
-    let worst = |a: f64, b: f64| {
+    let open = r
+        .events
+        .iter()
+        .filter(|e| e.t_end_s.is_none() && e.b.starts_with("p-"))
+        .count();
+    let worst = move |a: f64, b: f64| {
+        let at = |t: f64| {
+            &s.samples
+                .iter()
+                .find(|(x, _)| (*x - t).abs() < 1e-9)
+                .unwrap()
+                .1
+        };
         at(a)
             .iter()
             .zip(at(b))
             .map(|(x, y)| (x.position - y.position).length())
             .fold(0.0, f64::max)
     };
-    let open = r
-        .events
-        .iter()
-        .filter(|e| e.t_end_s.is_none() && e.b.starts_with("p-"))
-        .count();
-    (worst(2.0, 4.0), worst(4.0, 6.0), open)
+    (worst, open)
 }
 
 /// Item 5: a settled 27-apple pile with the default rolling model (elastic-plastic, mu_r 0.03,
 /// eta_r 1) does not creep: the largest displacement from 4 to 6 s under 1 nm (the issue's
-/// example; measured 0.046 nm), and 84 nm from 2 to 4 s (stated, checked at twice that), which is
-/// the pile still settling, not creep: the largest displacement per half second falls from
-/// 0.10 um (2-2.5 s) to 0.08 nm (3.5-4 s), and after 7.5 s it is zero. Without the rolling
-/// dashpot (eta_r = 0, LIGGGHTS's epsd2) the spring keeps rocking the pile: 3.0 um from 4 to 6 s
-/// (checked over 1 um and over 1000 times the default's), which is why the default is eta_r = 1
-/// (docs/physics.md 11.5).
+/// example; measured 0.14 nm, checked at twice that), and 96 nm from 2 to 4 s (checked at twice
+/// that), which is the pile still settling, not creep: the largest displacement per half second
+/// falls from 0.14 um (2-2.5 s) to 0.41 nm (3.5-4 s) (each to one unit of its last digit), and
+/// from 7.5 s on it is under 1e-15 m (rounding). Without the rolling dashpot (eta_r = 0,
+/// LIGGGHTS's epsd2) the spring keeps rocking the pile: 3.0 um from 4 to 6 s (to one unit of the
+/// last digit, and over 1000 times the default's), which is why the default is eta_r = 1
+/// (docs/physics.md 11.5). The pile is chaotic: these are regression pins of this build, beside
+/// the physical check, the issue's 1 nm bound on creep.
 #[test]
 fn a_settled_pile_with_the_default_rolling_model_does_not_creep() {
-    let (early, late, open) = pile(None);
+    let (worst, open) = pile(None, 8.0);
+    let (early, late) = (worst(2.0, 4.0), worst(4.0, 6.0));
     println!("default rolling model: largest displacement 2 .. 4 s {early:.3e} m, 4 .. 6 s {late:.3e} m; {open} apple-apple contacts");
+    for t in [2.0, 2.5, 3.0, 3.5, 6.0, 6.5, 7.0, 7.5] {
+        println!("  {t} .. {} s: {:.3e} m", t + 0.5, worst(t, t + 0.5));
+    }
     assert!(open > 10, "the pile is packed");
-    assert!(late < 1e-9, "an apple moved {late} m from 4 to 6 s");
     assert!(
-        early < 2.0 * 84e-9,
+        late < 1e-9,
+        "the issue's bound: an apple moved {late} m from 4 to 6 s"
+    );
+    assert!(
+        late < 2.0 * 0.14e-9,
+        "an apple moved {late} m from 4 to 6 s"
+    );
+    assert!(
+        early < 2.0 * 96e-9,
         "an apple moved {early} m from 2 to 4 s"
     );
-    let (_, late0, _) = pile(Some(0.0));
+    assert!((worst(2.0, 2.5) - 0.14e-6).abs() <= 0.01e-6);
+    assert!((worst(3.5, 4.0) - 0.41e-9).abs() <= 0.01e-9);
+    assert!(worst(7.5, 8.0) < 1e-15);
+    let late0 = pile(Some(0.0), 6.0).0(4.0, 6.0);
     println!("eta_r = 0 (epsd2): largest displacement 4 .. 6 s {late0:.3e} m");
     assert!(
-        late0 > 1000.0 * late && late0 > 1e-6,
+        late0 > 1000.0 * late && (late0 - 3.0e-6).abs() <= 0.1e-6,
         "epsd2 rocks the pile: {late0} m against {late} m"
     );
 }

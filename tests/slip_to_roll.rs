@@ -2,7 +2,7 @@
 //! time to rolling and final speed within 1 % of the 5/7 and 2/7 rules, mu = 0.3.
 //!
 //! A second, tight check uses the true lever arm R - u of the sagging apple
-//! (`theory::slip_to_roll_with_lever`), which the 1 % rule ignores, with u from the closed form
+//! (`ode::slip_to_roll` with rho = R - u, written in tests/common), which the 1 % rule ignores, with u from the closed form
 //! (the static sag under eq. 12, tests/common/ode.rs), not from the run: within twice README's
 //! 0.0006 % on the time ("Slip and roll") and twice docs/transitions.md's 5.1e-5 m/s on the speed
 //! at the end of the run.
@@ -12,7 +12,6 @@
 //! linearly while sliding).
 
 mod common;
-use applesim::contact::theory;
 use common::ode;
 use common::*;
 
@@ -23,7 +22,7 @@ fn slip_roll(v0: f64, w0: f64, mu: f64) -> (f64, f64, f64) {
     sc.apples[0].velocity_m_s = [v0, 0.0, 0.0];
     sc.apples[0].angular_velocity_rad_s = [0.0, w0, 0.0];
     sc.contact.friction = mu;
-    let t_roll = theory::slip_to_roll(v0, w0, 0.04, mu, 9.81).time_s;
+    let t_roll = ode::slip_to_roll(v0, w0, 0.04, 0.04, mu, 9.81).time_s;
     sc.duration_s = t_roll * 1.5 + 0.01;
     sc.output.sample_interval_s = 1e-4;
     let (_, series) = run(&sc);
@@ -49,14 +48,14 @@ fn slip_roll(v0: f64, w0: f64, mu: f64) -> (f64, f64, f64) {
 
 fn check(v0: f64, w0: f64, mu: f64) {
     let (t, v, w) = slip_roll(v0, w0, mu);
-    let cf = theory::slip_to_roll(v0, w0, 0.04, mu, 9.81);
+    let cf = ode::slip_to_roll(v0, w0, 0.04, 0.04, mu, 9.81);
     println!(
         "v0 {v0} w0 {w0} mu {mu}: t {t:.6} (closed form {:.6}), v {v:.6} ({:.6}), w {w:.4}",
         cf.time_s, cf.speed_m_s
     );
     assert_rel("time to rolling", t, cf.time_s, 0.01);
     assert_rel("rolling speed", v, cf.speed_m_s, 0.01);
-    let tight = theory::slip_to_roll_with_lever(v0, w0, 0.04, ode::fig6_lever(), mu, 9.81);
+    let tight = ode::slip_to_roll(v0, w0, 0.04, ode::fig6_lever(), mu, 9.81);
     assert_rel(
         "time to rolling, lever R - u",
         t,

@@ -3,7 +3,8 @@
 //!
 //! The cells are errors of each rung against the command's own 200-steps-per-contact reference
 //! run; for the handling line they are differences between chaotic piles, with no closed form.
-//! They are committed golden values: the doc's table, compared digit for digit with tradeoff.md.
+//! They are committed golden values, regression pins, not validation: the doc's table, compared
+//! digit for digit with tradeoff.md; beside the handling line's, a physical check of its rungs.
 //! (The independent checks of the same policies are tests/stepping.rs, tests/damped_accuracy.rs
 //! and tests/handling_line.rs.)
 
@@ -70,10 +71,45 @@ fn drop_table_is_current() {
     );
 }
 
+/// The handling line's table is a regression pin, not validation (the pile in the bin is
+/// chaotic). Beside it, the physical check docs/accuracy.md reads from it: every damped rung
+/// (`hertz-damped`, `full`, the scenario's own step) is a pile as valid as the reference's, its
+/// distributions within the pile's chaos (median peak-force error under 10 %, median first
+/// surface contact time under 5 %, restitutions within 0.15, median final height under 1 R),
+/// the precise rung no closer than that; the `hertz` rungs (no eq. 12 loss) are not: their apples
+/// bounce instead of resting, so their first surface contacts end after an impact's few
+/// milliseconds instead of the reference's seconds of rest (median contact-time error over
+/// 90 %), and their median peak force is over 40 % off.
 #[test]
 fn handling_line_table_is_current() {
-    compare(
-        doc_table("### Handling line"),
-        tradeoff("scenarios/handling_line.json", "line"),
-    );
+    let got = tradeoff("scenarios/handling_line.json", "line");
+    // Cells: rung, step, steps, peak max / median, contact times max / median, restitution,
+    // heights max / median (the wall time removed).
+    let pair = |c: &str| -> (f64, f64) {
+        let (a, b) = c.split_once(" / ").unwrap();
+        (a.parse().unwrap(), b.parse().unwrap())
+    };
+    for row in &got {
+        let rung = row[1].as_str();
+        if rung.starts_with("rigid") {
+            continue;
+        }
+        let (_, peak_median) = pair(&row[4]);
+        let (_, time_median) = pair(&row[5]);
+        let restitution: f64 = row[6].parse().unwrap();
+        let (_, height_median) = pair(&row[7]);
+        println!("{rung}: peak median {peak_median} %, contact time median {time_median} %, restitution {restitution}, height median {height_median} R");
+        if rung.starts_with("hertz,") {
+            assert!(time_median > 90.0 && peak_median > 40.0, "{rung}: {row:?}");
+        } else {
+            assert!(
+                peak_median < 10.0
+                    && time_median < 5.0
+                    && restitution < 0.15
+                    && height_median < 1.0,
+                "{rung}: {row:?}"
+            );
+        }
+    }
+    compare(doc_table("### Handling line"), got);
 }

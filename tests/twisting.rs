@@ -65,9 +65,10 @@ fn trace(sc: &Scenario) -> Vec<(f64, f64, f64, f64)> {
 }
 
 /// The spin stops at the closed form: deceleration (least squares over 10-90 % of the stop),
-/// stopping time (w_z through w0 / 1000, interpolated) and angle turned, within 0.01 % (stated 0.005 %),
-/// for both dampings and two friction coefficients; the centre stays put (under 1 um) and the
-/// stopped apple stays stopped (|w_z| < 1e-6 rad/s after).
+/// stopping time (w_z through w0 / 1000, interpolated) and angle turned, within 0.0072 % (stated
+/// 0.005 %, measured 0.0036 % at most: twice the measured figure), for both dampings and two
+/// friction coefficients; the centre stays put (drift exactly 0, as stated) and the stopped
+/// apple stays stopped (|w_z| < 1e-6 rad/s after, as stated; measured below 1e-190).
 #[test]
 fn a_spinning_apple_stops_at_the_closed_form() {
     for (eq12, mu, w0) in [(false, 0.3, 5.0), (true, 0.3, 5.0), (false, 0.5, 8.0)] {
@@ -115,21 +116,21 @@ fn a_spinning_apple_stops_at_the_closed_form() {
             &format!("{what}: spin deceleration (3 pi/16) mu a m g / I"),
             decel,
             alpha,
-            1e-4,
+            2.0 * 0.0036e-2,
             "closed form",
         );
         assert_ref(
             &format!("{what}: stopping time I w0 / M (to w0 / 1000)"),
             t_meas,
             (1.0 - 1e-3) * t_stop,
-            1e-4,
+            2.0 * 0.0036e-2,
             "closed form",
         );
         assert_ref(
             &format!("{what}: angle turned w0^2 I / (2 M)"),
             angle,
             w0 * w0 / (2.0 * alpha),
-            1e-4,
+            2.0 * 0.0036e-2,
             "closed form",
         );
         let drift = tr
@@ -137,7 +138,7 @@ fn a_spinning_apple_stops_at_the_closed_form() {
             .map(|p| (p.2 * p.2 + p.3 * p.3).sqrt())
             .fold(0.0, f64::max);
         println!("{what}: centre drift {drift:.3e} m");
-        assert!(drift < 1e-6, "{what}: the centre moved {drift} m");
+        assert_eq!(drift, 0.0, "{what}: the centre moved {drift} m");
         let after = tr
             .iter()
             .filter(|p| p.0 > 1.1 * t_stop)

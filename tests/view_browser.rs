@@ -6,7 +6,8 @@
 //! colour changes the rendered pixels, and a screenshot is not blank.
 //!
 //! Chromium is required, never skipped: without it the test fails and says how to install it
-//! (`.ci/run` installs it when missing). `APPLESIM_CHROMIUM` names another binary.
+//! (`tools/test`, the README's test command, installs it when missing). `APPLESIM_CHROMIUM`
+//! names another binary.
 
 use headless_chrome::browser::tab::point::Point;
 use headless_chrome::protocol::cdp::types::Event;
@@ -847,6 +848,9 @@ fn a_moving_box_follows_its_motion() {
         "the moving box's colour did not change with its impact"
     );
     eprintln!("moving box: worst drawn offset error {worst:.2e} m over frames {seen:?}");
+    // docs/viewer.md: the f32 rounding of the offset, measured 5.8e-9 m at most (checked at
+    // twice that; Float32Array rounding, the same in any browser).
+    assert!(worst <= 2.0 * 5.8e-9, "worst offset error {worst:e} m");
     let errors = s.errors();
     assert!(errors.is_empty(), "the page reported errors: {errors:?}");
 }
@@ -1058,6 +1062,9 @@ fn a_powered_roller_turns_at_its_rate() {
     eprintln!(
         "powered roller: worst angle error {worst_angle:.2e} rad, worst position error {worst_pos:.2e} m, {changed} pixels changed over one frame"
     );
+    // docs/viewer.md: measured 7.5e-8 rad (under the f32 epsilon checked above) and 1.5e-9 m, the
+    // f32 rounding of 0.1 m (checked at twice that).
+    assert!(worst_pos <= 2.0 * 1.5e-9, "centre {worst_pos:e} m");
     let errors = s.errors();
     assert!(errors.is_empty(), "the page reported errors: {errors:?}");
 }
@@ -1119,6 +1126,9 @@ fn a_free_roller_turns_at_its_recorded_angle() {
     eprintln!(
         "free roller: recorded angles {seen:?}; worst angle error {worst_angle:.2e} rad, worst position error {worst_pos:.2e} m, {changed} pixels changed over one frame"
     );
+    // docs/viewer.md: measured 2.7e-8 rad and 1.5e-9 m (checked at twice that).
+    assert!(worst_angle <= 2.0 * 2.7e-8, "angle {worst_angle:e} rad");
+    assert!(worst_pos <= 2.0 * 1.5e-9, "centre {worst_pos:e} m");
     let errors = s.errors();
     assert!(errors.is_empty(), "the page reported errors: {errors:?}");
 }

@@ -24,7 +24,7 @@ pub fn chromium() -> PathBuf {
     }
     panic!(
         "Chromium is needed for the viewer's browser test and was not found (/usr/bin/chromium). \
-         Install it with `apt-get update && apt-get install -y chromium` (as root; .ci/run does \
+         Install it with `apt-get update && apt-get install -y chromium` (as root; tools/test does \
          this), or set APPLESIM_CHROMIUM to a Chromium or Chrome binary."
     );
 }

@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod elliptic;
 pub mod ode;
 
 use applesim::record::series::MemorySeries;

@@ -235,6 +235,72 @@ pub fn elastic_closed_form(m: f64, v0: f64, k: f64, r_star: f64) -> (f64, f64, f
     )
 }
 
+/// The elastic impact's closed forms (physics.md section 4), by name: see
+/// [`elastic_closed_form`].
+#[derive(Debug, Clone, Copy)]
+pub struct ElasticImpact {
+    /// u_max (m).
+    pub max_overlap_m: f64,
+    /// P_max = k u_max^(3/2) (N).
+    pub peak_force_n: f64,
+    /// t_H = 2 x 1.4716376 u_max / v0 (s).
+    pub contact_time_s: f64,
+}
+
+/// [`elastic_closed_form`] with named fields.
+pub fn elastic_impact(m: f64, v0: f64, k: f64, r_star: f64) -> ElasticImpact {
+    let (u, p, t, _) = elastic_closed_form(m, v0, k, r_star);
+    ElasticImpact {
+        max_overlap_m: u,
+        peak_force_n: p,
+        contact_time_s: t,
+    }
+}
+
+/// The peak force of a landing at approach speed `v` with gravity along the normal, eq. 12
+/// loading on the Hertz curve (lambda v >> 1) of stiffness `k`: the overlap u of the energy
+/// balance 1/2 m v^2 + m g u = 2/5 k u^(5/2) (by bisection), then P = k u^(3/2).
+pub fn landing_peak(m: f64, v: f64, g: f64, k: f64, r: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 0.5 * r);
+    for _ in 0..200 {
+        let u = 0.5 * (lo + hi);
+        if 0.4 * k * u.powf(2.5) < 0.5 * m * v * v + m * g * u {
+            lo = u;
+        } else {
+            hi = u;
+        }
+    }
+    k * (0.5 * (lo + hi)).powf(1.5)
+}
+
+/// The slip-to-roll closed forms (physics.md section 6), written here.
+#[derive(Debug, Clone, Copy)]
+pub struct SlipToRoll {
+    /// Time from the launch to rolling (s).
+    pub time_s: f64,
+    /// Centre speed once rolling (m/s).
+    pub speed_m_s: f64,
+    /// Path of the contact point while sliding, |s0| t / 2 (m).
+    pub slide_distance_m: f64,
+}
+
+/// A sphere of radius `r` launched at `v0` (along +x) with spin `w0` (about +y) on a flat at
+/// friction `mu` under gravity `g`, its contact point `rho` below its centre (rho = R - u, the
+/// true lever; `r` for the textbook form): the slip s = v - rho w falls at mu g kappa,
+/// kappa = 1 + m rho^2 / I = 1 + 5/2 (rho / R)^2 (I = 2/5 m R^2), so rolling starts after
+/// |s0| / (mu g kappa) at v0 - s0 / kappa (physics.md section 6; with rho = R: 2 |s0| / (7 mu g)
+/// and (5 v0 + 2 R w0) / 7).
+pub fn slip_to_roll(v0: f64, w0: f64, r: f64, rho: f64, mu: f64, g: f64) -> SlipToRoll {
+    let s0 = v0 - rho * w0;
+    let kappa = 1.0 + 2.5 * (rho / r).powi(2);
+    let t = s0.abs() / (mu * g * kappa);
+    SlipToRoll {
+        time_s: t,
+        speed_m_s: v0 - s0 / kappa,
+        slide_distance_m: s0.abs() * t / 2.0,
+    }
+}
+
 /// Effective modulus E* of two materials given by (shear modulus, Poisson ratio):
 /// 1/E* = sum (1 - nu^2) / E, E = 2 G (1 + nu) (physics.md sections 1-2).
 pub fn e_star(g1: f64, nu1: f64, g2: f64, nu2: f64) -> f64 {
