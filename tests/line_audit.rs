@@ -68,21 +68,26 @@ fn a_drop_reports_one_plus_e_v0_and_peak_g_of_the_peak_force() {
     assert_eq!(num(c, "a_mass_kg"), m);
     assert_eq!(num(c, "a_diameter_m"), 0.08);
     let dv = num(c, "a_velocity_change_m_s");
-    assert_ref(
-        "velocity change",
-        dv,
-        (1.0 + 0.09f64.sqrt()) * v0,
-        0.005,
-        "closed form",
-    );
+    // docs/analysis.md: 1.82001 against (1 + 0.3) 1.4 = 1.82 m/s, +0.0003 %: checked with its
+    // sign at twice that.
+    let off = dv / ((1.0 + 0.09f64.sqrt()) * v0) - 1.0;
+    println!("velocity change {dv} m/s: {:+.5} %", 100.0 * off);
+    assert!(off > 0.0 && off <= 2.0 * 0.0003e-2, "{off}");
     let (_, p_max, _, _) = ode::elastic_closed_form(m, v0, ode::fig1_k(), 0.04);
     let peak = num(c, "impact_peak_force_n");
-    assert_ref("impact peak force", peak, p_max, 1e-4, "closed form");
+    // -0.004 % from Hertz's P_max (the eq. 12 peak at lambda v0 = 1400, a touch under it):
+    // with its sign at twice that.
+    let off = peak / p_max - 1.0;
+    println!(
+        "impact peak {peak} N against P_max {p_max} N: {:+.5} %",
+        100.0 * off
+    );
+    assert!(off < 0.0 && off >= -2.0 * 0.004e-2, "{off}");
     assert_ref(
         "peak g",
         num(c, "a_peak_g"),
         p_max / (m * STANDARD_GRAVITY),
-        1e-4,
+        2.0 * 0.004e-2,
         "closed form",
     );
     // Exactly the reported peak force over the weight.
@@ -483,8 +488,11 @@ fn the_instrumented_sphere_reads_peak_g_and_velocity_change_of_the_closed_forms(
             1e3 * num(i, "duration_s")
         );
         if rate == 1e6 {
-            assert_ref("probe peak g", g, want_g, 0.01, "closed form");
-            assert_ref("probe velocity change", dv, want_dv, 0.01, "closed form");
+            // README: peak g within 0.001 % at 1 MHz (266.553 against 266.555); the velocity
+            // change 2.60000 against 2.6: both at the README's 0.001 %, the looser of the two
+            // printed figures (twice the peak's -0.00075 % is 0.0015 %).
+            assert_ref("probe peak g", g, want_g, 1e-5, "closed form");
+            assert_ref("probe velocity change", dv, want_dv, 1e-5, "closed form");
         } else {
             // Loading lasts t_H / 2 (the peak is unchanged by eq. 12 at lambda v0 >> 1).
             let n = 0.5 * t_h * rate;

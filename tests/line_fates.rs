@@ -73,7 +73,7 @@ fn a_source_overlapping_the_chute_is_refused_naming_both() {
     println!("{err}");
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(
-        err.starts_with("error: sources[0].position_m: the spawn point of source 'feed' overlaps surface 'chute' by "),
+        err.starts_with("error: sources[0].position_m: the spawn point of source 'feed' overlaps surface 'chute' (surfaces[1]: its position_m, length_m, width_m, radius_m, incline_deg, thickness_m, rotation, place) by "),
         "{err}"
     );
     assert!(err.contains("move position_m"), "says what to do: {err}");

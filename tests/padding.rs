@@ -274,7 +274,7 @@ fn bad_paddings_are_refused_naming_the_field() {
     let cases = [
         (
             plane(json!({"material": "felt", "thickness_m": 0.01})),
-            "surfaces[0].padding.material: unknown material 'felt' (defined: foam, steel)",
+            "surfaces[0].padding.material: unknown material 'felt': there is no materials.felt (defined: foam, steel)",
         ),
         (
             plane(json!({"material": "foam", "thickness_m": 0})),

@@ -251,13 +251,21 @@ fn settle(pos: &mut [f64; 3], want: Vec3, field: &str) -> Result<(), ScenarioErr
 /// `position_m` left out without one, naming the field.
 pub fn resolve(sc: &mut Scenario) -> Result<(), ScenarioError> {
     resolve_surfaces(&mut sc.surfaces)?;
+    // The sizes first: an apple set `on` a surface sits its radius above it, so a diameter out of
+    // range is named as itself, not as the place it would put the apple.
     for (k, a) in sc.apples.iter_mut().enumerate() {
         let field = format!("apples[{k}]");
+        if a.on.is_some() {
+            ranges::DIAMETER.check(&format!("{field}.diameter_m"), a.diameter_m)?;
+        }
         let r = 0.5 * a.diameter_m;
         put_on(&sc.surfaces, &a.on.clone(), &mut a.position_m, r, &field)?;
     }
     for (k, s) in sc.sources.iter_mut().enumerate() {
         let field = format!("sources[{k}]");
+        if s.on.is_some() {
+            s.diameter_m.validate(&format!("{field}.diameter_m"))?;
+        }
         let r = 0.5 * s.diameter_m.max_m();
         put_on(&sc.surfaces, &s.on.clone(), &mut s.position_m, r, &field)?;
     }

@@ -252,6 +252,19 @@ impl Scenario {
         Ok(())
     }
 
+    /// The surface of the scenario a part of the world belongs to (a bin's wall `BIN/x_min`, a
+    /// roller bed's roller `BED/3`), in words for a message: "surfaces[k]: its position_m, ..."
+    /// (what puts it there). `None` for a part of no listed surface.
+    pub fn surface_fields_of(&self, part: &str) -> Option<String> {
+        let (k, s) = self.surfaces.iter().enumerate().find(|(_, s)| {
+            part == s.name()
+                || part
+                    .strip_prefix(s.name())
+                    .is_some_and(|rest| rest.starts_with('/'))
+        })?;
+        Some(format!("surfaces[{k}]: its {}", s.placing_fields()))
+    }
+
     /// The field that places apple `index` of [`Scenario::initial_apples`], for messages about
     /// where it starts: `apples[k].position_m` for a listed apple, else its generator's
     /// `origin_m` (grid), `region_min_m` (random fill) or `file`. Found without generating.

@@ -165,6 +165,24 @@ impl<'de> Deserialize<'de> for SurfaceSpec {
 }
 
 impl SurfaceSpec {
+    /// The fields that put the surface where it is (for messages about something that meets
+    /// it: a refusal between a surface and an apple names both).
+    pub fn placing_fields(&self) -> &'static str {
+        match self {
+            SurfaceSpec::Plane(_) => "point_m, normal",
+            SurfaceSpec::Box(_) | SurfaceSpec::Conveyor(_) => "position_m, size_m, rotation, place",
+            SurfaceSpec::Chute(_) => {
+                "position_m, length_m, width_m, radius_m, incline_deg, thickness_m, rotation, place"
+            }
+            SurfaceSpec::Bin(_) => "position_m, inner_size_m, wall_thickness_m, rotation, place",
+            SurfaceSpec::Mesh(_) => "file, position_m, scale, rotation",
+            SurfaceSpec::Roller(_) => "position_m, radius_m, length_m, axis",
+            SurfaceSpec::RollerBed(_) => {
+                "position_m, radius_m, length_m, axis, pitch_direction, pitch_m, count"
+            }
+        }
+    }
+
     /// The surface's name.
     pub fn name(&self) -> &str {
         match self {

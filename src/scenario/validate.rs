@@ -66,13 +66,21 @@ pub(crate) fn material(name: &str, m: &super::MaterialSpec) -> Result<Material, 
         None => String::new(),
     };
     let Some(nu) = m.poisson_ratio else {
-        return Err(ScenarioError::invalid(
-            format!("{base}.poisson_ratio"),
-            format!(
-                "missing: a material needs its Poisson's ratio{}",
-                preset_note()
+        return Err(match &m.preset {
+            // A preset that does not give it: the field is what is missing.
+            Some(_) => ScenarioError::invalid(
+                format!("{base}.poisson_ratio"),
+                format!(
+                    "missing: a material needs its Poisson's ratio{}",
+                    preset_note()
+                ),
             ),
-        ));
+            // Neither the field nor a preset: the material says too little.
+            None => ScenarioError::invalid(
+                base,
+                "gives no poisson_ratio and no preset that gives one: a material needs its Poisson's ratio",
+            ),
+        });
     };
     ranges::POISSON.check(&format!("{base}.poisson_ratio"), nu)?;
     if let Some(rho) = m.density_kg_m3 {
@@ -553,7 +561,10 @@ fn material_of<'a>(
     mats.get(name).ok_or_else(|| {
         ScenarioError::invalid(
             field,
-            format!("unknown material '{name}' (defined: {})", list(mats)),
+            format!(
+                "unknown material '{name}': there is no materials.{name} (defined: {})",
+                list(mats)
+            ),
         )
     })
 }
@@ -563,7 +574,9 @@ fn mass(f: &str, material: &str, mass: Option<f64>, m: &Material) -> R {
         Some(x) => ranges::MASS.check(&format!("{f}.mass_kg"), x),
         None if m.density_kg_m3.is_none() => Err(ScenarioError::invalid(
             format!("{f}.mass_kg"),
-            format!("missing, and material '{material}' has no density_kg_m3 to derive it from"),
+            format!(
+                "missing, and materials.{material}.density_kg_m3 is not given to derive it from"
+            ),
         )),
         None => Ok(()),
     }

@@ -284,11 +284,17 @@ pub fn check_steps(sc: &Scenario, world: &World, plan: &StepPlan) -> Result<(), 
             // A step under 10 ns resolves nothing a fruit does: the step is the mistake.
             (TimeStep::Fixed(dt), _) if dt >= 1e-8 => (
                 "duration_s",
-                format!("{} s of simulated time in steps of {dt:e} s", sc.duration_s),
+                format!(
+                    "{} s of simulated time in steps of time_step_s = {dt:e} s",
+                    sc.duration_s
+                ),
             ),
             (TimeStep::Fixed(dt), _) => (
                 "time_step_s",
-                format!("{} s of simulated time in steps of {dt:e} s", sc.duration_s),
+                format!(
+                    "duration_s = {} s of simulated time in steps of {dt:e} s",
+                    sc.duration_s
+                ),
             ),
             (_, Policy::Fixed(dt)) if sc.steps_per_contact() > 1000.0 => (
                 "accuracy",

@@ -752,25 +752,32 @@ fn check_spawn_points(sc: &Scenario, world: &World) -> Result<(), ScenarioError>
         };
         let surface = world.layer.surface_name(s);
         let at = format!("[{}, {}, {}] m", short(p.x), short(p.y), short(p.z));
+        // Both sides of the overlap named: the surface as its scenario entry places it, and the
+        // source's largest apple (sources[k].diameter_m).
+        let placed = sc
+            .surface_fields_of(surface)
+            .map_or_else(String::new, |f| format!(" ({f})"));
+        let size = format!(
+            "an apple of its largest diameter, sources[{k}].diameter_m: {} m",
+            short(d)
+        );
         return Err(if at_centre {
             ScenarioError::invalid(
                 format!("sources[{k}].position_m"),
                 format!(
-                    "the spawn point of source '{}' overlaps surface '{surface}' by {:.1} mm (an apple of its largest diameter, {} m, centred at {at}): none of its apples could be fed in; move position_m at least that far clear of the surface",
+                    "the spawn point of source '{}' overlaps surface '{surface}'{placed} by {:.1} mm ({size}, centred at {at}): none of its apples could be fed in; move position_m at least that far clear of the surface",
                     src.name,
                     u * 1e3,
-                    short(d),
                 ),
             )
         } else {
             ScenarioError::invalid(
                 format!("sources[{k}].jitter_m"),
                 format!(
-                    "the spawn region of source '{}' (position_m +- {} m) overlaps surface '{surface}' by {:.1} mm (an apple of its largest diameter, {} m, centred at {at}): apples placed there could not be fed in; reduce jitter_m or move position_m clear of the surface",
+                    "the spawn region of source '{}' (position_m +- {} m) overlaps surface '{surface}'{placed} by {:.1} mm ({size}, centred at {at}): apples placed there could not be fed in; reduce jitter_m or move position_m clear of the surface",
                     src.name,
                     short(j),
                     u * 1e3,
-                    short(d),
                 ),
             )
         });
@@ -807,13 +814,16 @@ fn check_initial_surface_overlaps(
                 .find(|h| h.overlap_m > MAX_INITIAL_SURFACE_OVERLAP_RATIO * r)
             {
                 let field = sc.initial_apple_field(k);
+                let part = world.layer.surface_name(SurfaceId(s as u32));
+                let placed = sc
+                    .surface_fields_of(part)
+                    .map_or_else(String::new, |f| format!(" ({f})"));
                 return Err(ScenarioError::invalid(
                     field,
                     format!(
-                        "apple '{}' starts {:.4} mm inside surface '{}' (more than {} % of its radius): place it on or above the surface",
+                        "apple '{}' starts {:.4} mm inside surface '{part}'{placed} (more than {} % of its radius): place it on or above the surface",
                         a.name,
                         h.overlap_m * 1e3,
-                        world.layer.surface_name(SurfaceId(s as u32)),
                         MAX_INITIAL_SURFACE_OVERLAP_RATIO * 100.0
                     ),
                 ));
