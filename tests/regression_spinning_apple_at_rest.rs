@@ -10,6 +10,11 @@ use applesim::sim::fate::Fate;
 use common::*;
 
 fn spinning(w: [f64; 3]) -> Fate {
+    spinning_with(w, "none").0
+}
+
+/// The fate, the warnings and the spin at the end, with the twisting model `twisting`.
+fn spinning_with(w: [f64; 3], twisting: &str) -> (Fate, Vec<String>, [f64; 3]) {
     let text = format!(
         r#"{{
       "duration_s": 0.6, "time_step_s": 2e-5, "gravity_m_s2": [0, 0, -9.81],
@@ -18,7 +23,7 @@ fn spinning(w: [f64; 3]) -> Fate {
         "apple": {{ "shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800 }},
         "steel": {{ "youngs_modulus_pa": 2.0736e11, "poisson_ratio": 0.28 }}
       }},
-      "contact": {{ "friction": 0.3, "ke": 0.09, "lambda_s_m": 1000, "twisting": "none" }},
+      "contact": {{ "friction": 0.3, "ke": 0.09, "lambda_s_m": 1000, "twisting": "{twisting}" }},
       "apples": [ {{ "name": "a", "material": "apple", "diameter_m": 0.08,
                      "position_m": [0, 0, 0.0399], "angular_velocity_rad_s": {w:?} }} ],
       "surfaces": [ {{ "name": "floor", "type": "plane", "material": "steel",
@@ -35,7 +40,7 @@ fn spinning(w: [f64; 3]) -> Fate {
         applesim::math::vec3(a.final_velocity_m_s).length(),
         a.fate
     );
-    a.fate.clone()
+    (a.fate.clone(), r.warnings.clone(), w_end)
 }
 
 #[test]
@@ -54,4 +59,31 @@ fn an_apple_rolling_on_a_floor_is_still_moving() {
     // section 6); the rolling resistance (mu_r 0.03, about 0.2 m/s^2) needs about 2.7 s to stop
     // it: moving at 0.6 s.
     assert!(matches!(spinning([0.0, 50.0, 0.0]), Fate::Moving { .. }));
+}
+
+/// Issue 31 item 7: the run says so when apples at rest keep spinning (the paper's model has
+/// nothing to stop it); with the contact patch's twisting friction (docs/physics.md 11.8) the spin
+/// stops within the 0.6 s run and nothing is warned.
+#[test]
+fn apples_at_rest_that_keep_spinning_are_warned_about() {
+    let (_, warnings, _) = spinning_with([0.0, 0.0, 5.0], "none");
+    let w: Vec<&String> = warnings
+        .iter()
+        .filter(|w| w.contains("keep spinning about the vertical"))
+        .collect();
+    assert_eq!(w.len(), 1, "{warnings:?}");
+    assert!(
+        w[0].starts_with(
+            "1 apple(s) lie still but keep spinning about the vertical (up to 5 rad/s)"
+        ),
+        "{}",
+        w[0]
+    );
+    let (fate, warnings, spin) = spinning_with([0.0, 0.0, 5.0], "coulomb");
+    println!("coulomb: spin at the end {spin:?}, {fate:?}");
+    assert!(spin[2].abs() < 1e-6, "{spin:?}");
+    assert!(
+        warnings.iter().all(|w| !w.contains("keep spinning")),
+        "{warnings:?}"
+    );
 }

@@ -125,6 +125,12 @@ pub struct FateCounts {
     /// Apples of the sources never fed in (their time had not come, or their spot was still
     /// taken), per source in `sources`.
     pub never_fed: usize,
+    /// Apples at rest (in a bin or on a surface) that still spin about the scene's up axis faster
+    /// than the rest speed at their rim: nothing stops that spin without twisting resistance
+    /// (`twisting: none`, the paper's model); warned.
+    pub spinning_at_rest: usize,
+    /// The fastest such spin (rad/s; 0 when none).
+    pub fastest_spin_at_rest_rad_s: f64,
 }
 
 /// One apple's entry into a bin.
@@ -425,6 +431,17 @@ impl Tracker {
                     None => from_start[b] += 1,
                 }
             }
+            // At rest, spinning about the vertical: counted and warned (nothing else stops it).
+            if still && !world.layer.is_asleep(AppleId(k as u32)) {
+                if let Some(up) = self.up {
+                    let spin = w.dot(up).abs();
+                    if spin * r > self.rest_speed_m_s {
+                        counts.spinning_at_rest += 1;
+                        counts.fastest_spin_at_rest_rad_s =
+                            counts.fastest_spin_at_rest_rad_s.max(spin);
+                    }
+                }
+            }
             let fate = match (still, bin) {
                 (true, Some(b)) => Fate::InBin {
                     bin: world.bins[b].name.clone(),
@@ -534,6 +551,14 @@ fn resting_on(k: usize, touched: &[Option<String>], neighbours: &[Vec<usize>]) -
 /// [`MAX_LEFT_WARNINGS`]), and per source the apples that waited and those never fed in.
 pub fn warnings(apples: &[AppleFinal], line: &LineEnd, end_s: f64) -> Vec<String> {
     let mut out = Vec::new();
+    let f = &line.fates;
+    if f.spinning_at_rest > 0 {
+        out.push(format!(
+            "{} apple(s) lie still but keep spinning about the vertical (up to {} rad/s): without twisting resistance (`\"twisting\": \"none\"`, the paper's and LIGGGHTS's default) nothing stops that spin, while real fruit stops within a second; `\"contact\": {{\"twisting\": \"coulomb\"}}` adds the contact patch's friction (docs/physics.md section 11.8). They count as at rest (their centres are still)",
+            f.spinning_at_rest,
+            human(f.fastest_spin_at_rest_rad_s, 3, 1)
+        ));
+    }
     let left: Vec<&AppleFinal> = apples
         .iter()
         .filter(|a| matches!(a.fate, Fate::LeftScene { .. }))
