@@ -109,7 +109,7 @@ fn apples_falling_off_the_line_are_warned_about_with_time_and_place() {
     // feed-1 and feed-2 left; feed-3 (fed at 0.5 s) is still falling at 1.5 s.
     assert_eq!(
         s["fates"],
-        json!({"in_bin": 0, "on_surface": 0, "floating": 0, "left_scene": 2, "moving": 1, "never_fed": 0})
+        json!({"in_bin": 0, "on_surface": 0, "floating": 0, "left_scene": 2, "moving": 1, "never_fed": 0, "spinning_at_rest": 0, "fastest_spin_at_rest_rad_s": 0.0})
     );
     assert_eq!(s["metrics"]["apples_left_scene"], json!(2.0));
     assert_eq!(fates[2]["kind"], "moving");
