@@ -242,12 +242,12 @@ impl Ctx<'_> {
         };
         let point = point + resp.patch_shift;
         if let Some(open) = c.record.as_mut() {
-            // The apple's share of the deformation and of the loss (contact::share); a pad's
-            // changes as it is squeezed.
-            let shares = match &k.pad {
-                None => (law.share1, law.energy_share1),
-                Some(pad) => pad.apple_shares(u),
-            };
+            // A pad's shares of the deformation and of the loss change as it is squeezed
+            // (contact::share); the others' were set when the contact opened.
+            if let Some(pad) = &k.pad {
+                let (ind, energy) = pad.apple_shares(u);
+                open.set_shares(ind, energy);
+            }
             open.observe(&ContactSample {
                 time_s,
                 dt_s: self.dt_s,
@@ -275,15 +275,16 @@ impl Ctx<'_> {
                         }
                     },
                 ],
-                shares,
-                rotations: [
+            });
+            if open.peak_raised() {
+                open.place_peak([
                     self.frame.rot[i],
                     match c.other {
                         Party::Apple(j) => self.frame.rot[j as usize],
                         Party::Surface(_) => Rotation::IDENTITY,
                     },
-                ],
-            });
+                ]);
+            }
         }
         // Leapfrog kick with variable steps (see `StepControl::gravity`): the force at this pose
         // stands for the impulse from h_back/2 before to h/2 after it. A contact that began within
@@ -435,6 +436,10 @@ impl Ctx<'_> {
             v_app,
             self.config.force_history_cap,
         );
+        // The apple's shares of the deformation and of the loss (contact::share): the pair
+        // law's, once (a pad's are set pose by pose).
+        let law = &self.registry.laws()[c.law as usize];
+        open.set_shares(law.share1, law.energy_share1);
         if let (Some(_), Party::Surface(_)) = (self.config.step_control, c.other) {
             // Rapier's velocities are staggered half a step behind the poses: at long steps the
             // velocity that carried the apple in is the one of mid-step, not of the touch. Add

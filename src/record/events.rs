@@ -209,6 +209,9 @@ pub struct OpenContact {
     last_p: f64,
     /// Apple `a`'s share of the loss at the last pose.
     last_share: f64,
+    /// Apple `a`'s share of the overlap and of the loss ([`crate::contact::share`]): set by the
+    /// layer once for a contact whose shares do not change, pose by pose for a pad's.
+    shares: (f64, f64),
     /// The kick weights of the last pose: (h_back + h_next) / 4 / h_next and / h_back.
     last_w: (f64, f64),
     rate: f64,
@@ -251,6 +254,9 @@ struct Pulse {
     u_at_peak: f64,
     indentation_at_peak: f64,
     sites: [[f64; 3]; 2],
+    /// The last pose raised the peak: the layer places the hit on the bodies
+    /// ([`OpenContact::place_peak`]).
+    new_peak: bool,
     /// The bodies' normal velocities at the touch (m/s; see [`ContactSample::normal_velocities`]).
     v_touch: [f64; 2],
     /// The bodies' normal velocities at the last pose (m/s).
@@ -295,12 +301,6 @@ pub struct ContactSample {
     /// Velocities along `normal` of apple `a` and of the other body at this pose, before this
     /// pose's force kick (m/s): what the impact's velocity change is measured from.
     pub normal_velocities: [f64; 2],
-    /// Apple `a`'s share of the overlap and of the loss at this pose
-    /// ([`crate::contact::share`]).
-    pub shares: (f64, f64),
-    /// Orientations of apple `a` and of the other body (identity for a surface): where a hit
-    /// lands on each body's own surface.
-    pub rotations: [Rotation; 2],
 }
 
 /// A body's orientation (rapier's, glam `DQuat`).
@@ -330,6 +330,7 @@ impl OpenContact {
             last_u: 0.0,
             last_p: 0.0,
             last_share: 1.0,
+            shares: (1.0, 1.0),
             last_w: (0.5, 0.5),
             rate: du_dt,
             steps: 0,
@@ -452,7 +453,7 @@ impl OpenContact {
         };
         self.last_u = s.overlap_m;
         self.last_p = s.force_n;
-        self.last_share = s.shares.1;
+        self.last_share = self.shares.1;
         self.impulse += s.force_n * span;
         self.steps += 1;
         if s.force_n > self.peak {
@@ -475,13 +476,8 @@ impl OpenContact {
                     p.peak = s.force_n;
                     p.t_peak = s.time_s;
                     p.u_at_peak = s.overlap_m;
-                    p.indentation_at_peak = s.shares.0 * s.overlap_m;
-                    // The normal points towards apple a: a is hit at -n, the other body at +n.
-                    let [ra, rb] = s.rotations;
-                    p.sites = [
-                        arr3(ra.inverse() * -s.normal),
-                        arr3(rb.inverse() * s.normal),
-                    ];
+                    p.indentation_at_peak = self.shares.0 * s.overlap_m;
+                    p.new_peak = true;
                     self.normal_at_peak = s.normal;
                 }
             }
@@ -497,6 +493,33 @@ impl OpenContact {
         }
         if let Some(h) = &mut self.history {
             h.push(s.time_s, s.force_n);
+        }
+    }
+
+    /// Sets apple `a`'s share of the overlap and of the loss from now on
+    /// ([`crate::contact::share`]).
+    #[inline]
+    pub fn set_shares(&mut self, indentation: f64, energy: f64) {
+        self.shares = (indentation, energy);
+    }
+
+    /// Whether the last pose raised the impact's peak force: then the layer places the hit on
+    /// the bodies' own surfaces with [`Self::place_peak`] (only while an impact loads, so the
+    /// bodies' orientations are read then and not at every pose).
+    #[inline]
+    pub fn peak_raised(&self) -> bool {
+        self.pulse.as_ref().is_some_and(|p| p.new_peak)
+    }
+
+    /// Places the impact's peak on the bodies: `rotations` are the orientations of apple `a` and
+    /// of the other body (identity for a surface) at the last pose; the normal points towards
+    /// apple `a`, which is hit at -n, the other body at +n.
+    pub fn place_peak(&mut self, rotations: [Rotation; 2]) {
+        let n = self.normal_at_peak;
+        if let Some(p) = &mut self.pulse {
+            let [ra, rb] = rotations;
+            p.sites = [arr3(ra.inverse() * -n), arr3(rb.inverse() * n)];
+            p.new_peak = false;
         }
     }
 
@@ -773,8 +796,6 @@ mod tests {
             point: Vec3::ZERO,
             normal: Vec3::Z,
             normal_velocities: [0.0, 0.0],
-            shares: (1.0, 1.0),
-            rotations: [Rotation::IDENTITY; 2],
         });
         let e = c.finish(1.002, 1e-3, -0.5e-3, 1.0, names());
         assert!((e.t_start_s - 0.99975).abs() < 1e-12);
@@ -799,8 +820,6 @@ mod tests {
                 point: Vec3::new(0.1, 0.2, 0.3),
                 normal: Vec3::Z,
                 normal_velocities: [0.0, 0.0],
-                shares: (1.0, 1.0),
-                rotations: [Rotation::IDENTITY; 2],
             });
         }
         let e = c.finish(1.004, 1e-3, -0.5e-3, 0.7, names());
