@@ -232,7 +232,15 @@ pub fn parse_drops(text: &str, file: &str, lab: &LabSetup) -> Result<Drops, Drop
         .trim(csv::Trim::All)
         .flexible(false)
         .from_reader(text.as_bytes());
-    let header_row = |e: &csv::Error| e.position().map_or(1, |p| p.line() as usize);
+    // The row of a byte offset: the line it is on (comment lines count, as a spreadsheet shows
+    // them; the csv reader's own line count skips them).
+    let line_at = |byte: u64| {
+        1 + text.as_bytes()[..(byte as usize).min(text.len())]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+    };
+    let header_row = |e: &csv::Error| e.position().map_or(1, |p| line_at(p.byte()));
     let headers = rdr
         .headers()
         .map_err(|e| DropsError::Row {
@@ -241,7 +249,7 @@ pub fn parse_drops(text: &str, file: &str, lab: &LabSetup) -> Result<Drops, Drop
             message: format!("not a CSV header: {e}"),
         })?
         .clone();
-    let hrow = headers.position().map_or(1, |p| p.line() as usize);
+    let hrow = headers.position().map_or(1, |p| line_at(p.byte()));
     let mut index: BTreeMap<&str, usize> = BTreeMap::new();
     for (k, h) in headers.iter().enumerate() {
         let cell = |message: String| DropsError::Cell {
@@ -304,7 +312,7 @@ pub fn parse_drops(text: &str, file: &str, lab: &LabSetup) -> Result<Drops, Drop
     let mut kind: Option<(usize, bool)> = None;
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
-            let row = e.position().map_or(0, |p| p.line() as usize);
+            let row = e.position().map_or(0, |p| line_at(p.byte()));
             let message = match e.kind() {
                 csv::ErrorKind::UnequalLengths {
                     expected_len, len, ..
@@ -317,7 +325,7 @@ pub fn parse_drops(text: &str, file: &str, lab: &LabSetup) -> Result<Drops, Drop
                 message,
             }
         })?;
-        let row = rec.position().map_or(0, |p| p.line() as usize);
+        let row = rec.position().map_or(0, |p| line_at(p.byte()));
         let cell_err = |column: &str, message: String| DropsError::Cell {
             file: file.to_string(),
             row,
@@ -589,7 +597,7 @@ pub fn simulate_drop(
     let found = step_until(&sc, dt, max_steps, |w, taken, _| {
         let e = match w.layer.finished_events().first() {
             Some(e) => e.clone(),
-            None => w.layer.open_events().into_iter().next()?,
+            None => w.layer.open_events_after_impact().into_iter().next()?,
         };
         let pulse = e.impact?;
         Some((e, pulse, taken))
@@ -878,6 +886,7 @@ pub fn calibrate_bruise(
         );
     }
     f.spec.preset = base_preset;
+    notes.extend(f.notes.iter().cloned());
     let mut cal = BruiseCalibration {
         drops_file: drops.file.clone(),
         lab_file: lab_file.to_string(),
@@ -958,9 +967,10 @@ impl BruiseCalibration {
         let n = self.fit.drops.len();
         match self.fit.residual_rms_mm3 {
             Some(rms) => format!(
-                "residual RMS {} mm^3 over {n} drops ({} degrees of freedom), {} misclassified (bruised or not)",
+                "residual RMS {} mm^3 over {n} drops ({} degree{} of freedom), {} misclassified (bruised or not)",
                 human(rms, 4, 1),
                 self.fit.dof,
+                if self.fit.dof == 1 { "" } else { "s" },
                 self.fit.misclassified
             ),
             None => format!(

@@ -148,6 +148,9 @@ pub struct Fit {
     pub misclassified: usize,
     /// Degrees of freedom of the residuals (drops less coefficients; volume fits).
     pub dof: usize,
+    /// What the fit could not determine, in words (a threshold at a kink of the model, a
+    /// coefficient at the end of its search range, too few informative drops).
+    pub notes: Vec<String>,
     /// The damage entry of the fitted coefficients (the model and its coefficients only, with
     /// `depth_ratio` when fitted or given).
     pub spec: DamageSpec,
@@ -274,6 +277,7 @@ fn fit_onset_model(
         residual_rms_mm3: None,
         misclassified,
         dof: hits.len().saturating_sub(1),
+        notes: Vec::new(),
         spec,
     })
 }
@@ -584,17 +588,41 @@ pub fn fit_energy(hits: &[Hit], v: &[f64]) -> Result<Fit, FitError> {
             "the bruise volumes do not grow with the absorbed energy: no positive susceptibility fits them".into(),
         ));
     };
-    let jac: Vec<[f64; 2]> = e
-        .iter()
-        .map(|&e| {
-            if e > t {
-                [e - t, -bs]
-            } else {
-                [0.0, 0.0]
-            }
-        })
-        .collect();
-    let [se_bs, se_t] = std_errors(&jac, ssr);
+    // A threshold at a drop's energy is a kink of the model: the SSR has no derivative in E_th
+    // there, so E_th has no standard error; BS's is given with E_th held.
+    let near = |x: f64, t: f64| (x - t).abs() <= 1e-9 * t.abs().max(1e-12);
+    let (bs, t, ssr) = match e.iter().find(|&&x| near(x, t)) {
+        // The regression's threshold a rounding error off a drop's energy: that energy, the
+        // drop without a bruise, as the boundary candidate it equals.
+        Some(&x) if x != t => at(x).unwrap_or((bs, t, ssr)),
+        _ => (bs, t, ssr),
+    };
+    let kink = e.iter().any(|&x| near(x, t));
+    let active = |e: f64| e > t && !near(e, t);
+    let mut notes = Vec::new();
+    let (se_bs, se_t) = if kink {
+        notes.push(format!(
+            "E_th sits at a drop's absorbed energy ({} J), a kink of the piecewise model: the data bound it from one side only and its standard error is not defined; BS's is given with E_th held",
+            crate::math::human(t, 6, 0)
+        ));
+        let x: Vec<[f64; 1]> = e
+            .iter()
+            .map(|&e| [if active(e) { e - t } else { 0.0 }])
+            .collect();
+        // E_th was fitted too: n - 2 degrees of freedom.
+        let n = x.len();
+        let se = std_errors(&x, ssr)[0].and_then(|se| {
+            (n > 2).then(|| se * ((n - 1) as f64 / (n - 2) as f64).sqrt())
+        });
+        (se, None)
+    } else {
+        let jac: Vec<[f64; 2]> = e
+            .iter()
+            .map(|&e| if active(e) { [e - t, -bs] } else { [0.0, 0.0] })
+            .collect();
+        let [a, b] = std_errors(&jac, ssr);
+        (a, b)
+    };
     let spec = DamageSpec {
         model: Some(DamageModelName::Energy),
         bruise_susceptibility_mm3_j: Some(bs),
@@ -602,7 +630,7 @@ pub fn fit_energy(hits: &[Hit], v: &[f64]) -> Result<Fit, FitError> {
         ..DamageSpec::default()
     };
     let params = DamageParams::of(Some(&spec));
-    Ok(volume_fit(
+    let mut f = volume_fit(
         DamageModelName::Energy,
         vec![
             Coefficient {
@@ -625,7 +653,10 @@ pub fn fit_energy(hits: &[Hit], v: &[f64]) -> Result<Fit, FitError> {
         &params,
         e.clone(),
         spec,
-    ))
+    );
+    f.notes = notes;
+    f.note_undetermined();
+    Ok(f)
 }
 
 /// The fit's drops and residuals, the volumes predicted by the run's own model
@@ -674,6 +705,7 @@ fn volume_fit(
         residual_rms_mm3: Some((ssr / n as f64).sqrt()),
         misclassified,
         dof: n.saturating_sub(p),
+        notes: Vec::new(),
         spec,
     }
 }
@@ -819,11 +851,28 @@ pub fn fit_pressure_area(hits: &[Hit], v: &[f64], opts: FitOptions) -> Result<Fi
             "no drop has a contact pressure: nothing to fit".into(),
         ));
     }
-    let (pc, _) = minimise_log(1e-4 * p_min, p_max, 600, |pc| best_k(pc).1);
+    let p_lo = 1e-4 * p_min;
+    let (pc, _) = minimise_log(p_lo, p_max, 600, |pc| best_k(pc).1);
     let (k, s) = best_k(pc);
+    let mut notes = Vec::new();
+    let pc_at_end = pc <= p_lo * (1.0 + 1e-6);
+    if pc_at_end {
+        notes.push(format!(
+            "p_c ran to the low end of its search ({} Pa, 1e-4 of the smallest peak pressure): the data want the whole contact patch bruised, and p_c has no standard error",
+            crate::math::human(p_lo, 4, 0)
+        ));
+    }
+    let k_at_end = opts.fit_depth_ratio && (k <= 0.01 * (1.0 + 1e-6) || k >= 100.0 * (1.0 - 1e-6));
+    if k_at_end {
+        notes.push(format!(
+            "the depth ratio ran to the end of its range [0.01, 100] ({}): it has no standard error",
+            crate::math::human(k, 4, 2)
+        ));
+    }
     let coefficients = if opts.fit_depth_ratio {
         let jac: Vec<[f64; 2]> = patches.iter().map(|p| p.gradient(pc, k)).collect();
         let [se_pc, se_k] = std_errors(&jac, s);
+        let (se_pc, se_k) = (se_pc.filter(|_| !pc_at_end), se_k.filter(|_| !k_at_end));
         vec![
             Coefficient {
                 field: "critical_pressure_pa",
@@ -843,6 +892,7 @@ pub fn fit_pressure_area(hits: &[Hit], v: &[f64], opts: FitOptions) -> Result<Fi
     } else {
         let jac: Vec<[f64; 1]> = patches.iter().map(|p| [p.gradient(pc, k)[0]]).collect();
         let [se_pc] = std_errors(&jac, s);
+        let se_pc = se_pc.filter(|_| !pc_at_end);
         vec![Coefficient {
             field: "critical_pressure_pa",
             symbol: "p_c",
@@ -862,7 +912,7 @@ pub fn fit_pressure_area(hits: &[Hit], v: &[f64], opts: FitOptions) -> Result<Fi
         ..spec.clone()
     }));
     let x = patches.iter().map(|p| p.p0).collect();
-    Ok(volume_fit(
+    let mut f = volume_fit(
         DamageModelName::PressureArea,
         coefficients,
         hits,
@@ -870,7 +920,29 @@ pub fn fit_pressure_area(hits: &[Hit], v: &[f64], opts: FitOptions) -> Result<Fi
         &params,
         x,
         spec,
-    ))
+    );
+    f.notes = notes;
+    f.note_undetermined();
+    Ok(f)
+}
+
+impl Fit {
+    /// Adds a note when the data leave a coefficient without a standard error although drops
+    /// remain beyond the coefficients: fewer informative drops than coefficients (J^T J
+    /// singular), the fit then one of many that fit as well.
+    fn note_undetermined(&mut self) {
+        if self.dof == 0 {
+            self.notes.push(format!(
+                "{} drops for {} coefficients: the fit is exact and the coefficients have no standard errors; add drops",
+                self.drops.len(),
+                self.coefficients.len()
+            ));
+        } else if self.notes.is_empty() && self.coefficients.iter().any(|c| c.std_error.is_none()) {
+            self.notes.push(
+                "too few drops inform the coefficients (J^T J is singular: fewer bruised drops that constrain them than coefficients): other values fit as well, and they have no standard errors; add bruised drops".into(),
+            );
+        }
+    }
 }
 
 #[cfg(test)]
