@@ -103,11 +103,7 @@ fn calibrate(dir: &Path, csv: &Path, extra: &[&str], out: &str) -> (Value, Strin
     let o = applesim(&args);
     let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
     println!("{stdout}");
-    assert!(
-        o.status.success(),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let preset: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     (preset, stdout)
 }
@@ -145,8 +141,8 @@ fn number(v: &Value, field: &str) -> f64 {
 
 /// The round trip's measured errors, as docs/damage.md section 8 prints them (%): BS and E_th of
 /// the energy model; p_c and the depth ratio of the pressure-area model. Checked at twice these.
-const ROUND_TRIP_ENERGY_PCT: [f64; 2] = [0.003, 0.006];
-const ROUND_TRIP_PRESSURE_PCT: [f64; 2] = [0.02, 0.01];
+const ROUND_TRIP_ENERGY_PCT: [f64; 2] = [0.0022, 0.0091];
+const ROUND_TRIP_PRESSURE_PCT: [f64; 2] = [0.0007, 0.0029];
 
 #[test]
 fn round_trip_recovers_the_energy_model_and_a_scenario_naming_the_preset_uses_it() {
@@ -162,13 +158,21 @@ fn round_trip_recovers_the_energy_model_and_a_scenario_naming_the_preset_uses_it
         })
         .collect();
     // Some drops below the threshold, on both surfaces.
-    assert!(rows.iter().filter(|r| r.2.parse::<f64>().unwrap() == 0.0).count() >= 2);
+    assert!(
+        rows.iter()
+            .filter(|r| r.2.parse::<f64>().unwrap() == 0.0)
+            .count()
+            >= 2
+    );
     let csv = write_csv(&dir, "drops.csv", &rows, "volume_mm3");
     let (preset, stdout) = calibrate(&dir, &csv, &["--model", "energy"], "energy.json");
     let bs = number(&preset, "bruise_susceptibility_mm3_j");
     let e_th = number(&preset, "threshold_energy_j");
     let err = [100.0 * rel(bs, 5000.0), 100.0 * rel(e_th, 0.05)];
-    println!("round trip: BS {bs} ({:.4} %), E_th {e_th} ({:.4} %)", err[0], err[1]);
+    println!(
+        "round trip: BS {bs} ({:.4} %), E_th {e_th} ({:.4} %)",
+        err[0], err[1]
+    );
     for (e, doc) in err.iter().zip(ROUND_TRIP_ENERGY_PCT) {
         // The issue's acceptance is 1 %; the docs print the measured figure, checked at 2x.
         assert!(*e <= 2.0 * doc && *e <= 1.0, "{err:?}");
@@ -182,7 +186,10 @@ fn round_trip_recovers_the_energy_model_and_a_scenario_naming_the_preset_uses_it
         )),
         "{source}"
     );
-    assert!(source.contains("residual RMS") && source.contains("+-"), "{source}");
+    assert!(
+        source.contains("residual RMS") && source.contains("+-"),
+        "{source}"
+    );
     assert!(stdout.contains("energy model: BS = "), "{stdout}");
     // The report beside it.
     assert!(dir.join("energy.report.md").is_file());
@@ -217,7 +224,8 @@ fn round_trip_recovers_the_energy_model_and_a_scenario_naming_the_preset_uses_it
 #[test]
 fn round_trip_recovers_the_pressure_area_model_with_its_depth_ratio() {
     let dir = scratch("pressure");
-    let truth = json!({ "model": "pressure-area", "critical_pressure_pa": 2.2e5, "depth_ratio": 3.0 });
+    let truth =
+        json!({ "model": "pressure-area", "critical_pressure_pa": 2.2e5, "depth_ratio": 3.0 });
     let rows: Vec<(&str, f64, String)> = DROPS
         .iter()
         .map(|&(s, h)| {
@@ -238,7 +246,10 @@ fn round_trip_recovers_the_pressure_area_model_with_its_depth_ratio() {
     let pc = number(&preset, "critical_pressure_pa");
     let k = number(&preset, "depth_ratio");
     let err = [100.0 * rel(pc, 2.2e5), 100.0 * rel(k, 3.0)];
-    println!("round trip: p_c {pc} ({:.4} %), depth ratio {k} ({:.4} %)", err[0], err[1]);
+    println!(
+        "round trip: p_c {pc} ({:.4} %), depth ratio {k} ({:.4} %)",
+        err[0], err[1]
+    );
     for (e, doc) in err.iter().zip(ROUND_TRIP_PRESSURE_PCT) {
         assert!(*e <= 2.0 * doc && *e <= 1.0, "{err:?}");
     }
@@ -272,7 +283,8 @@ fn yes_no_drops_fit_the_peak_force_onset_between_the_bracketing_drops() {
     let (preset, stdout) = calibrate(&dir, &csv, &["--model", "peak-force"], "force.json");
     let f = number(&preset, "peak_force_n");
     println!("peak-force onset {f} N ({:.3} %)", 100.0 * rel(f, 100.0));
-    assert!(rel(f, 100.0) <= 0.01, "{f}");
+    // docs/damage.md section 8 prints 0.13 %; checked at twice that.
+    assert!(rel(f, 100.0) <= 0.0026, "{f}");
     assert!(stdout.contains("the data separate"), "{stdout}");
     assert!(stdout.contains("0 of 6 drops misclassified"), "{stdout}");
     let _ = std::fs::remove_dir_all(&dir);
@@ -333,10 +345,16 @@ fn bad_drop_files_are_refused_naming_the_row_and_column() {
         println!("{what}: {err}");
         assert!(!o.status.success(), "{what}");
         assert_eq!(o.status.code(), Some(1), "{what}: no panic");
-        let want = format!("error: {}{want}", csv.display().to_string().trim_end_matches("drops.csv"));
+        let want = format!(
+            "error: {}{want}",
+            csv.display().to_string().trim_end_matches("drops.csv")
+        );
         assert!(err.starts_with(&want), "{what}: {err}\nwanted: {want}");
         assert_eq!(err.lines().count(), 1, "{what}: one line");
-        assert!(!out.exists() && !dir.join("never.report.md").exists(), "{what}: nothing written");
+        assert!(
+            !out.exists() && !dir.join("never.report.md").exists(),
+            "{what}: nothing written"
+        );
     }
     // The lab file's mistakes name it and the field.
     std::fs::write(
@@ -344,7 +362,11 @@ fn bad_drop_files_are_refused_naming_the_row_and_column() {
         r#"{"materials": {"apple": {"preset": "apple-paper"}}, "contact": {"friction": 0.3, "ke": 0.25, "lambda_s_m": 1000}, "surface": {}}"#,
     )
     .unwrap();
-    std::fs::write(dir.join("drops.csv"), format!("{head}0.1,apple,0.08,0.2,1\n")).unwrap();
+    std::fs::write(
+        dir.join("drops.csv"),
+        format!("{head}0.1,apple,0.08,0.2,1\n"),
+    )
+    .unwrap();
     let o = applesim(&[
         "calibrate-bruise",
         dir.join("drops.csv").to_str().unwrap(),
@@ -357,7 +379,10 @@ fn bad_drop_files_are_refused_naming_the_row_and_column() {
     ]);
     let err = String::from_utf8_lossy(&o.stderr);
     println!("{err}");
-    assert!(err.contains("bad_lab.json: .: unknown field `surface`"), "{err}");
+    assert!(
+        err.contains("bad_lab.json: surface: unknown field `surface`, expected one of `materials`, `contact`, `pairs`, `surfaces`"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -368,13 +393,13 @@ const PUBLISHED: &[(&str, &str, &str, &str)] = &[
     (
         "komarnicki_stopa_2013.csv",
         "energy",
-        "energy model: BS = 163354 +- 9513 mm^3/J, E_th = 0.0509036 J",
+        "energy model: BS = 163341 +- 9513 mm^3/J, E_th = 0.0508826 J",
         "residual RMS 209.6 mm^3 over 3 drops (1 degree of freedom), 1 misclassified (bruised or not)",
     ),
     (
         "fu_2017.csv",
         "pressure-area",
-        "pressure-area model: p_c = 251136 +- 46496 Pa",
+        "pressure-area model: p_c = 251140 +- 46509 Pa",
         "2 of 8 drops misclassified (bruised or not)",
     ),
     (
@@ -406,22 +431,33 @@ fn the_published_data_set_fits_as_documented() {
         let stdout = String::from_utf8_lossy(&o.stdout);
         println!("{stdout}");
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        assert!(stdout.lines().any(|l| l == *coefficients), "{file} {model}: {coefficients}");
-        assert!(stdout.lines().any(|l| l == *residuals), "{file} {model}: {residuals}");
+        assert!(
+            stdout.lines().any(|l| l == *coefficients),
+            "{file} {model}: {coefficients}"
+        );
+        assert!(
+            stdout.lines().any(|l| l == *residuals),
+            "{file} {model}: {residuals}"
+        );
         // The docs print the same lines.
         for (name, text) in [("docs/damage.md", &doc), ("docs/damage/README.md", &readme)] {
             assert!(text.contains(coefficients), "{name} lacks '{coefficients}'");
             assert!(text.contains(residuals), "{name} lacks '{residuals}'");
         }
         // Every drop's residual as printed is in the README's table of that fit.
-        for line in stdout.lines().filter(|l| l.trim_start().starts_with(char::is_numeric)) {
+        let table = stdout
+            .lines()
+            .skip_while(|l| !l.starts_with("row "))
+            .skip(1)
+            .take_while(|l| !l.is_empty());
+        for line in table {
             let cells: Vec<&str> = line.split_whitespace().collect();
             let id = cells[1];
             let residual = cells.last().unwrap();
             assert!(
-                readme
-                    .lines()
-                    .any(|l| l.contains(&format!("| {id} |")) && l.contains(model) && l.contains(&format!("| {residual} |"))),
+                readme.lines().any(|l| l.contains(&format!("| {id} |"))
+                    && l.contains(model)
+                    && l.contains(&format!("| {residual} |"))),
                 "docs/damage/README.md: no row of {id} ({model}) with residual {residual}"
             );
         }

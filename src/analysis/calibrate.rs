@@ -290,6 +290,7 @@ impl ImpactSetup {
             contact: ContactSpec::paper(0.0, ke, self.lambda_s_m),
             pairs: Vec::new(),
             apple_material: "apple".into(),
+            surface_name: "surface".into(),
             surface_material: "surface".into(),
             padding: None,
             diameter_m: self.diameter_m,
@@ -323,6 +324,8 @@ pub struct OneImpact {
     pub pairs: Vec<PairSpec>,
     /// The apple's material (a key of `materials`).
     pub apple_material: String,
+    /// The flat's name (in the simulation's messages).
+    pub surface_name: String,
     /// The flat's material (a key of `materials`); the substrate when padded.
     pub surface_material: String,
     /// A pad bonded on the flat (docs/physics.md section 13).
@@ -373,7 +376,7 @@ impl OneImpact {
             generators: Vec::new(),
             sources: Vec::new(),
             surfaces: vec![SurfaceSpec::Plane(PlaneSpec {
-                name: "surface".into(),
+                name: self.surface_name.clone(),
                 material: self.surface_material.clone(),
                 point_m: [0.0; 3],
                 normal: [0.0, 0.0, 1.0],
@@ -395,7 +398,11 @@ impl OneImpact {
                     "materials",
                     format!(
                         "unknown material '{m}' (defined: {})",
-                        self.materials.keys().cloned().collect::<Vec<_>>().join(", ")
+                        self.materials
+                            .keys()
+                            .cloned()
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
                 )
             })
@@ -417,7 +424,7 @@ pub fn step_until<T>(
     sc: &Scenario,
     dt: f64,
     max_steps: u64,
-    mut done: impl FnMut(&World, f64, u64) -> Option<T>,
+    mut done: impl FnMut(&mut World, f64, u64) -> Option<T>,
 ) -> Result<Option<T>, CalibrateError> {
     scenario::validate(sc)?;
     let mut w = world::build(sc, Path::new("."))?;
@@ -430,7 +437,7 @@ pub fn step_until<T>(
             t,
             dt,
         )?;
-        if let Some(v) = done(&w, taken, step) {
+        if let Some(v) = done(&mut w, taken, step) {
             return Ok(Some(v));
         }
         w.advance(taken);
@@ -476,7 +483,11 @@ pub fn simulate_impact(setup: &ImpactSetup, ke: f64, v0: f64) -> Result<Impact, 
             ke,
             speed_m_s: v0,
             restitution: None,
-            peak_force_n: w.layer.open_events().first().map_or(0.0, |e| e.peak_force_n),
+            peak_force_n: w
+                .layer
+                .open_events()
+                .first()
+                .map_or(0.0, |e| e.peak_force_n),
             contact_time_s: None,
             time_step_s: dt,
         })

@@ -13,7 +13,7 @@
 //! by its peak force is simulated at the speed that gives that force, found by bisection.
 
 use super::bruise::hit_of;
-use super::calibrate::{step_until, CalibrateError, OneImpact, DEFAULT_STEPS_PER_IMPACT};
+use super::calibrate::{step_until, CalibrateError, OneImpact};
 use super::damage::fit::{self, Fit, FitError, FitOptions, Measured, Method};
 use super::damage::geometry::cap_volume;
 use super::damage::Hit;
@@ -28,6 +28,12 @@ use thiserror::Error;
 
 /// Gravity of the drops (m/s^2): a drop from height h touches at sqrt(2 g h).
 pub const STANDARD_GRAVITY_M_S2: f64 = 9.81;
+
+/// Default steps per elastic contact time of a simulated drop. The energy an impact absorbs
+/// converges at first order in the step: a drop's absorbed energy moves by about 2e-4 of itself
+/// from 200 steps to the converged value, 5e-5 at 1000 (docs/damage.md section 8). A drop costs
+/// a few thousand steps of one apple.
+pub const DEFAULT_STEPS_PER_DROP: f64 = 1000.0;
 
 /// The columns a drops file may have.
 pub const COLUMNS: &[&str] = &[
@@ -284,7 +290,10 @@ pub fn parse_drops(text: &str, file: &str, lab: &LabSetup) -> Result<Drops, Drop
             "no column height_m, speed_m_s or peak_force_n: say how each drop was dropped".into(),
         ));
     }
-    match (index.contains_key("diameter_mm"), index.contains_key("depth_mm")) {
+    match (
+        index.contains_key("diameter_mm"),
+        index.contains_key("depth_mm"),
+    ) {
         (true, false) => {
             return Err(file_err(
                 "column diameter_mm without depth_mm: a bruise's volume needs both".into(),
@@ -379,9 +388,9 @@ pub fn parse_drops(text: &str, file: &str, lab: &LabSetup) -> Result<Drops, Drop
                 let v = match *c {
                     "height_m" => DropDefinition::Height(number(c, &HEIGHT)?.unwrap_or(0.0)),
                     "speed_m_s" => DropDefinition::Speed(number(c, &SPEED)?.unwrap_or(0.0)),
-                    _ => DropDefinition::PeakForce(
-                        number(c, &ranges::BRUISE_FORCE)?.unwrap_or(0.0),
-                    ),
+                    _ => {
+                        DropDefinition::PeakForce(number(c, &ranges::BRUISE_FORCE)?.unwrap_or(0.0))
+                    }
                 };
                 v
             }
@@ -550,7 +559,7 @@ const SPEED: Range = Range {
 };
 
 /// What the simulation says one drop did to the apple.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct DropHit {
     /// Impact speed simulated (m/s).
     pub speed_m_s: f64,
@@ -562,6 +571,9 @@ pub struct DropHit {
     pub restitution: Option<f64>,
     /// Time step (s).
     pub time_step_s: f64,
+    /// What the pad of a padded surface went through, if it reached the end of the thin-layer
+    /// law or bottomed out (docs/physics.md section 13).
+    pub pad_warnings: Vec<String>,
 }
 
 /// Simulates the apple striking the flat of `imp` at `v0` (m/s) with `steps_per_impact` steps
@@ -577,7 +589,10 @@ pub fn simulate_drop(
         message,
     };
     if !(v0.is_finite() && v0 > 0.0) {
-        return Err(bad("speed_m_s", format!("{v0} must be a finite number > 0")));
+        return Err(bad(
+            "speed_m_s",
+            format!("{v0} must be a finite number > 0"),
+        ));
     }
     if !(steps_per_impact.is_finite() && steps_per_impact >= 10.0) {
         return Err(bad(
@@ -600,9 +615,9 @@ pub fn simulate_drop(
             None => w.layer.open_events_after_impact().into_iter().next()?,
         };
         let pulse = e.impact?;
-        Some((e, pulse, taken))
+        Some((e, pulse, taken, w.layer.take_pad_warnings()))
     })?;
-    let Some((e, pulse, taken)) = found else {
+    let Some((e, pulse, taken, pad_warnings)) = found else {
         return Err(bad(
             "speed_m_s",
             format!(
@@ -617,6 +632,7 @@ pub fn simulate_drop(
         contact_absorbed_energy_j: pulse.absorbed_energy_j,
         restitution: e.restitution,
         time_step_s: taken,
+        pad_warnings,
     })
 }
 
@@ -712,7 +728,7 @@ impl Default for Options {
         Self {
             model: DamageModelName::Energy,
             apple_material: "apple".into(),
-            steps_per_impact: DEFAULT_STEPS_PER_IMPACT,
+            steps_per_impact: DEFAULT_STEPS_PER_DROP,
             fit: FitOptions::default(),
             preset: None,
         }
@@ -746,8 +762,11 @@ pub struct BruiseCalibration {
     /// The damage entry to write: the fit's model and coefficients, `preset` when needed,
     /// `source` saying where they come from.
     pub spec: DamageSpec,
-    /// Notes on the fit (what yes/no data cannot say, where BS comes from).
+    /// Notes on the fit (what yes/no data cannot say, where BS comes from, what the data
+    /// leave undetermined); in the written entry's `source` too.
     pub notes: Vec<String>,
+    /// What the simulations warned of (a pad at the end of its law or bottomed out), per row.
+    pub warnings: Vec<String>,
 }
 
 /// Simulates every drop and fits `opts.model` to the bruises.
@@ -791,7 +810,10 @@ pub fn calibrate_bruise(
     let base_preset = if opts.model == DamageModelName::Energy && !volumes {
         let p = preset.unwrap_or(spec::DEFAULT_PRESET);
         let pr = spec::damage_preset(p).expect("a preset of the table");
-        let Some(bs) = pr.bruise_susceptibility_mm3_j.filter(|_| pr.model == opts.model) else {
+        let Some(bs) = pr
+            .bruise_susceptibility_mm3_j
+            .filter(|_| pr.model == opts.model)
+        else {
             return Err(option(
                 "--preset",
                 format!(
@@ -841,6 +863,7 @@ pub fn calibrate_bruise(
             contact: lab.contact,
             pairs: lab.pairs.clone(),
             apple_material: opts.apple_material.clone(),
+            surface_name: d.surface.clone(),
             surface_material: surface.material,
             padding: surface.padding,
             diameter_m: d.diameter_m,
@@ -871,15 +894,23 @@ pub fn calibrate_bruise(
             simulations,
         });
     }
+    let warnings = out
+        .iter()
+        .flat_map(|d| {
+            d.sim
+                .pad_warnings
+                .iter()
+                .map(move |w| format!("row {}: {w}", d.drop.row))
+        })
+        .collect();
     let hits: Vec<Hit> = out.iter().map(|d| d.sim.hit).collect();
     let measured: Vec<Measured> = out.iter().map(|d| d.drop.measured).collect();
-    let mut f = fit::fit(opts.model, &hits, &measured, opts.fit).map_err(|source| {
-        DropsError::Fit {
+    let mut f =
+        fit::fit(opts.model, &hits, &measured, opts.fit).map_err(|source| DropsError::Fit {
             file: drops.file.clone(),
             model: opts.model.as_str(),
             source,
-        }
-    })?;
+        })?;
     if opts.model == DamageModelName::PeakForce && volumes {
         notes.push(
             "the peak-force model is an onset: fitted to whether each volume is above 0".into(),
@@ -895,6 +926,7 @@ pub fn calibrate_bruise(
         spec: f.spec.clone(),
         fit: f,
         notes,
+        warnings,
     };
     cal.spec.source = Some(cal.source_text());
     spec::validate(&cal.spec, "the fitted damage entry").map_err(|e| DropsError::File {
@@ -1033,10 +1065,13 @@ impl BruiseCalibration {
         for (d, f) in self.drops.iter().zip(&self.fit.drops) {
             let h = &d.sim.hit;
             let measured = match (f.measured, d.drop.given_as) {
-                (Measured::Volume(v), BruiseAs::Cap {
-                    diameter_mm,
-                    depth_mm,
-                }) => format!(
+                (
+                    Measured::Volume(v),
+                    BruiseAs::Cap {
+                        diameter_mm,
+                        depth_mm,
+                    },
+                ) => format!(
                     "{v:.1} ({} x {} mm)",
                     human(diameter_mm, 4, 1),
                     human(depth_mm, 4, 1)
@@ -1138,6 +1173,9 @@ impl BruiseCalibration {
         for n in &self.notes {
             s.push_str(&format!("note: {n}\n"));
         }
+        for w in &self.warnings {
+            s.push_str(&format!("warning: {w}\n"));
+        }
         s
     }
 
@@ -1163,6 +1201,9 @@ impl BruiseCalibration {
         for n in &self.notes {
             s.push_str(&format!("- Note: {n}\n"));
         }
+        for w in &self.warnings {
+            s.push_str(&format!("- Warning: {w}\n"));
+        }
         s.push_str("\n## Drops\n\nv0: the impact speed simulated (m/s); E_abs: the energy the apple absorbed (its share of the impact's loss, J); F: peak force (N); p0: peak centre pressure (MPa); a: contact radius (mm); delta: the apple's deformation (mm); volumes in mm^3.\n\n");
         s.push_str(&self.drops_table(true));
         s.push_str("\nThe standard errors measure the scatter of the measured bruises about the model. They do not include the uncertainty of what each drop's simulation was given (the apple's modulus, the restitution, the mass): change those in the lab file and refit to see how far the coefficients move.\n");
@@ -1186,7 +1227,9 @@ mod tests {
     }
 
     fn err(text: &str) -> String {
-        parse_drops(text, "drops.csv", &lab()).unwrap_err().to_string()
+        parse_drops(text, "drops.csv", &lab())
+            .unwrap_err()
+            .to_string()
     }
 
     #[test]
@@ -1206,10 +1249,7 @@ mod tests {
         assert_eq!(d.drops[0].how, DropDefinition::Height(0.1));
         assert_eq!(d.drops[1].how, DropDefinition::Speed(1.5));
         assert_eq!(d.drops[2].how, DropDefinition::PeakForce(57.0));
-        assert_eq!(
-            d.drops[1].measured,
-            Measured::Volume(cap_volume(10.0, 3.0))
-        );
+        assert_eq!(d.drops[1].measured, Measured::Volume(cap_volume(10.0, 3.0)));
         assert!(d.volumes());
         let d = parse_drops(
             "height_m,surface,diameter_m,mass_kg,bruised\n0.1,steel,0.08,0.2,Yes\n0.05,steel,0.08,0.2,0\n",

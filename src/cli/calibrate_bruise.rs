@@ -2,7 +2,6 @@
 //! a damage model fitted to a lab's drop tests, written as a preset file a scenario names
 //! (library: `applesim::analysis::calibrate_bruise`; guide: docs/damage.md section 8).
 
-use applesim::analysis::calibrate::DEFAULT_STEPS_PER_IMPACT;
 use applesim::analysis::calibrate_bruise::{self, Options};
 use applesim::analysis::damage::fit::FitOptions;
 use applesim::output::atomic;
@@ -52,7 +51,7 @@ pub struct Args {
     #[arg(long)]
     preset: Option<String>,
     /// Time steps per elastic contact time of each simulated drop.
-    #[arg(long, default_value_t = DEFAULT_STEPS_PER_IMPACT)]
+    #[arg(long, default_value_t = calibrate_bruise::DEFAULT_STEPS_PER_DROP)]
     steps_per_impact: f64,
     /// The report file (default: the preset's name with .report.md).
     #[arg(long)]

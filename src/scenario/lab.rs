@@ -105,7 +105,11 @@ impl LabSetup {
 
     /// The materials' names, comma-separated (for messages).
     pub fn material_names(&self) -> String {
-        self.materials.keys().cloned().collect::<Vec<_>>().join(", ")
+        self.materials
+            .keys()
+            .cloned()
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 
     /// The test surface a drop names: a surface of `surfaces`, else a bare flat of a material.

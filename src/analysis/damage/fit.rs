@@ -207,12 +207,9 @@ fn onset_variable(model: DamageModelName, h: &Hit) -> f64 {
 fn onset_names(model: DamageModelName) -> (&'static str, &'static str, &'static str, &'static str) {
     match model {
         DamageModelName::Energy => ("absorbed energy", "J", "threshold_energy_j", "E_th"),
-        DamageModelName::PressureArea => (
-            "peak centre pressure",
-            "Pa",
-            "critical_pressure_pa",
-            "p_c",
-        ),
+        DamageModelName::PressureArea => {
+            ("peak centre pressure", "Pa", "critical_pressure_pa", "p_c")
+        }
         DamageModelName::PeakForce => ("peak force", "N", "peak_force_n", "F_th"),
     }
 }
@@ -448,7 +445,8 @@ fn logistic_onset(x: &[f64], y: &[bool], quantity: &'static str) -> Result<Onset
     let se = cov.map(|c| {
         // d z50 / d b = (-1 / b1, b0 / b1^2).
         let g = [-1.0 / b[1], b[0] / (b[1] * b[1])];
-        let var = g[0] * (c[0][0] * g[0] + c[0][1] * g[1]) + g[1] * (c[1][0] * g[0] + c[1][1] * g[1]);
+        let var =
+            g[0] * (c[0][0] * g[0] + c[0][1] * g[1]) + g[1] * (c[1][0] * g[0] + c[1][1] * g[1]);
         s * var.max(0.0).sqrt()
     });
     Ok(Onset {
@@ -515,7 +513,9 @@ pub fn fit_energy(hits: &[Hit], v: &[f64]) -> Result<Fit, FitError> {
             largest: format!("{} J", crate::math::human(largest, 4, 1)),
         });
     }
-    let distinct = bruised.iter().any(|&x| (x - bruised[0]).abs() > 1e-12 * x.abs());
+    let distinct = bruised
+        .iter()
+        .any(|&x| (x - bruised[0]).abs() > 1e-12 * x.abs());
     if !distinct {
         return Err(FitError::TooFew(
             "the energy model's BS and E_th need bruises at two absorbed energies at least: add bruised drops at other heights (or fit the onset alone with bruised yes/no)".into(),
@@ -611,9 +611,8 @@ pub fn fit_energy(hits: &[Hit], v: &[f64]) -> Result<Fit, FitError> {
             .collect();
         // E_th was fitted too: n - 2 degrees of freedom.
         let n = x.len();
-        let se = std_errors(&x, ssr)[0].and_then(|se| {
-            (n > 2).then(|| se * ((n - 1) as f64 / (n - 2) as f64).sqrt())
-        });
+        let se = std_errors(&x, ssr)[0]
+            .and_then(|se| (n > 2).then(|| se * ((n - 1) as f64 / (n - 2) as f64).sqrt()));
         (se, None)
     } else {
         let jac: Vec<[f64; 2]> = e
@@ -825,9 +824,7 @@ pub fn fit_pressure_area(hits: &[Hit], v: &[f64], opts: FitOptions) -> Result<Fi
                 largest: format!("{} MPa", crate::math::human(largest * 1e-6, 4, 1)),
             }
         } else {
-            FitError::TooFew(
-                "fitting the depth ratio too needs two bruised drops at least".into(),
-            )
+            FitError::TooFew("fitting the depth ratio too needs two bruised drops at least".into())
         });
     }
     let ssr = |pc: f64, k: f64| -> f64 {
@@ -1056,8 +1053,13 @@ mod tests {
 
     #[test]
     fn separating_onsets_take_the_midpoint_and_overlapping_ones_the_logistic() {
-        let on = fit_onset(&[10.0, 22.0, 50.0, 70.0], &[false, false, true, true], "f", "N")
-            .unwrap();
+        let on = fit_onset(
+            &[10.0, 22.0, 50.0, 70.0],
+            &[false, false, true, true],
+            "f",
+            "N",
+        )
+        .unwrap();
         assert_eq!(on.threshold, 36.0);
         assert_eq!(
             on.method,
