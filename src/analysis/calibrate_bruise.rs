@@ -101,7 +101,7 @@ pub enum DropsError {
         /// The lab file.
         file: String,
         /// The refusal, naming the field.
-        source: ScenarioError,
+        source: Box<ScenarioError>,
     },
     /// A drop could not be simulated.
     #[error("{file}, row {row}: the drop's simulation failed: {source}")]
@@ -111,7 +111,7 @@ pub enum DropsError {
         /// The row.
         row: usize,
         /// Why.
-        source: CalibrateError,
+        source: Box<CalibrateError>,
     },
     /// The coefficients could not be fitted.
     #[error("{file}: the {model} model cannot be fitted: {source}")]
@@ -238,13 +238,24 @@ pub fn parse_drops(text: &str, file: &str, lab: &LabSetup) -> Result<Drops, Drop
         .trim(csv::Trim::All)
         .flexible(false)
         .from_reader(text.as_bytes());
-    // The row of a byte offset: the line it is on (comment lines count, as a spreadsheet shows
-    // them; the csv reader's own line count skips them).
+    // The row of a record starting at a byte offset: the line it is on, comment lines counted as
+    // a spreadsheet shows them (the csv reader's own line count skips them, and a record's
+    // offset is where the reader started looking for it: before the comments and blank lines
+    // that precede it).
+    let lines: Vec<&str> = text.split('\n').collect();
     let line_at = |byte: u64| {
-        1 + text.as_bytes()[..(byte as usize).min(text.len())]
+        let mut line = text.as_bytes()[..(byte as usize).min(text.len())]
             .iter()
             .filter(|&&b| b == b'\n')
-            .count()
+            .count();
+        while lines.get(line).is_some_and(|l| {
+            let l = l.trim();
+            l.is_empty() || l.starts_with('#')
+        }) && line + 1 < lines.len()
+        {
+            line += 1;
+        }
+        line + 1
     };
     let header_row = |e: &csv::Error| e.position().map_or(1, |p| line_at(p.byte()));
     let headers = rdr
@@ -384,16 +395,11 @@ pub fn parse_drops(text: &str, file: &str, lab: &LabSetup) -> Result<Drops, Drop
                     ),
                 ));
             }
-            [c] => {
-                let v = match *c {
-                    "height_m" => DropDefinition::Height(number(c, &HEIGHT)?.unwrap_or(0.0)),
-                    "speed_m_s" => DropDefinition::Speed(number(c, &SPEED)?.unwrap_or(0.0)),
-                    _ => {
-                        DropDefinition::PeakForce(number(c, &ranges::BRUISE_FORCE)?.unwrap_or(0.0))
-                    }
-                };
-                v
-            }
+            [c] => match *c {
+                "height_m" => DropDefinition::Height(number(c, &HEIGHT)?.unwrap_or(0.0)),
+                "speed_m_s" => DropDefinition::Speed(number(c, &SPEED)?.unwrap_or(0.0)),
+                _ => DropDefinition::PeakForce(number(c, &ranges::BRUISE_FORCE)?.unwrap_or(0.0)),
+            },
             [a, b, ..] => {
                 return Err(cell_err(
                     b,
@@ -839,12 +845,12 @@ pub fn calibrate_bruise(
         let sim_err = |source: CalibrateError| match source {
             CalibrateError::Scenario(e) => DropsError::Lab {
                 file: lab_file.to_string(),
-                source: e,
+                source: Box::new(e),
             },
             source => DropsError::Simulation {
                 file: drops.file.clone(),
                 row: d.row,
-                source,
+                source: Box::new(source),
             },
         };
         let surface = lab.surface(&d.surface).ok_or_else(|| DropsError::Cell {
@@ -1239,6 +1245,7 @@ mod tests {
              # a comment\n\
              a,0.1,,,steel,0.08,0.2,120,,\n\
              b,,1.5,,foam,0.08,0.2,,10,3\n\
+             # another\n\
              c,,,57,padded,0.08,0.2,0,,\n",
             "drops.csv",
             &lab(),
@@ -1246,6 +1253,7 @@ mod tests {
         .unwrap();
         assert_eq!(d.drops.len(), 3);
         assert_eq!(d.drops[0].row, 3);
+        assert_eq!(d.drops[2].row, 6);
         assert_eq!(d.drops[0].how, DropDefinition::Height(0.1));
         assert_eq!(d.drops[1].how, DropDefinition::Speed(1.5));
         assert_eq!(d.drops[2].how, DropDefinition::PeakForce(57.0));
