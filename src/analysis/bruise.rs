@@ -19,7 +19,7 @@
 use super::damage::grade::{self, BruiseSize};
 use super::damage::sites::{self, PlacedHit};
 use super::damage::{model, DamageParams, Hit};
-use crate::record::events::{ContactEvent, Party};
+use crate::record::events::{ContactEvent, ImpactPulse, Party};
 use crate::scenario::damage::{standard, GradeClass, DEFAULT_STANDARD};
 use crate::scenario::Scenario;
 use crate::world::RosterApple;
@@ -257,6 +257,42 @@ pub fn grading(sc: &Scenario) -> (String, Vec<GradeClass>, String) {
     }
 }
 
+/// The hit an apple takes in an impact, and where on it (the unit vector from its centre in its
+/// own frame): apple `a` of the contact when `towards`, else the other body (an apple too). The
+/// energy it absorbed is its share of the impact's loss (`contact::share`), the peak centre
+/// pressure 1.5 times the largest mean pressure (Hertz: p0 = 3 P / (2 pi a^2)), its
+/// deformation its share of the overlap at the peak. The one definition of a hit: a run's
+/// assessment ([`assess`]) and `applesim calibrate-bruise` (`analysis::calibrate_bruise`) both
+/// take it from here.
+pub fn hit_of(pulse: &ImpactPulse, towards: bool) -> (Hit, [f64; 3]) {
+    let (absorbed, indentation, direction) = if towards {
+        (
+            pulse.a_absorbed_energy_j,
+            pulse.a_indentation_m,
+            pulse.sites[0],
+        )
+    } else {
+        (
+            pulse.absorbed_energy_j - pulse.a_absorbed_energy_j,
+            pulse.overlap_at_peak_m - pulse.a_indentation_m,
+            pulse.sites[1],
+        )
+    };
+    let hit = Hit {
+        absorbed_energy_j: absorbed,
+        peak_force_n: pulse.peak_force_n,
+        peak_pressure_pa: 1.5 * pulse.max_pressure_pa,
+        contact_radius_m: pulse.max_contact_radius_m,
+        indentation_m: indentation,
+        stored_share: if pulse.overlap_at_peak_m > 0.0 {
+            indentation / pulse.overlap_at_peak_m
+        } else {
+            1.0
+        },
+    };
+    (hit, direction)
+}
+
 /// One side of an impact, with what the assessment needs of it.
 struct Side {
     event: usize,
@@ -351,31 +387,8 @@ pub fn assess(
                 outside_validity: None,
             };
             if let Some(pulse) = &e.impact {
-                let (absorbed, indentation, direction) = if towards {
-                    (
-                        pulse.a_absorbed_energy_j,
-                        pulse.a_indentation_m,
-                        pulse.sites[0],
-                    )
-                } else {
-                    (
-                        pulse.absorbed_energy_j - pulse.a_absorbed_energy_j,
-                        pulse.overlap_at_peak_m - pulse.a_indentation_m,
-                        pulse.sites[1],
-                    )
-                };
-                let hit = Hit {
-                    absorbed_energy_j: absorbed,
-                    peak_force_n: pulse.peak_force_n,
-                    peak_pressure_pa: 1.5 * pulse.max_pressure_pa,
-                    contact_radius_m: pulse.max_contact_radius_m,
-                    indentation_m: indentation,
-                    stored_share: if pulse.overlap_at_peak_m > 0.0 {
-                        indentation / pulse.overlap_at_peak_m
-                    } else {
-                        1.0
-                    },
-                };
+                let (hit, direction) = hit_of(pulse, towards);
+                let absorbed = hit.absorbed_energy_j;
                 let side = super::impacts::for_apple(pulse, apple.mass_kg, towards);
                 let own = model::evaluate(&p, &hit);
                 row.peak_force_n = pulse.peak_force_n;

@@ -12,12 +12,12 @@
 use crate::contact::{material::effective_modulus, normal, theory};
 use crate::layer::LayerError;
 use crate::math::vec3;
-use crate::scenario::surfaces::PlaneSpec;
+use crate::scenario::surfaces::{PaddingSpec, PlaneSpec};
 use crate::scenario::{
-    self, AppleSpec, ContactSpec, MaterialSpec, ModelSpec, OutputSpec, Scenario, ScenarioError,
-    SurfaceSpec,
+    self, AppleSpec, ContactSpec, MaterialSpec, ModelSpec, OutputSpec, PairSpec, Scenario,
+    ScenarioError, SurfaceSpec,
 };
-use crate::world::{self, BuildError};
+use crate::world::{self, BuildError, World};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -279,11 +279,77 @@ impl ImpactSetup {
         Ok(())
     }
 
-    /// The one-impact scenario: the apple touching a plane at z = 0, moving down at `v0`.
+    /// The one-impact scenario of ke `ke` (the paper's eq. 12 with this setup's lambda): the
+    /// apple touching a plane at z = 0, moving down at `v0`.
     fn scenario(&self, ke: f64, v0: f64, dt: f64, duration: f64) -> Scenario {
+        OneImpact {
+            materials: BTreeMap::from([
+                ("apple".to_string(), self.apple.clone()),
+                ("surface".to_string(), self.surface.clone()),
+            ]),
+            contact: ContactSpec::paper(0.0, ke, self.lambda_s_m),
+            pairs: Vec::new(),
+            apple_material: "apple".into(),
+            surface_name: "surface".into(),
+            surface_material: "surface".into(),
+            padding: None,
+            diameter_m: self.diameter_m,
+            mass_kg: self.mass_kg,
+            gravity_m_s2: self.gravity_m_s2,
+        }
+        .scenario(v0, dt, duration)
+    }
+
+    fn gravity_note(&self) -> String {
+        if self.gravity_m_s2 > 0.0 {
+            format!(", under gravity of {} m/s^2", self.gravity_m_s2)
+        } else {
+            String::new()
+        }
+    }
+}
+
+/// One apple striking a flat square on, the flat's face at z = 0: the single-impact scenario
+/// [`simulate_impact`] (ke against a restitution) and `applesim calibrate-bruise`
+/// ([`super::calibrate_bruise`], a drop test's hit) simulate. The materials keep the names they
+/// have in the user's file, so the pair's contact law (`contact`, a `pairs` entry, the material
+/// presets' pair coefficients) and each material's loss factor apply as in the user's scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OneImpact {
+    /// The materials (at least the apple's, the flat's and its pad's).
+    pub materials: BTreeMap<String, MaterialSpec>,
+    /// Contact coefficients of every pair without a `pairs` entry.
+    pub contact: ContactSpec,
+    /// Per-pair overrides.
+    pub pairs: Vec<PairSpec>,
+    /// The apple's material (a key of `materials`).
+    pub apple_material: String,
+    /// The flat's name (in the simulation's messages).
+    pub surface_name: String,
+    /// The flat's material (a key of `materials`); the substrate when padded.
+    pub surface_material: String,
+    /// A pad bonded on the flat (docs/physics.md section 13).
+    pub padding: Option<PaddingSpec>,
+    /// Apple diameter (m).
+    pub diameter_m: f64,
+    /// Apple mass (kg).
+    pub mass_kg: f64,
+    /// Gravity towards the flat (m/s^2); 0 for none.
+    pub gravity_m_s2: f64,
+}
+
+impl OneImpact {
+    /// The scenario: the apple touching the flat (no overlap), moving down at `v0` (m/s), stepped
+    /// at the fixed step `dt` for `duration` (s); no force histories, no slip/roll detection.
+    pub fn scenario(&self, v0: f64, dt: f64, duration: f64) -> Scenario {
         let r = self.diameter_m / 2.0;
+        let mut output = OutputSpec {
+            force_history: false,
+            ..OutputSpec::default()
+        };
+        output.transitions.enabled = false;
         Scenario {
-            description: Some("applesim calibrate: one impact".into()),
+            description: Some("applesim: one impact on a flat".into()),
             grading: None,
             duration_s: duration,
             time_step_s: dt.into(),
@@ -291,20 +357,14 @@ impl ImpactSetup {
             max_time_step_s: None,
             fidelity: Default::default(),
             gravity_m_s2: [0.0, 0.0, -self.gravity_m_s2],
-            output: OutputSpec {
-                force_history: false,
-                ..OutputSpec::default()
-            },
-            materials: BTreeMap::from([
-                ("apple".to_string(), self.apple.clone()),
-                ("surface".to_string(), self.surface.clone()),
-            ]),
-            contact: ContactSpec::paper(0.0, ke, self.lambda_s_m),
-            pairs: Vec::new(),
+            output,
+            materials: self.materials.clone(),
+            contact: self.contact,
+            pairs: self.pairs.clone(),
             model: ModelSpec::default(),
             apples: vec![AppleSpec {
                 name: "apple".into(),
-                material: "apple".into(),
+                material: self.apple_material.clone(),
                 diameter_m: self.diameter_m,
                 mass_kg: Some(self.mass_kg),
                 position_m: [0.0, 0.0, r],
@@ -316,24 +376,73 @@ impl ImpactSetup {
             generators: Vec::new(),
             sources: Vec::new(),
             surfaces: vec![SurfaceSpec::Plane(PlaneSpec {
-                name: "surface".into(),
-                material: "surface".into(),
+                name: self.surface_name.clone(),
+                material: self.surface_material.clone(),
                 point_m: [0.0; 3],
                 normal: [0.0, 0.0, 1.0],
                 contact_model: Default::default(),
                 motion: None,
-                padding: None,
+                padding: self.padding.clone(),
             })],
         }
     }
 
-    fn gravity_note(&self) -> String {
-        if self.gravity_m_s2 > 0.0 {
-            format!(", under gravity of {} m/s^2", self.gravity_m_s2)
-        } else {
-            String::new()
-        }
+    /// The elastic Hertz impact (peak force, contact time; physics.md section 4) of the apple on
+    /// a half-space of material `other` (a key of `materials`) at `v0`: on the flat's own
+    /// material it is the stiffest contact of the impact (a pad only softens it), whose contact
+    /// time sets the time step.
+    pub fn elastic(&self, other: &str, v0: f64) -> Result<theory::ElasticImpact, CalibrateError> {
+        let spec = |m: &str| {
+            self.materials.get(m).ok_or_else(|| {
+                input(
+                    "materials",
+                    format!(
+                        "unknown material '{m}' (defined: {})",
+                        self.materials
+                            .keys()
+                            .cloned()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                )
+            })
+        };
+        let m1 = scenario::validate::material(&self.apple_material, spec(&self.apple_material)?)?;
+        let m2 = scenario::validate::material(other, spec(other)?)?;
+        let r = self.diameter_m / 2.0;
+        let k = normal::stiffness(effective_modulus(&m1, &m2), r);
+        Ok(theory::elastic_impact(self.mass_kg, v0, k, r))
     }
+}
+
+/// Validates `sc`, builds its world and steps it at `dt` (the layer may shorten a step; the
+/// step taken is passed on) until `done`, called after each step's forces with the world, the
+/// step taken and the step's index, gives a value; `None` after `max_steps` steps without one.
+/// The stepping loop of every one-impact simulation ([`simulate_impact`],
+/// `calibrate_bruise::simulate_drop`).
+pub fn step_until<T>(
+    sc: &Scenario,
+    dt: f64,
+    max_steps: u64,
+    mut done: impl FnMut(&mut World, f64, u64) -> Option<T>,
+) -> Result<Option<T>, CalibrateError> {
+    scenario::validate(sc)?;
+    let mut w = world::build(sc, Path::new("."))?;
+    for step in 0..=max_steps {
+        let t = step as f64 * dt;
+        let taken = w.layer.apply_forces(
+            &mut w.physics.bodies,
+            &w.physics.colliders,
+            &w.physics.islands,
+            t,
+            dt,
+        )?;
+        if let Some(v) = done(&mut w, taken, step) {
+            return Ok(Some(v));
+        }
+        w.advance(taken);
+    }
+    Ok(None)
 }
 
 /// Simulates one impact at `v0` with coefficient `ke` and reports its restitution.
@@ -354,23 +463,11 @@ pub fn simulate_impact(setup: &ImpactSetup, ke: f64, v0: f64) -> Result<Impact, 
     }
     let t_max = 4.0 * t_h * (1.0 + 1.0 / ke.sqrt());
     let sc = setup.scenario(ke, v0, dt, t_max);
-    scenario::validate(&sc)?;
-    let mut w = world::build(&sc, Path::new("."))?;
-    let body = w.apple_bodies[0];
     let max_steps = (t_max / dt).ceil() as u64;
     let mut rising = false;
-    let mut step = 0u64;
-    loop {
-        let t = step as f64 * dt;
-        let dt = w.layer.apply_forces(
-            &mut w.physics.bodies,
-            &w.physics.colliders,
-            &w.physics.islands,
-            t,
-            dt,
-        )?;
+    let found = step_until(&sc, dt, max_steps, |w, dt, step| {
         if let Some(e) = w.layer.finished_events().first() {
-            return Ok(Impact {
+            return Some(Impact {
                 ke,
                 speed_m_s: v0,
                 restitution: e.restitution,
@@ -379,23 +476,24 @@ pub fn simulate_impact(setup: &ImpactSetup, ke: f64, v0: f64) -> Result<Impact, 
                 time_step_s: dt,
             });
         }
-        let vz = w.physics.bodies[body].linvel().z;
+        let vz = w.physics.bodies[w.apple_bodies[0]].linvel().z;
         let turned_back = rising && vz <= 0.0;
         rising |= vz > 0.0;
-        if turned_back || step >= max_steps {
-            let open = w.layer.open_events();
-            return Ok(Impact {
-                ke,
-                speed_m_s: v0,
-                restitution: None,
-                peak_force_n: open.first().map_or(0.0, |e| e.peak_force_n),
-                contact_time_s: None,
-                time_step_s: dt,
-            });
-        }
-        w.advance(dt);
-        step += 1;
-    }
+        (turned_back || step >= max_steps).then(|| Impact {
+            ke,
+            speed_m_s: v0,
+            restitution: None,
+            peak_force_n: w
+                .layer
+                .open_events()
+                .first()
+                .map_or(0.0, |e| e.peak_force_n),
+            contact_time_s: None,
+            time_step_s: dt,
+        })
+    })?;
+    // The closure answers at the last step at the latest.
+    found.ok_or_else(|| input("duration", "the impact was not simulated"))
 }
 
 fn restitution_or_zero(i: &Impact) -> f64 {

@@ -1,7 +1,8 @@
 //! What a run means for the fruit: the paper's force-pulse fit (eqs. 13-15, [`pulse`]), the
 //! fruit's damage ([`bruise`], through the pure models of [`damage`]: bruise volume, sites,
-//! grade), the line audit per transfer point ([`audit`]), and the calibration of the eq. 12
-//! coefficient ke against a measured restitution ([`calibrate`]). User guides: docs/analysis.md,
+//! grade), the line audit per transfer point ([`audit`]), the calibration of the eq. 12
+//! coefficient ke against a measured restitution ([`calibrate`]), and the calibration of a damage
+//! model against a lab's drop tests ([`calibrate_bruise`]). User guides: docs/analysis.md,
 //! docs/damage.md.
 //!
 //! [`analyse`] runs the first three on a finished run; `run::to_dir` writes their files
@@ -11,6 +12,7 @@
 pub mod audit;
 pub mod bruise;
 pub mod calibrate;
+pub mod calibrate_bruise;
 pub mod damage;
 pub mod impacts;
 pub mod pulse;

@@ -4,6 +4,7 @@ mod audit;
 mod batch;
 mod bench;
 mod calibrate;
+mod calibrate_bruise;
 mod merge;
 mod plot;
 mod report;
@@ -31,6 +32,9 @@ enum Command {
     Run(run::Args),
     /// Find ke for a measured restitution by simulating the impact, or tabulate e over speeds.
     Calibrate(calibrate::Args),
+    /// Fit a damage model (energy, pressure-area, peak-force) to a lab's drop tests by simulating
+    /// each drop, and write it as a preset file a scenario names (`damage.file`).
+    CalibrateBruise(calibrate_bruise::Args),
     /// Draw force-time and velocity-time charts (SVG) of one or several run folders.
     Plot(plot::Args),
     /// Compare the line audits of run folders per transfer point (better/worse, by how much).
@@ -62,6 +66,7 @@ pub fn main() -> i32 {
     let result = match cli.command {
         Command::Run(a) => run::main(a),
         Command::Calibrate(a) => calibrate::main(a),
+        Command::CalibrateBruise(a) => calibrate_bruise::main(a),
         Command::Plot(a) => plot::main(a),
         Command::Audit(a) => audit::main(a),
         Command::Report(a) => report::main(a),

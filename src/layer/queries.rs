@@ -133,6 +133,28 @@ impl ContactLayer {
         out
     }
 
+    /// The contacts still open whose impact is over, as events (their impact final; see
+    /// [`Self::open_events`] for every open contact, an impact in progress reported as far as it
+    /// went). In the order of [`Self::open_events`].
+    pub fn open_events_after_impact(&self) -> Vec<ContactEvent> {
+        let mut out: Vec<ContactEvent> = self
+            .contacts
+            .iter()
+            .filter_map(|c| {
+                let o = c.record.as_ref().filter(|o| o.impact_over())?;
+                Some(o.snapshot(self.registry.names(c.i, c.other)))
+            })
+            .collect();
+        out.sort_by(|x, y| {
+            (x.a_index, x.b_party.order(), x.t_start_s.to_bits()).cmp(&(
+                y.a_index,
+                y.b_party.order(),
+                y.t_start_s.to_bits(),
+            ))
+        });
+        out
+    }
+
     /// Work done so far by the normal forces of the contacts still open (J): the energy the
     /// contacts hold or have lost so far (see `OpenContact::work_so_far_j`).
     pub fn open_contact_work_j(&self) -> f64 {

@@ -523,6 +523,12 @@ impl OpenContact {
         }
     }
 
+    /// Whether the contact's impact is over: its [`ImpactPulse`] is then final (a
+    /// [`Self::snapshot`] reports one still in progress as far as it went).
+    pub fn impact_over(&self) -> bool {
+        self.pulse.is_none() && self.impact.is_some()
+    }
+
     /// Largest overlap so far (m).
     pub fn max_overlap_m(&self) -> f64 {
         self.max_u

@@ -9,6 +9,7 @@ pub mod budget;
 pub mod damage;
 mod de;
 pub mod generators;
+pub mod lab;
 pub mod layout;
 pub mod models;
 pub mod motion;
