@@ -1,6 +1,7 @@
 //! What a run means for the fruit: the paper's force-pulse fit (eqs. 13-15, [`pulse`]), the
 //! fruit's damage ([`bruise`], through the pure models of [`damage`]: bruise volume, sites,
-//! grade), the line audit per transfer point ([`audit`]), and the calibration of the eq. 12
+//! grade), the line audit per transfer point ([`audit`]), two layouts compared with the
+//! intervals of their differences ([`compare`], [`interval`]), and the calibration of the eq. 12
 //! coefficient ke against a measured restitution ([`calibrate`]). User guides: docs/analysis.md,
 //! docs/damage.md.
 //!
@@ -11,8 +12,10 @@
 pub mod audit;
 pub mod bruise;
 pub mod calibrate;
+pub mod compare;
 pub mod damage;
 pub mod impacts;
+pub mod interval;
 pub mod pulse;
 pub mod tradeoff;
 
