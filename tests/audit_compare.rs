@@ -72,6 +72,14 @@ fn runs() -> &'static BTreeMap<&'static str, PathBuf> {
             ok(&applesim(&["run", s(&repo(file)), "--out", s(&out)]));
             m.insert(name, out);
         }
+        // The bare line fed with seed 2 instead of 1.
+        let mut sc = json(&repo("scenarios/lines/fed_drop_bare.json"));
+        sc["sources"][0]["seed"] = 2.into();
+        let file = dir.join("bare_seed2.json");
+        std::fs::write(&file, sc.to_string()).unwrap();
+        let out = dir.join("bare_seed2");
+        ok(&applesim(&["run", s(&file), "--out", s(&out)]));
+        m.insert("bare_seed2", out);
         m
     })
 }
@@ -149,6 +157,26 @@ fn a_layout_compared_with_itself_is_no_change_everywhere() {
         assert_eq!(row["interval"], "paired_t");
     }
     assert!(md.contains("seed-to-seed scatter") && !md.contains("B better"));
+
+    // The same layout fed with another seed: no change either (docs/damage.md 9), where the
+    // comparison this replaces printed "-0.0 % (better)" and "+283.7 % (worse)".
+    let other = scratch("other-feed");
+    let md = ok(&applesim(&[
+        "audit",
+        s(bare),
+        s(&runs()["bare_seed2"]),
+        "--out",
+        s(&other),
+    ]));
+    for row in table(&other).values() {
+        assert_eq!(row["verdict"], "no_change", "{row:?}");
+    }
+    for line in [
+        "| bruise volume (mm^3) | no change | 19015 | 19031 | -16 | -3010 to +2964 |",
+        "| 95th percentile peak g | no change | 118.8 | 123.6 | -4.8 | -8.5 to +5.9 |",
+    ] {
+        assert!(md.contains(line), "{line}\nnot in\n{md}");
+    }
 }
 
 #[test]
@@ -299,6 +327,32 @@ fn seeds_give_paired_intervals_and_the_same_bytes() {
     let fresh = scratch("seeds-fresh");
     assert_eq!(ok(&run(&fresh)), md);
     assert_eq!(std::fs::read(fresh.join("compare.csv")).unwrap(), csv);
+
+    // Five seeds, as docs/damage.md 9 prints them: seeds 1-3 are the runs above, reused.
+    let five = applesim(&[
+        "audit",
+        s(bare),
+        s(padded),
+        "--seeds",
+        "5",
+        "--jobs",
+        "2",
+        "--out",
+        s(&out),
+    ]);
+    let md = ok(&five);
+    assert_eq!(
+        text(&five.stderr).matches("ran ").count(),
+        4,
+        "seeds 4 and 5"
+    );
+    for line in [
+        "| apples downgraded | **B better** | 98.3 +- 3.7 % (23.6 of 24) | 36.7 +- 6.2 % (8.8 of 24) | +61.7 pp | +52.4 to +70.9 pp |",
+        "| bruise volume (mm^3) | **B better** | 19743 +- 2092 | 3160 +- 678 | +16583 | +14698 to +18468 |",
+        "| 95th percentile peak g | **B better** | 118.3 +- 4.7 | 88.7 +- 2.9 | +29.6 | +27.0 to +32.1 |",
+    ] {
+        assert!(md.contains(line), "{line}\nnot in\n{md}");
+    }
 }
 
 #[test]

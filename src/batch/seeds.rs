@@ -22,6 +22,9 @@ use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+/// Most seeds a comparison runs (each is a run of both layouts).
+pub const MAX_SEEDS: usize = 1000;
+
 /// Errors of a seeded comparison.
 #[derive(Debug, thiserror::Error)]
 pub enum SeedsError {
@@ -59,9 +62,9 @@ pub enum SeedsError {
         /// Its seeded feeds.
         nb: usize,
     },
-    /// Fewer than 2 seeds.
-    #[error("--seeds {0}: give at least 2 (one difference per seed; the interval needs two)")]
-    TooFewSeeds(usize),
+    /// Fewer than 2 seeds, or more than [`MAX_SEEDS`].
+    #[error("--seeds {0}: give at least 2 (one difference per seed; the interval needs two) and at most {MAX_SEEDS}")]
+    SeedCount(usize),
     /// The batch could not be set up or run.
     #[error(transparent)]
     Batch(#[from] BatchError),
@@ -201,8 +204,8 @@ pub fn run_pair(
     opts: &Options,
     observers: [&dyn Observer; 2],
 ) -> Result<[Vec<PathBuf>; 2], SeedsError> {
-    if n < 2 {
-        return Err(SeedsError::TooFewSeeds(n));
+    if !(2..=MAX_SEEDS).contains(&n) {
+        return Err(SeedsError::SeedCount(n));
     }
     if a.seeds.len() != b.seeds.len() {
         return Err(SeedsError::Unpaired {

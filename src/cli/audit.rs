@@ -9,10 +9,13 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Layout A and layout B: run folders written by `applesim run` (or a batch's runs/<id>);
-    /// with --seeds, also scenario files.
-    #[arg(num_args = 2, required = true, value_names = ["A", "B"])]
-    layouts: Vec<PathBuf>,
+    /// Layout A: a run folder written by `applesim run` (or a batch's runs/<id>); with
+    /// --seeds, also a scenario file.
+    #[arg(value_name = "A")]
+    a: PathBuf,
+    /// Layout B, the same way.
+    #[arg(value_name = "B")]
+    b: PathBuf,
     /// Rerun both layouts' scenarios over N feed seeds (run k of each with seed k) and give each
     /// difference with its paired interval over the seeds (the run-to-run scatter). Needs --out.
     #[arg(long, value_name = "N")]
@@ -47,7 +50,7 @@ impl runner::Observer for Progress {
 }
 
 pub fn main(a: Args) -> Result<(), String> {
-    let (pa, pb) = (&a.layouts[0], &a.layouts[1]);
+    let (pa, pb) = (&a.a, &a.b);
     if let Some(out) = &a.out {
         if out.extension().is_some_and(|e| e == "md") && !out.is_dir() {
             return Err(format!(
