@@ -164,7 +164,7 @@ pub enum Method {
 /// One layout's side of a row.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Side {
-    /// The figure (over seeds: its mean).
+    /// The figure (over seeds: its mean over the seeds where both layouts have it).
     pub value: f64,
     /// Over seeds: the figure's standard deviation (NaN from one run).
     pub sd: f64,
@@ -172,7 +172,8 @@ pub struct Side {
     pub downgraded: f64,
     /// Fruit apples of the run (over seeds: the mean).
     pub apples: f64,
-    /// Samples behind the interval: apples, or seeds with the figure.
+    /// Samples behind the interval: apples, or the seeds where both layouts have the figure
+    /// (the mean is over them).
     pub samples: usize,
 }
 
@@ -383,8 +384,17 @@ pub fn compare_seeds(a: &[RunSample], b: &[RunSample]) -> Comparison {
         for f in Figure::ALL {
             let va: Vec<f64> = ua.iter().map(|u| whole(f, u)).collect();
             let vb: Vec<f64> = ub.iter().map(|u| whole(f, u)).collect();
+            // The seeds where both layouts have the figure: each side's mean is over them, so
+            // that the two means differ by the mean difference (a side's own seeds otherwise).
+            let paired: Vec<usize> = (0..n)
+                .filter(|&k| va[k].is_finite() && vb[k].is_finite())
+                .collect();
             let side = |v: &[f64], u: &[Vec<Unit>]| {
-                let finite: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+                let finite: Vec<f64> = if paired.is_empty() {
+                    v.iter().copied().filter(|x| x.is_finite()).collect()
+                } else {
+                    paired.iter().map(|&k| v[k]).collect()
+                };
                 let (value, sd) = if finite.is_empty() {
                     (f64::NAN, f64::NAN)
                 } else {
@@ -543,14 +553,14 @@ impl Comparison {
             Method::Apples => {
                 let _ = writeln!(
                     s,
-                    "- Apples downgraded: the difference of two shares, by Newcombe's hybrid score interval (Newcombe 1998, method 10; from each share's Wilson interval): it keeps its coverage for small runs and shares near 0 or 100 %, where the textbook interval shrinks to nothing.\n- Bruise volume and 95th percentile peak g: a percentile bootstrap over the apples of each run ({} resamples, each apple drawn with all its impacts; seeded, so the same runs give the same bytes). Volumes are skewed (most apples 0, a few large): no normal formula fits them.\n- A run of fewer than 2 apples has no scatter to judge by: its difference is printed with no interval.",
+                    "- Apples downgraded: the difference of two shares, by Newcombe's hybrid score interval (Newcombe 1998, method 10; from each share's Wilson interval): it keeps its coverage for small runs and shares near 0 or 100 %, where the textbook interval shrinks to nothing.\n- Bruise volume and 95th percentile peak g: a percentile bootstrap over the apples of each run ({} resamples, each apple drawn with all its impacts; seeded, so the same runs give the same bytes). Volumes are skewed (most apples 0, a few large): no normal formula fits them.\n- A run of fewer than 2 apples has no scatter to judge by, nor a transfer point that so few apples reach that a tenth of the resamples miss it (no peak g there to take a percentile of): the difference is printed with no interval.",
                     interval::BOOTSTRAP_RESAMPLES
                 );
             }
             Method::Seeds(n) => {
                 let _ = writeln!(
                     s,
-                    "- Each figure: the mean of the {n} paired differences A - B +- t(0.975, {}) s / sqrt({n}) (Student's t, s their standard deviation), over the seeds where both runs have the figure (a transfer point without impacts in a run has no peak g there). Pairing takes out what the feed does to both layouts alike.",
+                    "- Each figure: the mean of the {n} paired differences A - B +- t(0.975, {}) s / sqrt({n}) (Student's t, s their standard deviation), over the seeds where both runs have the figure (a transfer point without impacts in a run has no peak g there; the interval then says over how many, and both layouts' figures are the means over those seeds). Pairing takes out what the feed does to both layouts alike. Fewer than 2 such seeds give no interval.",
                     n.saturating_sub(1)
                 );
             }
@@ -601,11 +611,17 @@ impl Comparison {
             }
             v
         };
-        let interval = match (&r.interval, r.difference.is_finite()) {
+        let mut interval = match (&r.interval, r.difference.is_finite()) {
             (Some(i), _) => format!("{} to {}{unit}", signed(i.low), signed(i.high)),
             (None, true) => "none".into(),
             (None, false) => "-".into(),
         };
+        // Over seeds, say when only some of them have the figure in both layouts.
+        if let Method::Seeds(n) = self.method {
+            if r.difference.is_finite() && r.a.samples < n {
+                interval += &format!(" ({} of {n} seeds)", r.a.samples);
+            }
+        }
         let diff = if r.difference.is_finite() {
             format!("{}{unit}", signed(r.difference))
         } else {

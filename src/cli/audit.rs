@@ -112,9 +112,7 @@ pub fn main(a: Args) -> Result<(), String> {
         "applesim audit {} {} --seeds 5 --out {}",
         shown(pa),
         shown(pb),
-        a.out
-            .as_deref()
-            .map_or_else(|| "DIR".to_string(), |o| shown(o))
+        a.out.as_deref().map_or_else(|| "DIR".to_string(), shown)
     );
     let md = cmp.markdown(&label_a, &label_b, &suggest);
     if let Some(out) = &a.out {
