@@ -204,3 +204,77 @@ pub fn write_comparison(dir: &Path, markdown: &str, c: &Comparison) -> std::io::
     }
     w.commit()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn folder(name: &str, summary: &str, contacts: &[&str]) -> PathBuf {
+        let d =
+            std::env::temp_dir().join(format!("applesim-read-run-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::write(d.join("summary.json"), summary).unwrap();
+        let mut csv = APPLE_CONTACTS_HEADER.join(",");
+        for row in contacts {
+            csv += "\n";
+            csv += row;
+        }
+        std::fs::write(d.join(APPLE_CONTACTS_CSV), csv + "\n").unwrap();
+        d
+    }
+
+    /// A row of apple_contacts.csv: apple, transfer point, peak g, site, volume.
+    fn row(apple: &str, point: &str, g: &str, site: &str, volume: &str) -> String {
+        format!("0,{apple},x,{point},0,0,0 0 0,1,1,0.1,0.1,1,{g},1,true,{site},{volume},g,,,,")
+    }
+
+    #[test]
+    fn a_run_is_read_as_its_fruit_and_their_impacts_probes_left_out() {
+        let summary = r#"{"damage": {"grades": ["best", "worse"]}, "apples": [
+            {"name": "a", "grade": "worse", "bruise_volume_mm3": 12.5,
+             "downgraded_by": {"transfer_point": "plate"}},
+            {"name": "b", "grade": "best", "bruise_volume_mm3": 0},
+            {"name": "probe"}]}"#;
+        let rows = [
+            row("a", "plate", "80", "0", "12.5"),
+            row("a", "belt", "3", "", ""),
+            row("b", "plate", "20", "0", "0"),
+        ];
+        let d = folder(
+            "ok",
+            summary,
+            &rows.iter().map(String::as_str).collect::<Vec<_>>(),
+        );
+        let r = read_run(&d).unwrap();
+        assert_eq!(r.apples.len(), 2, "the probe is not fruit");
+        assert_eq!(r.apples[0].downgraded_at.as_deref(), Some("plate"));
+        assert_eq!(
+            r.apples[0].hits.len(),
+            1,
+            "a contact from rest is no impact"
+        );
+        assert_eq!(r.apples[0].hits[0].peak_g, 80.0);
+        assert_eq!(r.apples[1].downgraded_at, None);
+        // A row of an apple the summary does not have: the files are of different runs.
+        let stray = [row("probe", "plate", "9", "0", "1")];
+        let d = folder(
+            "stray",
+            summary,
+            &stray.iter().map(String::as_str).collect::<Vec<_>>(),
+        );
+        let e = read_run(&d).unwrap_err().to_string();
+        assert!(
+            e.contains("apple_contacts.csv: row 2: apple 'probe'"),
+            "{e}"
+        );
+        // Not a run: the missing file is named.
+        let e = read_run(&d.join("nothing")).unwrap_err().to_string();
+        assert!(
+            e.contains("summary.json") && e.contains("give a run folder"),
+            "{e}"
+        );
+        let d = folder("old", r#"{"apples": []}"#, &[]);
+        let e = read_run(&d).unwrap_err().to_string();
+        assert!(e.contains("no `damage.grades`"), "{e}");
+    }
+}
