@@ -1,6 +1,7 @@
 //! What a run means for the fruit: the paper's force-pulse fit (eqs. 13-15, [`pulse`]), the
 //! fruit's damage ([`bruise`], through the pure models of [`damage`]: bruise volume, sites,
-//! grade), the line audit per transfer point ([`audit`]), the calibration of the eq. 12
+//! grade), the line audit per transfer point ([`audit`]), two layouts compared with the
+//! intervals of their differences ([`compare`], [`interval`]), the calibration of the eq. 12
 //! coefficient ke against a measured restitution ([`calibrate`]), and the calibration of a damage
 //! model against a lab's drop tests ([`calibrate_bruise`]). User guides: docs/analysis.md,
 //! docs/damage.md.
@@ -13,8 +14,10 @@ pub mod audit;
 pub mod bruise;
 pub mod calibrate;
 pub mod calibrate_bruise;
+pub mod compare;
 pub mod damage;
 pub mod impacts;
+pub mod interval;
 pub mod pulse;
 pub mod tradeoff;
 

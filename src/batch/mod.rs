@@ -6,7 +6,8 @@
 //! [`id`]); [`runner`] runs this [`shard`]'s share of them into `OUT/runs/<id>/`, each run in a
 //! process of its own ([`isolate`]) under a lock, each folder switched in whole;
 //! [`merge`](mod@merge) reads `OUT/batch.json` and every run's `summary.json` into
-//! `OUT/merged.csv`.
+//! `OUT/merged.csv`. [`seeds`] reruns two layouts over paired feed seeds as two such batches
+//! (`applesim audit A B --seeds N`).
 
 pub mod id;
 pub mod isolate;
@@ -14,6 +15,7 @@ pub mod manifest;
 pub mod merge;
 pub mod pointer;
 pub mod runner;
+pub mod seeds;
 pub mod shard;
 pub mod spec;
 

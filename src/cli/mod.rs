@@ -37,7 +37,9 @@ enum Command {
     CalibrateBruise(calibrate_bruise::Args),
     /// Draw force-time and velocity-time charts (SVG) of one or several run folders.
     Plot(plot::Args),
-    /// Compare the line audits of run folders per transfer point (better/worse, by how much).
+    /// Compare two layouts: which is better on apples downgraded, bruise volume and peak g, for
+    /// the line and per transfer point, each difference with its 95 % interval ("no change"
+    /// inside it); --seeds N reruns both over paired feed seeds.
     Audit(audit::Args),
     /// The line report of a run folder: the scene, the audit per transfer point, the apples over
     /// a bruise threshold, the instrumented spheres, the warnings (Markdown).

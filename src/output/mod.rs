@@ -11,6 +11,7 @@
 
 pub mod atomic;
 pub mod audit;
+pub mod compare;
 pub mod plot;
 pub mod probe;
 pub mod report;
