@@ -222,9 +222,11 @@ pub struct OpenContact {
     /// Elastic contact time and maximum overlap of the impact at the approach speed, once known.
     impact_scale: Option<(f64, f64)>,
     /// The impact pulse while it lasts (`None` once over, or for a contact starting at rest).
-    pulse: Option<Pulse>,
+    /// Boxed, as the impact below: most contacts of a pile rest, and the slab of contacts is
+    /// walked every step (docs/performance.md).
+    pulse: Option<Box<Pulse>>,
     /// The impact once over.
-    impact: Option<ImpactPulse>,
+    impact: Option<Box<ImpactPulse>>,
     /// Resting sums: time, force x time, pressure x time, largest force and pressure.
     rest: (f64, f64, f64, f64, f64),
     /// The pose of `last_u` belonged to the impact (its absorbed work is the impact's).
@@ -337,7 +339,7 @@ impl OpenContact {
             point_at_peak: Vec3::ZERO,
             history: (history_cap > 0).then(|| Box::new(History::new(history_cap))),
             impact_scale: None,
-            pulse: (du_dt > RESTING_APPROACH_SPEED_M_S).then(Pulse::default),
+            pulse: (du_dt > RESTING_APPROACH_SPEED_M_S).then(Box::default),
             impact: None,
             rest: (0.0, 0.0, 0.0, 0.0, 0.0),
             last_in_pulse: false,
@@ -381,7 +383,7 @@ impl OpenContact {
         if let Some(p) = self.pulse.take() {
             let [va, vb] = p.v_last;
             let [va0, vb0] = p.v_touch;
-            self.impact = Some(ImpactPulse {
+            self.impact = Some(Box::new(ImpactPulse {
                 t_end_s: t_end,
                 duration_s: t_end - self.t_start,
                 peak_force_n: p.peak,
@@ -397,7 +399,7 @@ impl OpenContact {
                 sites: p.sites,
                 normal: arr3(self.normal_at_peak),
                 velocity_change_m_s: [va - va0, vb0 - vb],
-            });
+            }));
         }
     }
 
@@ -638,7 +640,7 @@ impl OpenContact {
             a_absorbed_energy_j: self.absorbed_a,
             steps: self.steps,
             contact_point_m: arr3(self.point_at_peak),
-            impact: self.impact,
+            impact: self.impact.map(|i| *i),
             resting: resting_load(self.rest),
             history: self.history.map(|h| h.samples),
         }
