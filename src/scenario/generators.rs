@@ -365,7 +365,7 @@ pub struct SourceSpec {
     /// Random offset of the appearing point (m): a number scatters it across gravity only
     /// (uniform in +- this along each horizontal axis), `[jx, jy, jz]` along each axis of the
     /// source's frame ([`JitterSpec`]).
-    #[serde(default, skip_serializing_if = "JitterSpec::is_default")]
+    #[serde(default)]
     pub jitter_m: JitterSpec,
     /// Velocity of the emitted apples (m/s), relative to the source (turned with it when it
     /// turns).
@@ -544,12 +544,6 @@ impl<'de> Deserialize<'de> for JitterSpec {
 }
 
 impl JitterSpec {
-    /// Whether this is the default, no jitter given as a number (then omitted from the scenario
-    /// as written).
-    pub fn is_default(&self) -> bool {
-        *self == JitterSpec::Horizontal(0.0)
-    }
-
     /// Whether every offset is zero.
     pub fn is_zero(&self) -> bool {
         match *self {
