@@ -177,3 +177,18 @@ fn one_thread_and_two_write_identical_files() {
     assert!(f.len() >= 6, "{f:?}");
     let _ = std::fs::remove_dir_all(&base);
 }
+
+/// Issue 31: a moving source (the fill head of scenarios/lines/bin_filler_head.json, lowered
+/// with its bin, apples waiting for their spot and entering where the head is then) writes the
+/// same bytes with one thread and two, in every file (summary.json's `apples[].fed` included).
+#[test]
+fn a_moving_source_writes_the_same_bytes_with_one_thread_and_two() {
+    let base = std::env::temp_dir().join(format!("applesim-head-{}", std::process::id()));
+    let (a, b) = (base.join("t1"), base.join("t2"));
+    let sc = repo("scenarios/lines/bin_filler_head.json");
+    run_cli(&sc, &a, &["--threads", "1"]);
+    run_cli(&sc, &b, &["--threads", "2"]);
+    let f = assert_same_files("bin_filler_head, --threads 1 and 2", &a, &b);
+    assert!(f.len() >= 6, "{f:?}");
+    let _ = std::fs::remove_dir_all(&base);
+}

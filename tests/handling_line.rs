@@ -218,11 +218,19 @@ fn documented_results_of_the_line() {
         let vx = num(r, "speed_m_s") * 20f64.to_radians().cos();
         assert_printed(&format!("{} leaves the chute", r["apple"]), vx, 2.0, 1);
     }
-    // One warning: an apple-apple overlap of 20.0 % of the radius.
+    // Two warnings: the feed is exactly symmetric (20 apples down one lane, no jitter: issue
+    // 31), and an apple-apple overlap of 20.0 % of the radius.
     let w = s["warnings"].as_array().unwrap();
-    assert_eq!(w.len(), 1, "{w:?}");
-    let w = w[0].as_str().unwrap();
-    assert!(w.contains("an overlap of 20.0 % of the radius"), "{w}");
+    assert_eq!(w.len(), 2, "{w:?}");
+    let (feed, overlap) = (w[0].as_str().unwrap(), w[1].as_str().unwrap());
+    assert!(
+        feed.starts_with("source 'feed' (sources[0]) feeds 20 apples from one spot with no jitter across gravity: every apple starts on the vertical line through [-0.6, 0, 0.842] m"),
+        "{feed}"
+    );
+    assert!(
+        overlap.contains("an overlap of 20.0 % of the radius"),
+        "{overlap}"
+    );
 }
 
 /// docs/transitions.md, "The handling line": 782 transitions, 243 slip episodes, all 20 apples

@@ -706,27 +706,31 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
     let imp = impacts(&r);
     println!("impacts per surface (contacts, largest peak N, above 80 N): {imp:?}");
     // docs/lines.md's seed-19 row (golden values at their printed digits: the pile is chaotic).
+    // Re-pinned in issue 31: the shipped `jitter_m` 0.03 scattered the spawn height by +-30 mm
+    // as well; a number is horizontal only now, so every apple starts 0.3 m up (before: 128 on
+    // the floor, 2.12 D, 8.0 and 8.3 degrees, r95 0.577 m, three at a wall).
     assert_eq!(
-        h.at_walls, 3,
-        "three apples of the heap's edge against a wall: {h:?}"
+        h.at_walls, 0,
+        "no apple of the heap's edge at a wall: {h:?}"
     );
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 128, "{h:?}");
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 118, "{h:?}");
     assert!(
-        (h.layers - 2.12).abs() <= 0.01 && (h.fit_angle_deg - 8.0).abs() <= 0.1,
+        (h.layers - 2.33).abs() <= 0.01 && (h.fit_angle_deg - 9.8).abs() <= 0.1,
         "{h:?}"
     );
     assert!(
-        (h.apex_edge_angle_deg - 8.3).abs() <= 0.1 && (h.r95_m - 0.577).abs() <= 0.001,
+        (h.apex_edge_angle_deg - 10.3).abs() <= 0.1 && (h.r95_m - 0.550).abs() <= 0.001,
         "{h:?}"
     );
-    // docs/lines.md's impact table and bruised apples (golden).
+    // docs/lines.md's impact table and bruised apples (golden; re-pinned in issue 31, before:
+    // floor 276 contacts, 279.2 N, 107 above 80 N; apples 2531, 100.4 N, 19; 85 apples over 80 N).
     for (surface, n, peak, over) in [
-        ("bin/floor", 276, 279.2, 107),
-        ("apple", 2531, 100.4, 19),
-        ("bin/x_max", 3, 77.3, 0),
-        ("bin/y_min", 1, 33.4, 0),
-        ("bin/y_max", 2, 26.8, 0),
-        ("bin/x_min", 8, 51.5, 0),
+        ("bin/floor", 251, 268.3, 100),
+        ("apple", 2788, 106.6, 17),
+        ("bin/x_max", 2, 69.2, 0),
+        ("bin/y_min", 3, 39.4, 0),
+        ("bin/y_max", 2, 11.8, 0),
+        ("bin/x_min", 2, 12.5, 0),
     ] {
         let got = imp[surface];
         assert!(
@@ -743,7 +747,7 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
         }
     }
     println!("{} apples with a contact above 80 N", over_80.len());
-    assert_eq!(over_80.len(), 85);
+    assert_eq!(over_80.len(), 81);
     // The hardest impacts are the first apples' landings on the bare floor.
     let floor_peak = imp["bin/floor"].1;
     assert!(imp.values().all(|s| s.1 <= floor_peak));
@@ -758,13 +762,14 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
         flat.r95_m > h.r95_m + 0.1,
         "spread wider: {flat:?} against {h:?}"
     );
-    // docs/lines.md's seed-19 row without rolling resistance (golden).
+    // docs/lines.md's seed-19 row without rolling resistance (golden; re-pinned in issue 31,
+    // before: -0.5 degrees, r95 0.738 m).
     assert!(
-        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.5).abs() <= 0.1,
+        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.6).abs() <= 0.1,
         "{flat:?}"
     );
     assert!(
-        (flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.738).abs() <= 0.001,
+        (flat.apex_edge_angle_deg - 0.4).abs() <= 0.1 && (flat.r95_m - 0.742).abs() <= 0.001,
         "{flat:?}"
     );
     assert!(flat.max_speed_m_s > 0.01, "some still roll: {flat:?}");
@@ -773,7 +778,8 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
 /// docs/lines.md: the shipped bin filler sets `"twisting": "coulomb"`; with the default
 /// (`none`, as LIGGGHTS and EDEM) the same pour still builds a heap, a lower one: apples spinning
 /// about the vertical on the floor never stop, and some pivot off the heap's flank. Issue 19 asks
-/// for defaults that make a bin heap; this is that default (golden at the printed digits, seed 19).
+/// for defaults that make a bin heap; this is that default (golden at the printed digits, seed 19;
+/// re-pinned in issue 31, horizontal jitter: before 1.85 D, 7.4 and 6.0 degrees, 129 on the floor).
 #[test]
 fn with_the_default_twisting_the_pour_still_heaps() {
     let (_, h) = bin_run(|sc| sc.contact.twisting = Twisting::None);
@@ -782,15 +788,16 @@ fn with_the_default_twisting_the_pour_still_heaps() {
     assert!(h.layers > 1.5, "a heap: {h:?}");
     assert!(h.floor_fraction < 0.9, "not a single layer: {h:?}");
     assert!(h.fit_angle_deg > 3.0, "sloped: {h:?}");
-    assert!((h.layers - 1.85).abs() <= 0.01, "{h:?}");
-    assert!((h.fit_angle_deg - 7.4).abs() <= 0.1, "{h:?}");
-    assert!((h.apex_edge_angle_deg - 6.0).abs() <= 0.1, "{h:?}");
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 129, "{h:?}");
+    assert!((h.layers - 1.96).abs() <= 0.01, "{h:?}");
+    assert!((h.fit_angle_deg - 7.2).abs() <= 0.1, "{h:?}");
+    assert!((h.apex_edge_angle_deg - 6.4).abs() <= 0.1, "{h:?}");
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 128, "{h:?}");
 }
 
 /// docs/lines.md: poured from 0.45 m at 1 m/s (landing at 3 m/s) instead of 0.3 m at 0.5 m/s,
 /// the same apples with the same rolling and twisting resistance build a lower, wider, flatter
-/// heap: the apples thrown off the landing point roll further, some to the walls.
+/// heap (nearly a single layer): the apples thrown off the landing point roll further, some to
+/// the walls.
 #[test]
 fn a_higher_pour_spreads_wider_and_flatter() {
     let (_, h) = bin_run(|sc| {
@@ -810,12 +817,17 @@ fn a_higher_pour_spreads_wider_and_flatter() {
         "lower, wider, flatter: {h:?} against {shipped:?}"
     );
     assert!(h.at_walls > 0, "rolled to the walls: {h:?}");
-    // docs/lines.md (golden, seed 19): 138 of 150 on the floor, 1.96 diameters, 6.2 degrees,
-    // r95 0.672 m, four at the walls.
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 138, "{h:?}");
-    assert!((h.layers - 1.96).abs() <= 0.01, "{h:?}");
-    assert!((h.fit_angle_deg - 6.2).abs() <= 0.1, "{h:?}");
-    assert!((h.r95_m - 0.672).abs() <= 0.001 && h.at_walls == 4, "{h:?}");
+    // docs/lines.md (golden, seed 19): 149 of 150 on the floor, 1.60 diameters, 0.3 degrees
+    // (3.8 apex to edge), r95 0.679 m, ten at the walls. Re-pinned in issue 31 (horizontal
+    // jitter; before: 138 on the floor, 1.96 D, 6.2 degrees, r95 0.672 m, four at the walls).
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 149, "{h:?}");
+    assert!((h.layers - 1.60).abs() <= 0.01, "{h:?}");
+    assert!((h.fit_angle_deg - 0.3).abs() <= 0.1, "{h:?}");
+    assert!((h.apex_edge_angle_deg - 3.8).abs() <= 0.1, "{h:?}");
+    assert!(
+        (h.r95_m - 0.679).abs() <= 0.001 && h.at_walls == 10,
+        "{h:?}"
+    );
 }
 
 /// The heap's figures over five pour seeds, with and without rolling resistance (docs/lines.md's
@@ -826,22 +838,23 @@ fn heap_over_seeds() {
     // mu_r, apples poured, the figures.
     #[allow(clippy::type_complexity)]
     const STRONGER: [(f64, usize, [f64; 5]); 2] = [
-        (0.06, 150, [0.680, 2.59, 15.4, 14.4, 0.463]),
-        (0.1, 135, [0.607, 3.56, 21.9, 24.1, 0.429]),
+        (0.06, 150, [0.647, 3.20, 21.0, 20.3, 0.446]),
+        (0.1, 150, [0.553, 3.49, 22.1, 23.4, 0.431]),
     ];
     // The table's rows (golden, printed digits): floor fraction, height / D, fit angle,
-    // apex-edge angle, r95.
+    // apex-edge angle, r95. Re-pinned in issue 31: a number `jitter_m` no longer scatters the
+    // spawn height (docs/lines.md gives the table before).
     let table: [(u64, bool, [f64; 5]); 10] = [
-        (19, true, [0.853, 2.12, 8.0, 8.3, 0.577]),
-        (19, false, [1.000, 1.06, -0.5, 0.4, 0.738]),
-        (1, true, [0.807, 2.23, 7.9, 9.2, 0.572]),
-        (1, false, [1.000, 1.06, -0.3, 0.4, 0.742]),
-        (2, true, [0.867, 2.01, 5.5, 6.7, 0.642]),
-        (2, false, [1.000, 1.06, -0.5, 0.4, 0.747]),
-        (3, true, [0.807, 2.38, 10.2, 10.0, 0.584]),
-        (3, false, [1.000, 1.06, -0.3, 0.4, 0.743]),
-        (4, true, [0.800, 2.35, 9.9, 9.4, 0.612]),
-        (4, false, [1.000, 1.06, 0.2, 0.4, 0.733]),
+        (19, true, [0.787, 2.33, 9.8, 10.3, 0.550]),
+        (19, false, [1.000, 1.06, -0.6, 0.4, 0.742]),
+        (1, true, [0.793, 1.96, 6.6, 7.3, 0.562]),
+        (1, false, [1.000, 1.06, -0.1, 0.4, 0.742]),
+        (2, true, [0.827, 2.31, 9.0, 9.2, 0.605]),
+        (2, false, [1.000, 1.06, -0.3, 0.4, 0.737]),
+        (3, true, [0.800, 2.58, 11.4, 11.5, 0.583]),
+        (3, false, [1.000, 1.06, -0.3, 0.4, 0.737]),
+        (4, true, [0.847, 2.36, 9.9, 9.4, 0.612]),
+        (4, false, [1.000, 1.06, 0.1, 0.4, 0.741]),
     ];
     let figures = |h: &Heap| {
         [
@@ -964,8 +977,10 @@ fn closed_form_figures_of_the_doc() {
 /// Issue 22's bin filler (scenarios/lines/bin_filler.json): the same pour into a bin that starts
 /// 0.2 m higher, 0.1 m under the pour, and is lowered as it fills (keyframed translation) takes
 /// the hardest floor impacts out of the fixed bin's (docs/lines.md, "A bin filler"). Golden
-/// values of the shipped runs (the piles are chaotic): largest apple-floor peak force 165.0 N
-/// against 279.2 N, floor contacts above 80 N 39 against 107.
+/// values of the shipped runs (the piles are chaotic): largest apple-floor peak force 132.7 N
+/// against 268.3 N, floor contacts above 80 N 31 against 100. Re-pinned in issue 31 (a number
+/// `jitter_m` is horizontal only: the pour no longer starts up to 30 mm higher; before: 165.0 N
+/// against 279.2 N, 39 against 107).
 #[test]
 fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
     let fixed = shipped("scenarios/lines/bin_filling.json");
@@ -1054,11 +1069,146 @@ fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
     assert_eq!((n_fixed, n_filler), (276, 170), "floor contacts");
     assert!(max_filler < max_fixed && over_filler < over_fixed);
     assert!(
-        (max_fixed - 279.2).abs() <= 0.1 && over_fixed == 107,
+        (max_fixed - 268.3).abs() <= 0.1 && over_fixed == 100,
         "{max_fixed} {over_fixed}"
     );
     assert!(
-        (max_filler - 165.0).abs() <= 0.1 && over_filler == 39,
+        (max_filler - 132.7).abs() <= 0.1 && over_filler == 31,
         "{max_filler} {over_filler}"
     );
+}
+
+/// A bin fill's figures from its run's files: the largest fall of an apple from its entry to its
+/// first contact (and whose), the largest apple-floor peak force, the floor contacts above 80 N
+/// and in all, the apples that waited for their spot and their waits together (s).
+#[derive(Debug)]
+struct Fill {
+    max_fall_m: f64,
+    max_fall_apple: String,
+    floor_peak_n: f64,
+    floor_over_80: usize,
+    floor_contacts: usize,
+    waited: u64,
+    wait_s: f64,
+}
+
+/// Runs a shipped bin fill into a scratch folder and reads its figures back from the files: each
+/// apple's entry (summary.json `apples[].fed`: time, centre, velocity) and its first contact
+/// (contacts.csv, the earliest `t_start_s` where it is `a` or `b`); in between it flies free, so
+/// its centre falls -(v_z tau - g tau^2 / 2) in tau. Every apple is poured and ends in the bin.
+fn fill_from_files(rel: &str) -> Fill {
+    let sc = shipped(rel);
+    let out = std::env::temp_dir().join(format!(
+        "applesim-fill-{}-{}",
+        std::process::id(),
+        rel.rsplit('/').next().unwrap()
+    ));
+    let _ = std::fs::remove_dir_all(&out);
+    applesim::run::to_dir(&sc, &repo("scenarios"), &out, &mut |_| {}).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let mut first: std::collections::BTreeMap<String, f64> = Default::default();
+    let (mut floor_peak_n, mut floor_over_80, mut floor_contacts) = (0.0f64, 0, 0);
+    let mut rd = csv::Reader::from_path(out.join("contacts.csv")).unwrap();
+    let h = rd.headers().unwrap().clone();
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let (ca, cb, ct, cp) = (col("a"), col("b"), col("t_start_s"), col("peak_force_n"));
+    for r in rd.records() {
+        let r = r.unwrap();
+        let t: f64 = r[ct].parse().unwrap();
+        for who in [&r[ca], &r[cb]] {
+            let e = first.entry(who.to_string()).or_insert(t);
+            *e = e.min(t);
+        }
+        if &r[cb] == "bin/floor" {
+            let p: f64 = r[cp].parse().unwrap();
+            floor_peak_n = floor_peak_n.max(p);
+            floor_over_80 += usize::from(p > 80.0);
+            floor_contacts += 1;
+        }
+    }
+    let apples = summary["apples"].as_array().unwrap();
+    assert_eq!(apples.len(), 150, "{rel}: every apple poured");
+    let mut worst = (0.0f64, String::new());
+    for a in apples {
+        let name = a["name"].as_str().unwrap();
+        let fed = &a["fed"];
+        let t0 = fed["time_s"].as_f64().unwrap();
+        let vz = fed["velocity_m_s"][2].as_f64().unwrap();
+        let tau = first[name] - t0;
+        let fall = -(vz * tau - 0.5 * G * tau * tau);
+        if fall > worst.0 {
+            worst = (fall, name.to_string());
+        }
+        assert_eq!(a["fate"]["kind"], "in_bin", "{rel}: {name}");
+    }
+    let source = &summary["sources"][0];
+    let _ = std::fs::remove_dir_all(&out);
+    let f = Fill {
+        max_fall_m: worst.0,
+        max_fall_apple: worst.1,
+        floor_peak_n,
+        floor_over_80,
+        floor_contacts,
+        waited: source["waited"].as_u64().unwrap(),
+        wait_s: source["wait_total_s"].as_f64().unwrap(),
+    };
+    println!("{rel}: {f:?}");
+    f
+}
+
+/// Issue 31's bin filler whose fill head is lowered with the bin
+/// (scenarios/lines/bin_filler_head.json): the head rides the bin's lift (the same keyframes),
+/// its spawn point 0.235 m above the floor, so no apple falls more than H = 0.2 m into the bin:
+/// the smallest apple (70 mm) from its centre 0.235 m up to the bare floor, anything else it
+/// lands on being higher. Each apple enters with the head's velocity (the lift's 13.3 mm/s) added
+/// to its own 0.5 m/s.
+///
+/// The margin, from the physics: the floor sinks with the lift while the apple falls, v_lift
+/// tau_max = 13.3 mm/s x 0.157 s = 2.1 mm (tau_max the fall time of H from 0.5 m/s: relative to
+/// the bin the apple starts at 0.5 m/s); the contact is seen at the first step with an overlap,
+/// at most one step's travel (1 mm, half rapier's prediction distance: the adaptive step's cap)
+/// after the touch; symplectic Euler's centre trails the parabola by at most g dt tau / 2
+/// (1.5 mm at 2 ms, the longest step the cap allows at 0.5 m/s). The spawn offset adds nothing:
+/// a number jitter is horizontal. 4.6 mm in all. The fixed head over a fixed bin
+/// (bin_filling.json) is held to its own cap, 0.3 m less the smallest radius, with the step's
+/// part of the margin (nothing moves).
+///
+/// docs/lines.md, "A fill head lowered with the bin", compares the three fills (golden values of
+/// the shipped runs at their printed digits: the piles are chaotic).
+#[test]
+fn a_fill_head_lowered_with_the_bin_caps_every_fall() {
+    let head = fill_from_files("scenarios/lines/bin_filler_head.json");
+    let (h_set, v0, v_lift) = (0.2, 0.5, 0.2 / 15.0);
+    let tau_max = ((v0 * v0 + 2.0 * G * h_set).sqrt() - v0) / G;
+    let step_part = 1e-3 + 0.5 * G * 2e-3 * tau_max;
+    let margin = v_lift * tau_max + step_part;
+    println!(
+        "tau_max {tau_max:.4} s: lift {:.2} mm, margin {:.2} mm",
+        1e3 * v_lift * tau_max,
+        1e3 * margin
+    );
+    assert!(margin <= 4.7e-3, "{margin}");
+    assert!(head.max_fall_m <= h_set + margin, "{head:?}");
+    let fixed_bin = fill_from_files("scenarios/lines/bin_filling.json");
+    assert!(
+        fixed_bin.max_fall_m <= 0.3 - 0.035 + step_part,
+        "{fixed_bin:?}"
+    );
+    let fixed_head = fill_from_files("scenarios/lines/bin_filler.json");
+    // Golden values (docs/lines.md's table).
+    for (f, fall, peak, over, n, waited, wait) in [
+        (&head, 0.2018, 218.6, 86, 229, 54, 34.5),
+        (&fixed_head, 0.1237, 132.7, 31, 175, 149, 280.3),
+        (&fixed_bin, 0.2650, 268.3, 100, 251, 12, 0.8),
+    ] {
+        assert!(
+            (f.max_fall_m - fall).abs() <= 1e-4
+                && (f.floor_peak_n - peak).abs() <= 0.1
+                && (f.floor_over_80, f.floor_contacts, f.waited) == (over, n, waited)
+                && (f.wait_s - wait).abs() <= 0.1,
+            "{f:?}"
+        );
+    }
+    assert_eq!(head.max_fall_apple, "pour-6");
 }

@@ -146,6 +146,8 @@ fn every_shipped_scenario_runs() {
         "paper/fig1.json",
         "paper/fig5_layers3_v050.json",
         "batches/impact_sweep.json",
+        // Issue 31's moving source (its figures: line_scenarios, the fill head's falls).
+        "lines/bin_filler_head.json",
     ] {
         assert!(runs.contains_key(rel), "{rel} not found: {:?}", runs.keys());
     }

@@ -6,12 +6,12 @@
 
 use super::ranges::{self, num, num3};
 use super::{de, AppleSpec, ScenarioError};
-use crate::math::{vec3, Vec3};
+use crate::math::{human, vec3, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use serde::de::value::MapAccessDeserializer;
-use serde::de::{Deserializer, MapAccess, Visitor};
+use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
+use serde::de::{Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::Path;
@@ -362,12 +362,20 @@ pub struct SourceSpec {
     /// loaded; the largest apple of the size distribution just clears it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub on: Option<super::layout::OnSpec>,
-    /// Random offset of the appearing point, uniform in +- this on each axis (m).
+    /// Random offset of the appearing point (m): a number scatters it across gravity only
+    /// (uniform in +- this along each horizontal axis), `[jx, jy, jz]` along each axis of the
+    /// source's frame ([`JitterSpec`]).
     #[serde(default)]
-    pub jitter_m: f64,
-    /// Velocity of the emitted apples (m/s).
+    pub jitter_m: JitterSpec,
+    /// Velocity of the emitted apples (m/s), relative to the source (turned with it when it
+    /// turns).
     #[serde(default)]
     pub velocity_m_s: [f64; 3],
+    /// The source's prescribed motion, the same as a surface's (`scenario::motion`): a fill head
+    /// lowered with a bin, a filler arm that swings. Apples appear where it carries the source at
+    /// their spawn time, with its velocity there added to their own. Fixed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<super::motion::MotionSpec>,
     /// Apples per second.
     pub rate_per_s: f64,
     /// First emission (s).
@@ -381,18 +389,23 @@ pub struct SourceSpec {
 }
 
 impl SourceSpec {
-    /// The scheduled emissions: (time, apple), in order. An emission whose spot is still taken is
-    /// postponed by the driver until it is free.
-    pub fn schedule(&self) -> Vec<(f64, AppleSpec)> {
+    /// The scheduled emissions: (time, apple), in order, each apple placed where the source is
+    /// when it is at rest (`position_m` plus its jitter offset; a moving source carries it from
+    /// there at the spawn time, `world::motion::Motion::spawn`). `gravity_m_s2` says what a
+    /// number `jitter_m` leaves out ([`JitterSpec::offset`]). An emission whose spot is still
+    /// taken is postponed by the driver until it is free.
+    pub fn schedule(&self, gravity_m_s2: [f64; 3]) -> Vec<(f64, AppleSpec)> {
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let g = vec3(gravity_m_s2);
         (0..self.count)
             .map(|k| {
                 let d = self.diameter_m.sample(&mut rng);
                 let mut p = vec3(self.position_m);
-                if self.jitter_m > 0.0 {
-                    for c in 0..3 {
-                        p[c] += self.jitter_m * (2.0 * rng.random::<f64>() - 1.0);
-                    }
+                if !self.jitter_m.is_zero() {
+                    // Three draws whatever the form, so that a number keeps the horizontal
+                    // offsets it always gave (the same stream of draws).
+                    let u = [0; 3].map(|_| 2.0 * rng.random::<f64>() - 1.0);
+                    p += self.jitter_m.offset(u, g);
                 }
                 (
                     self.start_s + k as f64 / self.rate_per_s,
@@ -410,6 +423,183 @@ impl SourceSpec {
                 )
             })
             .collect()
+    }
+
+    /// Whether the feed is exactly symmetric under `gravity_m_s2`: at least
+    /// [`SYMMETRIC_FEED_APPLES`] apples from one spot with no jitter across gravity, the spot
+    /// not carried across gravity (no rotation, a translation along gravity only). Every apple
+    /// then starts on one vertical line with the same velocity, so they all move, collide and
+    /// pile in one vertical plane (on one vertical line when the velocity is vertical), which
+    /// no real feed does. Without gravity nothing piles: never.
+    pub fn is_symmetric(&self, gravity_m_s2: [f64; 3]) -> bool {
+        let g = vec3(gravity_m_s2);
+        let gl = g.length();
+        if self.count < SYMMETRIC_FEED_APPLES || !(gl > 0.0 && gl.is_finite()) {
+            return false;
+        }
+        let down = g / gl;
+        // Whether a vector lies along gravity (no component across it).
+        let along = |v: Vec3| v.cross(down).length() <= 1e-12 * v.length();
+        let jitter_along = match self.jitter_m {
+            JitterSpec::Horizontal(j) => j == 0.0,
+            JitterSpec::PerAxis(j) => (0..3).all(|c| j[c] == 0.0 || along(Vec3::AXES[c])),
+        };
+        let still = match &self.motion {
+            None => true,
+            Some(m) if m.rotation.is_some() => false,
+            Some(m) => m.translation.as_ref().is_none_or(|t| {
+                t.velocity_m_s.is_none_or(|v| along(vec3(v)))
+                    && t.keyframes
+                        .as_ref()
+                        .is_none_or(|k| k.iter().all(|(_, x)| along(vec3(*x) - vec3(k[0].1))))
+            }),
+        };
+        jitter_along && still
+    }
+}
+
+/// The fewest apples from one spot that make an exactly symmetric feed worth a warning
+/// ([`SourceSpec::is_symmetric`]): two to four apples fed onto a belt, one after the other, are
+/// a test of the belt, not a pile.
+pub const SYMMETRIC_FEED_APPLES: u32 = 5;
+
+/// The warnings of a scenario's exactly symmetric feeds ([`SourceSpec::is_symmetric`]), one
+/// per source, in scenario order: the run adds them to its warnings (`summary.json`
+/// `warnings`, and the terminal at the end of the run).
+pub fn symmetric_feed_warnings(sources: &[SourceSpec], gravity_m_s2: [f64; 3]) -> Vec<String> {
+    sources
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.is_symmetric(gravity_m_s2))
+        .map(|(k, s)| {
+            let p = s.position_m;
+            format!(
+                "source '{}' (sources[{k}]) feeds {} apples from one spot with no jitter across gravity: every apple starts on the vertical line through [{}, {}, {}] m with the same velocity, so they all move, collide and pile in one vertical plane, an exactly symmetric feed that no real line has (a pile of them stands in that plane, higher than real fruit would); give sources[{k}].jitter_m a sideways scatter (e.g. 0.01 m) to break the symmetry",
+                s.name,
+                s.count,
+                human(p[0], 6, 3),
+                human(p[1], 6, 3),
+                human(p[2], 6, 3),
+            )
+        })
+        .collect()
+}
+
+/// How far a source scatters the spot where its apples appear (`jitter_m`, m): each apple's
+/// offset is drawn uniform in +- the half-widths, once, when the feed is planned.
+///
+/// - A number `j` scatters across gravity only: along each horizontal axis (x and y when gravity
+///   is along -z), never up or down, so that apples fall from the height the scenario gives.
+///   The offset is drawn in +- j on each axis, then its component along gravity is taken out
+///   (without gravity nothing is vertical: every axis).
+/// - `[jx, jy, jz]` scatters along each axis of the source's frame (the world's axes, turned
+///   with the source when its `motion` turns it): `[0.03, 0.03, 0.03]` is the scatter a number
+///   gave before issue 31, vertical included.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum JitterSpec {
+    /// Across gravity only, +- this on each horizontal axis (m).
+    Horizontal(f64),
+    /// +- jx, jy, jz along x, y and z (m).
+    PerAxis([f64; 3]),
+}
+
+impl Default for JitterSpec {
+    fn default() -> Self {
+        JitterSpec::Horizontal(0.0)
+    }
+}
+
+impl From<f64> for JitterSpec {
+    fn from(j: f64) -> Self {
+        JitterSpec::Horizontal(j)
+    }
+}
+
+impl<'de> Deserialize<'de> for JitterSpec {
+    // By hand rather than `untagged`, which buffers the value and loses the path of a bad
+    // component (`jitter_m[2]`).
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = JitterSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a jitter in metres (across gravity) or [jx, jy, jz]")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<JitterSpec, E> {
+                Ok(JitterSpec::Horizontal(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<JitterSpec, E> {
+                Ok(JitterSpec::Horizontal(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<JitterSpec, E> {
+                Ok(JitterSpec::Horizontal(v as f64))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<JitterSpec, A::Error> {
+                <[f64; 3]>::deserialize(SeqAccessDeserializer::new(seq)).map(JitterSpec::PerAxis)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl JitterSpec {
+    /// Whether every offset is zero.
+    pub fn is_zero(&self) -> bool {
+        match *self {
+            JitterSpec::Horizontal(j) => j == 0.0,
+            JitterSpec::PerAxis(j) => j.iter().all(|&x| x == 0.0),
+        }
+    }
+
+    /// The values given, for range checks: (JSON path suffix, value) of each.
+    pub fn values(&self) -> Vec<(String, f64)> {
+        match *self {
+            JitterSpec::Horizontal(j) => vec![(String::new(), j)],
+            JitterSpec::PerAxis(j) => (0..3).map(|c| (format!("[{c}]"), j[c])).collect(),
+        }
+    }
+
+    /// The offset of draws `u` (each in [-1, 1]) under gravity `g` (m/s^2), in the source's
+    /// frame at rest: `j u` with its component along gravity taken out for a number (every axis
+    /// without gravity), `(jx u0, jy u1, jz u2)` for a vector.
+    pub fn offset(&self, u: [f64; 3], g: Vec3) -> Vec3 {
+        match *self {
+            JitterSpec::Horizontal(j) => {
+                let o = j * Vec3::from_array(u);
+                let gl = g.length();
+                if gl > 0.0 && gl.is_finite() {
+                    let down = g / gl;
+                    o - down * o.dot(down)
+                } else {
+                    o
+                }
+            }
+            JitterSpec::PerAxis(j) => Vec3::new(j[0] * u[0], j[1] * u[1], j[2] * u[2]),
+        }
+    }
+
+    /// The largest offset along each axis (m), in the source's frame at rest: the half-widths of
+    /// the box every spawn point lies in.
+    pub fn half_widths(&self, g: Vec3) -> [f64; 3] {
+        match *self {
+            JitterSpec::PerAxis(j) => j,
+            JitterSpec::Horizontal(j) => {
+                // Row c of the projector across gravity, summed in absolute value: the largest
+                // |offset_c| over the cube of draws.
+                let gl = g.length();
+                if !(gl > 0.0 && gl.is_finite()) {
+                    return [j; 3];
+                }
+                let d = g / gl;
+                [0, 1, 2].map(|c| {
+                    (0..3)
+                        .map(|i| (f64::from(u8::from(c == i)) - d[c] * d[i]).abs())
+                        .sum::<f64>()
+                        * j
+                })
+            }
+        }
     }
 }
 

@@ -24,7 +24,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
-pub use generators::{DiameterSpec, FileApple, FileSpec, GeneratorSpec, SourceSpec};
+pub use generators::{DiameterSpec, FileApple, FileSpec, GeneratorSpec, JitterSpec, SourceSpec};
 pub use stepping::{Accuracy, Fidelity, TimeStep};
 pub use surfaces::{ContactModel, RotationSpec, SurfaceSpec};
 pub use validate::validate;

@@ -14,12 +14,14 @@
 //! through `point_m` at `angular_velocity_rad_s`, or by `keyframes` `[[t_s, angle_deg], ...]`
 //! (the angle turned from the scenario's placement). With both, the surface is turned first, then
 //! shifted. The world carries such a surface on a rapier kinematic body (see `world::motion`).
+//! A source takes the same motion (issue 31): its apples appear where it carries the source at
+//! their spawn time, with its velocity there (`world::motion::Motion::spawn`).
 
 use super::ranges::{self, num};
 use super::ScenarioError;
 use serde::{Deserialize, Serialize};
 
-/// The prescribed motion of a surface.
+/// The prescribed motion of a surface or a source.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotionSpec {
@@ -103,7 +105,8 @@ fn check_times<T>(f: &str, keys: &[(f64, T)]) -> Result<(), ScenarioError> {
     Ok(())
 }
 
-/// Validates a motion (`f` is its JSON path, `surfaces[k].motion`).
+/// Validates a motion (`f` is its JSON path, `surfaces[k].motion` or `sources[k].motion`: one
+/// check for both).
 pub fn validate(f: &str, m: &MotionSpec) -> Result<(), ScenarioError> {
     if m.translation.is_none() && m.rotation.is_none() {
         return Err(ScenarioError::invalid(

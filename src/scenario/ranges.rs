@@ -321,7 +321,14 @@ pub const LENGTH: Range = closed(
 /// Thickness of a pad bonded on a surface (docs/physics.md section 13).
 pub const PAD_THICKNESS: Range = positive("pad thickness", "h", 0.1, "m", "`padding.thickness_m`");
 /// Random offsets.
-pub const JITTER: Range = closed("jitter", "j", 0.0, 10.0, "m", "`jitter_m`");
+pub const JITTER: Range = closed(
+    "jitter",
+    "j",
+    0.0,
+    10.0,
+    "m",
+    "`jitter_m` (a number, or each of `[jx, jy, jz]`)",
+);
 /// Histogram bins of the slip/roll summary.
 pub const BIN: Range = closed(
     "histogram bin",

@@ -294,7 +294,7 @@ pub fn validate(sc: &Scenario) -> R {
         generator(&format!("generators[{k}]"), g, &mats)?;
     }
     for (k, src) in sc.sources.iter().enumerate() {
-        source(&format!("sources[{k}]"), src, &mats)?;
+        source(&format!("sources[{k}]"), src, &mats, sc.gravity_m_s2)?;
     }
     prefixes(sc)?;
     apple_count(sc)?;
@@ -476,18 +476,27 @@ fn inside_bounds(sc: &Scenario, all: &[AppleSpec], field: impl Fn(usize) -> Stri
             ));
         }
     }
-    for (k, s) in sc.sources.iter().enumerate() {
-        let j = s.jitter_m;
-        let lo = [0, 1, 2].map(|i| s.position_m[i] - j);
-        let hi = [0, 1, 2].map(|i| s.position_m[i] + j);
+    // A moving source's spots are checked where its motion carries them, at every spawn time,
+    // when the world is built (world::check_spawn_points).
+    for (k, s) in sc
+        .sources
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.motion.is_none())
+    {
+        let w = s.jitter_m.half_widths(crate::math::vec3(sc.gravity_m_s2));
+        let lo = [0, 1, 2].map(|i| s.position_m[i] - w[i]);
+        let hi = [0, 1, 2].map(|i| s.position_m[i] + w[i]);
         if !(b.contains(lo) && b.contains(hi)) {
             return Err(ScenarioError::invalid(
                 format!("sources[{k}].position_m"),
                 format!(
-                    "the spawn point of source '{}' ({} +- {} m) is outside {bounds}: its apples would leave the scene at once",
+                    "the spawn point of source '{}' ({} +- [{}, {}, {}] m) is outside {bounds}: its apples would leave the scene at once",
                     s.name,
                     outside(s.position_m),
-                    num(j)
+                    num(w[0]),
+                    num(w[1]),
+                    num(w[2]),
                 ),
             ));
         }

@@ -127,6 +127,9 @@ pub struct AppleFinal {
     pub contacts: usize,
     /// Where it ended: in a bin, on a surface, out of the scene, still moving.
     pub fate: fate::Fate,
+    /// When and where its source fed it in (fed apples only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fed: Option<crate::world::FedEntry>,
 }
 
 /// Everything a run produced.
@@ -262,6 +265,8 @@ pub struct Simulation {
     events: Vec<FinishedContact>,
     /// Warnings of pads that bottomed out (docs/physics.md section 13), in the order they did.
     pad_warnings: Vec<String>,
+    /// Warnings the scenario alone gives (an exactly symmetric feed), added at the end.
+    scenario_warnings: Vec<String>,
     states: Vec<AppleState>,
     /// The free-turning rollers' spins at the last sample (copied from the world, their owner;
     /// empty in a scene without them).
@@ -336,6 +341,10 @@ impl Simulation {
             next_sample: 0,
             events: Vec::new(),
             pad_warnings: Vec::new(),
+            scenario_warnings: crate::scenario::generators::symmetric_feed_warnings(
+                &sc.sources,
+                sc.gravity_m_s2,
+            ),
             states: Vec::new(),
             rollers: Vec::new(),
             gravity: crate::math::vec3(sc.gravity_m_s2),
@@ -763,9 +772,11 @@ impl Simulation {
                 peak_pressure_pa: peak_p[k],
                 contacts: count[k],
                 fate,
+                fed: self.world.fed_entry(k).cloned(),
             })
             .collect();
-        let mut warnings = fate::warnings(&apples, &line, self.time_s);
+        let mut warnings = std::mem::take(&mut self.scenario_warnings);
+        warnings.extend(fate::warnings(&apples, &line, self.time_s));
         warnings.append(&mut self.pad_warnings);
         let worst = events.iter().map(|e| (e.max_overlap_m, e)).fold(
             None::<(f64, &ContactEvent)>,

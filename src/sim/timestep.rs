@@ -70,10 +70,16 @@ pub fn speed_bound(sc: &Scenario, world: &World) -> f64 {
         bottom = bottom.min(h - a.radius_m);
         v0 = v0.max(rb.linvel().length() + rb.angvel().length() * a.radius_m);
     }
-    for s in &sc.sources {
-        let h = up.dot(vec3(s.position_m)) + s.jitter_m;
+    for s in sc.sources.iter().filter(|s| s.motion.is_none()) {
+        let w = s.jitter_m.half_widths(g);
+        let h = up.dot(vec3(s.position_m)) + (0..3).map(|c| up[c].abs() * w[c]).sum::<f64>();
         top = top.max(h);
         v0 = v0.max(vec3(s.velocity_m_s).length());
+    }
+    // A moving source: where and how fast its planned apples appear.
+    if let Some((h, v)) = world.moving_feed_bounds(up) {
+        top = top.max(h);
+        v0 = v0.max(v);
     }
     let mut belt: f64 = 0.0;
     for (k, s) in sc.surfaces.iter().enumerate() {

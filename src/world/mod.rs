@@ -96,6 +96,28 @@ pub struct World {
     feeds: Vec<SourceFeed>,
     /// Per apple, where it left the scene if it was taken out of the run.
     taken_out: Vec<Option<Vec3>>,
+    /// Each source's motion (scenario order), `None` for a fixed source.
+    source_motions: Vec<Option<motion::Motion>>,
+    /// Per apple (layer order), when and where it was fed in, if a source fed it.
+    fed_entries: Vec<Option<FedEntry>>,
+}
+
+/// When and where a source fed an apple in: `summary.json` `apples[].fed` (issue 31). A moving
+/// source's apple appears where the source is at that time, with its velocity added; one that
+/// waited for its spot appears later than planned, where the source is then.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FedEntry {
+    /// The source's name.
+    pub source: String,
+    /// Planned time of entry (s): `start_s + k / rate_per_s`.
+    pub planned_s: f64,
+    /// Time it entered (s): later than planned if it waited for its spot.
+    pub time_s: f64,
+    /// Its centre when it entered (m).
+    pub position_m: [f64; 3],
+    /// Its velocity when it entered (m/s): the source's `velocity_m_s` (turned with the source)
+    /// plus the source's own velocity at that point.
+    pub velocity_m_s: [f64; 3],
 }
 
 /// The inside of a bin: where an apple counts as in it (its centre inside the box bounded by
@@ -303,6 +325,12 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             })
             .collect(),
         taken_out: Vec::new(),
+        source_motions: sc
+            .sources
+            .iter()
+            .map(|s| motion::Motion::of_source(s.motion.as_ref()))
+            .collect(),
+        fed_entries: Vec::new(),
         movers: Vec::new(),
         free_rollers: Vec::new(),
         moving_speed_m_s: 0.0,
@@ -330,7 +358,6 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     }
     world.layer.check_conformity()?;
     check_initial_surface_overlaps(sc, &plan.initial, &world)?;
-    check_spawn_points(sc, &world)?;
     world.pending = plan
         .feeds
         .into_iter()
@@ -341,6 +368,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             blocker: None,
         })
         .collect();
+    check_spawn_points(sc, &world)?;
 
     // Apples with colliders (rapier's own contact with rigid surfaces): a step of length zero runs
     // rapier's collision detection only, so the rigid contacts touching at t = 0 are known before
@@ -498,9 +526,11 @@ impl World {
                 break;
             }
             let mut f = self.pending.pop_front().expect("front exists");
+            // Where the source puts it now (a moving source has moved on while it waited).
+            let apple = self.placed(&f, t);
             let held = match blocked.iter().find(|(s, _)| *s == f.source) {
                 Some((_, by)) => Some(by.clone()),
-                None => self.spot_taken_by(&f.apple).inspect(|by| {
+                None => self.spot_taken_by(&apple).inspect(|by| {
                     blocked.push((f.source, by.clone()));
                 }),
             };
@@ -509,13 +539,24 @@ impl World {
                 kept.push_back(f);
                 continue;
             }
-            self.add_apple(
-                &f.apple,
+            let id = self.add_apple(
+                &apple,
                 Origin::Fed {
                     source: f.source,
                     time_s: f.time_s,
                 },
             )?;
+            let k = id.0 as usize;
+            if self.fed_entries.len() <= k {
+                self.fed_entries.resize(k + 1, None);
+            }
+            self.fed_entries[k] = Some(FedEntry {
+                source: self.feeds[f.source].name.clone(),
+                planned_s: f.time_s,
+                time_s: t,
+                position_m: apple.position_m,
+                velocity_m_s: apple.velocity_m_s,
+            });
             let feed = &mut self.feeds[f.source];
             feed.fed += 1;
             if let Some(by) = &f.blocker {
@@ -558,6 +599,56 @@ impl World {
     /// Emissions still to come.
     pub fn pending_emissions(&self) -> usize {
         self.pending.len()
+    }
+
+    /// When and where apple `k` (layer order) was fed in, if a source fed it.
+    pub fn fed_entry(&self, k: usize) -> Option<&FedEntry> {
+        self.fed_entries.get(k).and_then(Option::as_ref)
+    }
+
+    /// The motion of source `k` (scenario order), if it moves.
+    pub fn source_motion(&self, k: usize) -> Option<&motion::Motion> {
+        self.source_motions.get(k).and_then(Option::as_ref)
+    }
+
+    /// A planned apple as its source puts it at time `t_s`: where the source's motion carries
+    /// its spot then, with the source's velocity there added ([`motion::Motion::spawn`]); as
+    /// planned for a fixed source.
+    fn placed(&self, f: &Feed, t_s: f64) -> AppleSpec {
+        place(self.source_motion(f.source), &f.apple, t_s)
+    }
+
+    /// The highest point along `up` a moving source's planned apples appear at (their centres
+    /// at their planned times), and the fastest of them (m/s): `None` without a moving source.
+    /// The step planner's speed bound takes them (`sim::timestep::speed_bound`).
+    pub fn moving_feed_bounds(&self, up: Vec3) -> Option<(f64, f64)> {
+        self.pending
+            .iter()
+            .filter(|f| self.source_motion(f.source).is_some())
+            .map(|f| {
+                let a = self.placed(f, f.time_s);
+                (up.dot(vec3(a.position_m)), vec3(a.velocity_m_s).length())
+            })
+            .reduce(|a, b| (a.0.max(b.0), a.1.max(b.1)))
+    }
+
+    /// The point that stands to surface part `s` as it is now (its collider's pose) as `p`
+    /// stands to it at time `t_s`: `p` itself for a fixed part, `p` carried back by the part's
+    /// motion from `t_s` to the current time for a moving one (a roller's own turn is left out:
+    /// it is round). Overlaps with a part at any time are so found without moving it.
+    fn at_part_now(&self, s: usize, p: Vec3, t_s: f64) -> Vec3 {
+        match self.surface_motion(s) {
+            Some((m, _)) => {
+                let back = m.pose_spun(self.time_s, 0.0) * m.pose_spun(t_s, 0.0).inverse();
+                back.transform_point(p)
+            }
+            None => p,
+        }
+    }
+
+    /// Whether surface part `s` moves (it rides a body with a motion).
+    fn part_moves(&self, s: usize) -> bool {
+        self.surface_motion(s).is_some()
     }
 
     /// What takes the spot of a due apple: another apple it would overlap, or a surface it would
@@ -694,78 +785,150 @@ fn bins(sc: &Scenario) -> Result<Vec<BinBox>, ScenarioError> {
     Ok(out)
 }
 
+/// A planned apple (placed where its source is at rest) as a source with motion `m` puts it at
+/// time `t_s` ([`motion::Motion::spawn`]); unchanged for a fixed source.
+fn place(m: Option<&motion::Motion>, a: &AppleSpec, t_s: f64) -> AppleSpec {
+    let Some(m) = m else { return a.clone() };
+    let (p, v) = m.spawn(t_s, vec3(a.position_m), vec3(a.velocity_m_s));
+    AppleSpec {
+        position_m: p.to_array(),
+        velocity_m_s: v.to_array(),
+        ..a.clone()
+    }
+}
+
+/// The deepest overlap of a ball of radius `r` centred at `p` with any surface part where the
+/// parts are at time `t_s` (moving ones where their motion has them then): (overlap, part).
+fn deepest_overlap(
+    world: &World,
+    p: Vec3,
+    r: f64,
+    t_s: f64,
+    hits: &mut Vec<crate::layer::surface::SurfaceHit>,
+) -> Option<(f64, SurfaceId)> {
+    let mut worst: Option<(f64, SurfaceId)> = None;
+    for (s, &ch) in world.surface_colliders.iter().enumerate() {
+        let Some(co) = world.physics.colliders.get(ch) else {
+            continue;
+        };
+        let id = SurfaceId(s as u32);
+        hits.clear();
+        let q = world.at_part_now(s, p, t_s);
+        crate::layer::surface::surface_hits(world.layer.surface_shape(id), co, q, r, 0.0, hits);
+        for h in hits.iter() {
+            if worst.is_none_or(|w| h.overlap_m > w.0) {
+                worst = Some((h.overlap_m, id));
+            }
+        }
+    }
+    worst
+}
+
+/// The field a spot of source `k` that lies in a surface at `t_s` is refused by: its `motion`
+/// (`.translation` or `.rotation` when it has only that) when the motion has carried the spot
+/// away from `position_m` then, else `position_m`.
+fn spot_field(
+    k: usize,
+    src: &scenario::SourceSpec,
+    m: Option<&motion::Motion>,
+    t_s: f64,
+) -> String {
+    let p = vec3(src.position_m);
+    let moved = m.is_some_and(|m| (m.carry(t_s).transform_point(p) - p).length() > 1e-9);
+    match (&src.motion, moved) {
+        (Some(ms), true) => match (&ms.translation, &ms.rotation) {
+            (Some(_), None) => format!("sources[{k}].motion.translation"),
+            (None, Some(_)) => format!("sources[{k}].motion.rotation"),
+            _ => format!("sources[{k}].motion"),
+        },
+        _ => format!("sources[{k}].position_m"),
+    }
+}
+
 /// A source whose spawn point overlaps a surface could never feed an apple (each would wait for
-/// its spot for ever): refused before the run, naming the source and the surface. The spawn
-/// region is `position_m` +- `jitter_m` on each axis, with the source's largest diameter; it is
-/// probed at its centre, corners, edge and face centres (exact for planes and for flat faces,
-/// whose overlap is largest at a corner of the region), and an overlap up to
-/// [`MAX_INITIAL_SURFACE_OVERLAP_RATIO`] of the radius is allowed, as for an apple placed at the
-/// start.
+/// its spot for ever): refused before the run, naming the source and the surface. Checked where
+/// the scenario alone decides it (issue 31), with the source and the surfaces where they are at
+/// the time (moving ones where their motion has them then):
+///
+/// 1. the spawn region at the source's first spawn time (`start_s`): `position_m` plus every
+///    jitter offset, with the source's largest diameter, probed at its centre, corners, edge and
+///    face centres (exact for planes and for flat faces, whose overlap is largest at a corner of
+///    the region);
+/// 2. when the source or a surface moves, every planned apple at its planned time, where its
+///    source puts it then: a spot a moving surface sweeps through, or a moving source carried
+///    into a surface, is refused naming the apple and the time;
+/// 3. with `model.scene_bounds`, every planned apple of a moving source inside the box.
+///
+/// An overlap up to [`MAX_INITIAL_SURFACE_OVERLAP_RATIO`] of the radius is allowed, as for an
+/// apple placed at the start. The field named is `position_m` (or the source's `motion` when it
+/// has carried the spot there), or `jitter_m` when only a jittered spot lies in the surface.
+/// A spot taken by an apple is not decided by the scenario alone: the apple waits for it.
 fn check_spawn_points(sc: &Scenario, world: &World) -> Result<(), ScenarioError> {
     let mut hits = Vec::new();
+    let g = vec3(sc.gravity_m_s2);
+    let surface_at = |s: SurfaceId| {
+        let name = world.layer.surface_name(s);
+        if world.part_moves(s.0 as usize) {
+            format!("surface '{name}' (where its motion has it then)")
+        } else {
+            format!("surface '{name}'")
+        }
+    };
     for (k, src) in sc.sources.iter().enumerate() {
+        let m = world.source_motion(k);
+        let t0 = src.start_s;
         let d = src.diameter_m.max_m();
         let r = d / 2.0;
-        let j = src.jitter_m;
-        let centre = vec3(src.position_m);
-        let offsets: &[f64] = if j > 0.0 { &[0.0, -1.0, 1.0] } else { &[0.0] };
-        // The deepest overlap at a probe: (overlap, surface, point).
-        let deepest = |p: Vec3, hits: &mut Vec<crate::layer::surface::SurfaceHit>| {
-            let mut worst: Option<(f64, SurfaceId, Vec3)> = None;
-            for (s, &ch) in world.surface_colliders.iter().enumerate() {
-                let Some(co) = world.physics.colliders.get(ch) else {
-                    continue;
-                };
-                let id = SurfaceId(s as u32);
-                hits.clear();
-                let shape = world.layer.surface_shape(id);
-                crate::layer::surface::surface_hits(shape, co, p, r, 0.0, hits);
-                for h in hits.iter() {
-                    if worst.is_none_or(|w| h.overlap_m > w.0) {
-                        worst = Some((h.overlap_m, id, p));
-                    }
-                }
-            }
-            worst
-        };
         let allowed = MAX_INITIAL_SURFACE_OVERLAP_RATIO * r;
-        // The centre names position_m; a corner of the jitter region only, jitter_m.
-        let mut found = deepest(centre, &mut hits)
+        let spot = |o: Vec3| match m {
+            Some(m) => m.carry(t0).transform_point(vec3(src.position_m) + o),
+            None => vec3(src.position_m) + o,
+        };
+        // The centre names position_m (or the motion); a corner of the jitter region only,
+        // jitter_m.
+        let centre = spot(Vec3::ZERO);
+        let mut found = deepest_overlap(world, centre, r, t0, &mut hits)
             .filter(|w| w.0 > allowed)
-            .map(|w| (w, true));
-        if found.is_none() {
-            for &ox in offsets {
-                for &oy in offsets {
-                    for &oz in offsets {
-                        let p = centre + j * Vec3::new(ox, oy, oz);
-                        if let Some(w) = deepest(p, &mut hits).filter(|w| w.0 > allowed) {
-                            if found.is_none_or(|(f, _)| w.0 > f.0) {
-                                found = Some((w, false));
+            .map(|(u, s)| (u, s, centre, true));
+        if found.is_none() && !src.jitter_m.is_zero() {
+            for ox in [0.0, -1.0, 1.0] {
+                for oy in [0.0, -1.0, 1.0] {
+                    for oz in [0.0, -1.0, 1.0] {
+                        let p = spot(src.jitter_m.offset([ox, oy, oz], g));
+                        if let Some((u, s)) = deepest_overlap(world, p, r, t0, &mut hits) {
+                            if u > allowed && found.is_none_or(|f| u > f.0) {
+                                found = Some((u, s, p, false));
                             }
                         }
                     }
                 }
             }
         }
-        let Some(((u, s, p), at_centre)) = found else {
+        let Some((u, s, p, at_centre)) = found else {
             continue;
         };
-        let surface = world.layer.surface_name(s);
+        let surface = surface_at(s);
         let at = format!("[{}, {}, {}] m", short(p.x), short(p.y), short(p.z));
         // Both sides of the overlap named: the surface as its scenario entry places it, and the
         // source's largest apple (sources[k].diameter_m).
         let placed = sc
-            .surface_fields_of(surface)
+            .surface_fields_of(world.layer.surface_name(s))
             .map_or_else(String::new, |f| format!(" ({f})"));
         let size = format!(
             "an apple of its largest diameter, sources[{k}].diameter_m: {} m",
             short(d)
         );
+        let moving = m.is_some() || world.part_moves(s.0 as usize);
+        let when = if moving {
+            format!(" at its first spawn time, t = {} s", short(t0))
+        } else {
+            String::new()
+        };
         return Err(if at_centre {
             ScenarioError::invalid(
-                format!("sources[{k}].position_m"),
+                spot_field(k, src, m, t0),
                 format!(
-                    "the spawn point of source '{}' overlaps surface '{surface}'{placed} by {:.1} mm ({size}, centred at {at}): none of its apples could be fed in; move position_m at least that far clear of the surface",
+                    "the spawn point of source '{}' overlaps {surface}{placed} by {:.1} mm ({size}, centred at {at}{when}): none of its apples could be fed in; move position_m at least that far clear of the surface",
                     src.name,
                     u * 1e3,
                 ),
@@ -774,13 +937,89 @@ fn check_spawn_points(sc: &Scenario, world: &World) -> Result<(), ScenarioError>
             ScenarioError::invalid(
                 format!("sources[{k}].jitter_m"),
                 format!(
-                    "the spawn region of source '{}' (position_m +- {} m) overlaps surface '{surface}'{placed} by {:.1} mm ({size}, centred at {at}): apples placed there could not be fed in; reduce jitter_m or move position_m clear of the surface",
+                    "the spawn region of source '{}' (position_m +- jitter_m) overlaps {surface}{placed} by {:.1} mm ({size}, centred at {at}{when}): apples placed there could not be fed in; reduce jitter_m or move position_m clear of the surface",
                     src.name,
-                    short(j),
                     u * 1e3,
                 ),
             )
         });
+    }
+    // Every planned apple at its time, when something moves.
+    let any_part_moves = (0..world.surface_colliders.len()).any(|s| world.part_moves(s));
+    let any_source_moves = world.source_motions.iter().any(Option::is_some);
+    if !(any_part_moves || any_source_moves) {
+        return Ok(());
+    }
+    for f in &world.pending {
+        let k = f.source;
+        let src = &sc.sources[k];
+        let m = world.source_motion(k);
+        if m.is_none() && !any_part_moves {
+            continue;
+        }
+        let t = f.time_s;
+        let a = place(m, &f.apple, t);
+        let p = vec3(a.position_m);
+        let at = format!("[{}, {}, {}] m", short(p.x), short(p.y), short(p.z));
+        if let (Some(b), Some(_)) = (&sc.model.scene_bounds, m) {
+            if !b.contains(a.position_m) {
+                return Err(ScenarioError::invalid(
+                    spot_field(k, src, m, t),
+                    format!(
+                        "apple '{}' of source '{}' would appear at t = {} s at {at}, outside model.scene_bounds: the source's motion carries its spot out of the scene; keep it inside",
+                        a.name,
+                        src.name,
+                        short(t)
+                    ),
+                ));
+            }
+        }
+        let r = a.diameter_m / 2.0;
+        let allowed = MAX_INITIAL_SURFACE_OVERLAP_RATIO * r;
+        let Some((u, s)) = deepest_overlap(world, p, r, t, &mut hits).filter(|w| w.0 > allowed)
+        else {
+            continue;
+        };
+        // The jitter is to blame when the spot without it is clear.
+        let unjittered = match m {
+            Some(m) => m.carry(t).transform_point(vec3(src.position_m)),
+            None => vec3(src.position_m),
+        };
+        let centre_in =
+            deepest_overlap(world, unjittered, r, t, &mut hits).is_some_and(|w| w.0 > allowed);
+        let (field, fix) = if !centre_in {
+            (
+                format!("sources[{k}].jitter_m"),
+                "reduce jitter_m or move position_m clear of the surface".to_string(),
+            )
+        } else {
+            let field = spot_field(k, src, m, t);
+            let fix = if field.ends_with("position_m") {
+                format!(
+                    "move position_m out of the path of surface '{}', or feed at other times (start_s, rate_per_s)",
+                    world.layer.surface_name(s)
+                )
+            } else {
+                "change the motion so that the source keeps clear of the surface".to_string()
+            };
+            (field, fix)
+        };
+        return Err(ScenarioError::invalid(
+            field,
+            format!(
+                "apple '{}' of source '{}' would appear at t = {} s at {at}{}, {:.1} mm inside {}: it could not be fed in then; {fix}",
+                a.name,
+                src.name,
+                short(t),
+                if m.is_some() {
+                    " (where the source's motion carries it then)"
+                } else {
+                    ""
+                },
+                u * 1e3,
+                surface_at(s),
+            ),
+        ));
     }
     Ok(())
 }

@@ -103,6 +103,18 @@ impl Motion {
         if spin.is_none() && m.is_none() {
             return None;
         }
+        Some(Self::compile(origin, spin, m))
+    }
+
+    /// The motion of a source (`sources[k].motion`), or `None` for a fixed source: a body
+    /// whose origin is the world's origin, so that its pose at time t is the rigid move that
+    /// carries the source's points from where the scenario places them ([`Motion::spawn`]).
+    pub fn of_source(m: Option<&MotionSpec>) -> Option<Motion> {
+        m.map(|m| Self::compile(Vec3::ZERO, None, Some(m)))
+    }
+
+    /// A validated motion spec on a body with origin `origin` and a roller's own turn `spin`.
+    fn compile(origin: Vec3, spin: Option<(Vec3, f64)>, m: Option<&MotionSpec>) -> Motion {
         let turn = m.and_then(|m| m.rotation.as_ref()).and_then(|r| {
             let axis = vec3(unit_axis("axis", r.axis).ok()?);
             let profile = match (&r.angular_velocity_rad_s, &r.keyframes) {
@@ -121,12 +133,27 @@ impl Motion {
                 _ => return None,
             })
         });
-        Some(Motion {
+        Motion {
             origin,
             spin,
             turn,
             shift,
-        })
+        }
+    }
+
+    /// Where a point placed at `p_rest` (where the scenario puts it) on a body with this motion
+    /// is at `t_s`, and the velocity it has there when it moves at `v_rest` relative to the body
+    /// as placed: `carry(t) p_rest`, and `v_rest` turned with the body plus the body's velocity
+    /// at that point, v(t) + w(t) x (p - origin(t)) (right-hand slopes at keyframes, as
+    /// [`Motion::velocity`]). A moving source's apple appears so (issue 31): a fill head lowered
+    /// at 13 mm/s drops its apples with 13 mm/s more, a turning arm throws them with its tip's
+    /// speed. A roller's own turn is left out (a roller is round; sources have none).
+    pub fn spawn(&self, t_s: f64, p_rest: Vec3, v_rest: Vec3) -> (Vec3, Vec3) {
+        let carry = self.carry(t_s);
+        let p = carry.transform_point(p_rest);
+        let (lin, ang) = self.velocity(t_s);
+        let origin = self.pose(t_s).translation;
+        (p, carry.rotation * v_rest + lin + ang.cross(p - origin))
     }
 
     /// The body's pose at t = 0 with every offset zero: where the colliders are attached.

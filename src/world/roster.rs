@@ -143,7 +143,8 @@ pub fn entry(spec: &AppleSpec, density_kg_m3: Option<f64>, origin: Origin) -> Ro
 pub struct Plan {
     /// Apples present at t = 0 and where they came from.
     pub initial: Vec<(AppleSpec, Origin)>,
-    /// Planned feeds: (time, source index, apple).
+    /// Planned feeds: (time, source index, apple placed where its source is at rest; a moving
+    /// source carries it to where the source is when it appears).
     pub feeds: Vec<(f64, usize, AppleSpec)>,
 }
 
@@ -164,7 +165,11 @@ pub fn plan(sc: &Scenario) -> Result<Plan, ScenarioError> {
     }
     let mut feeds: Vec<(f64, usize, AppleSpec)> = Vec::new();
     for (k, src) in sc.sources.iter().enumerate() {
-        feeds.extend(src.schedule().into_iter().map(|(t, a)| (t, k, a)));
+        feeds.extend(
+            src.schedule(sc.gravity_m_s2)
+                .into_iter()
+                .map(|(t, a)| (t, k, a)),
+        );
     }
     feeds.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     Ok(Plan {

@@ -54,10 +54,13 @@ pub(super) fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Materi
     Ok(())
 }
 
+/// A source: its apples' fields, where they appear (`position_m` with its jitter, in range),
+/// and its `motion`, checked as a surface's is (`scenario::motion::validate`).
 pub(super) fn source(
     f: &str,
     src: &crate::scenario::SourceSpec,
     mats: &BTreeMap<&str, Material>,
+    gravity_m_s2: [f64; 3],
 ) -> R {
     prefix_and_material(f, &src.name, &src.material, src.mass_kg, mats)?;
     src.diameter_m.validate(&format!("{f}.diameter_m"))?;
@@ -71,20 +74,22 @@ pub(super) fn source(
     ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), src.velocity_m_s)?;
     ranges::RATE.check(&format!("{f}.rate_per_s"), src.rate_per_s)?;
     ranges::TIME.check(&format!("{f}.start_s"), src.start_s)?;
-    ranges::JITTER.check(&format!("{f}.jitter_m"), src.jitter_m)?;
-    if src
-        .position_m
-        .iter()
-        .any(|x| x.abs() + src.jitter_m > ranges::POSITION.max)
-    {
+    for (at, j) in src.jitter_m.values() {
+        ranges::JITTER.check(&format!("{f}.jitter_m{at}"), j)?;
+    }
+    let w = src.jitter_m.half_widths(crate::math::vec3(gravity_m_s2));
+    if (0..3).any(|c| src.position_m[c].abs() + w[c] > ranges::POSITION.max) {
         return Err(ScenarioError::invalid(
             format!("{f}.jitter_m"),
             format!(
                 "{} m about position_m places apples outside the range of fruit handling ({})",
-                num(src.jitter_m),
+                num(w.into_iter().fold(0.0, f64::max)),
                 ranges::POSITION.describe()
             ),
         ));
+    }
+    if let Some(m) = &src.motion {
+        crate::scenario::motion::validate(&format!("{f}.motion"), m)?;
     }
     Ok(())
 }
