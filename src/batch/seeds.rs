@@ -144,7 +144,7 @@ pub fn layout(path: &Path) -> Result<Layout, SeedsError> {
     }
     for (k, s) in sc.sources.iter().enumerate() {
         seeds.push(format!("/sources/{k}/seed"));
-        random |= s.jitter_m > 0.0 || spread(&s.diameter_m);
+        random |= !s.jitter_m.is_zero() || spread(&s.diameter_m);
     }
     Ok(Layout {
         base_dir: file.parent().map(Path::to_path_buf).unwrap_or_default(),

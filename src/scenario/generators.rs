@@ -552,6 +552,15 @@ impl JitterSpec {
         }
     }
 
+    /// The largest offset along each world axis, at most (m): a box the scatter stays in,
+    /// whatever gravity takes out of a number's.
+    pub fn bound_m(&self) -> [f64; 3] {
+        match *self {
+            JitterSpec::Horizontal(j) => [j.abs(); 3],
+            JitterSpec::PerAxis(j) => j.map(f64::abs),
+        }
+    }
+
     /// The values given, for range checks: (JSON path suffix, value) of each.
     pub fn values(&self) -> Vec<(String, f64)> {
         match *self {

@@ -435,9 +435,9 @@ fn inside_bounds(sc: &Scenario, all: &[AppleSpec], field: impl Fn(usize) -> Stri
     // When no apple and no spawn point is inside, the box is the mistake (a mistyped bound),
     // not the apples: the bound that excludes the first one is named.
     let spawn_inside = |s: &crate::scenario::SourceSpec| {
-        let j = s.jitter_m;
-        b.contains([0, 1, 2].map(|i| s.position_m[i] - j))
-            && b.contains([0, 1, 2].map(|i| s.position_m[i] + j))
+        let j = s.jitter_m.bound_m();
+        b.contains([0, 1, 2].map(|i| s.position_m[i] - j[i]))
+            && b.contains([0, 1, 2].map(|i| s.position_m[i] + j[i]))
     };
     let none_inside =
         !all.iter().any(|a| b.contains(a.position_m)) && !sc.sources.iter().any(spawn_inside);
