@@ -292,7 +292,7 @@ impl ImpactSetup {
             fidelity: Default::default(),
             gravity_m_s2: [0.0, 0.0, -self.gravity_m_s2],
             output: OutputSpec {
-                force_history: false,
+                force_history: crate::scenario::ForceHistory::Off,
                 ..OutputSpec::default()
             },
             materials: BTreeMap::from([

@@ -19,7 +19,7 @@ pub struct Args {
 pub fn main(a: Args) -> Result<(), String> {
     let mut runs = Vec::new();
     for dir in &a.runs {
-        let p = dir.join("audit.csv");
+        let p = applesim::output::csv_file::locate(dir, "audit.csv");
         if !p.is_file() {
             return Err(format!(
                 "{}: no audit.csv (not a run folder, or written by an applesim before the line audit: run it again)",

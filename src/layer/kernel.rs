@@ -434,6 +434,7 @@ impl Ctx<'_> {
             c.overlap_m,
             v_app,
             self.config.force_history_cap,
+            self.config.force_history_span,
         );
         if let (Some(_), Party::Surface(_)) = (self.config.step_control, c.other) {
             // Rapier's velocities are staggered half a step behind the poses: at long steps the

@@ -66,7 +66,7 @@ pub fn line_report(dir: &Path, command: &str) -> Result<String, ReportError> {
             path: scp.clone(),
             message: format!("not JSON: {e}"),
         })?;
-    let audit = read_audit(&dir.join("audit.csv"))?;
+    let audit = read_audit(&super::csv_file::locate(dir, "audit.csv"))?;
     let num = |v: &serde_json::Value, what: &str| {
         v.as_f64().ok_or_else(|| bad(format!("no number `{what}`")))
     };

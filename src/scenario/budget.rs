@@ -5,16 +5,26 @@
 //! The figure per apple is measured, with a margin: the 8036-apple reference pile peaks at
 //! 41.5 MiB and the 1000-apple one at 11.2 MiB (docs/performance.md), 4.4 KiB per added apple
 //! (rapier's body, the layer's per-apple arrays, about seven open contacts, the finished contacts
-//! of a 5 s run); a force history adds up to 64 KiB per contact (4096 samples of time and force).
+//! of a 5 s run); a force history adds up to 64 KiB per contact (4096 samples of time and force)
+//! with `output.force_history: "full"`, far less with the default impact histories.
+//!
+//! The output files are estimated file by file ([`output_estimate`]) at the scenario's precision
+//! and compression: the same estimate refuses a run beyond `model.max_output_mb` and is printed
+//! before a large run.
 
-use super::{GeneratorSpec, Scenario, ScenarioError};
+use super::{ForceHistory, GeneratorSpec, Precision, Scenario, ScenarioError};
 
 /// Memory an apple costs while a run holds it, contacts and records included (bytes; measured
 /// 4.4 KiB, see the module documentation).
 pub const BYTES_PER_APPLE: f64 = 8.0 * 1024.0;
 
-/// Memory a kept force history costs per apple (bytes): one contact's full history.
+/// Memory a kept force history costs per apple (bytes) with `output.force_history: "full"`: one
+/// contact's full history (4096 samples of time and force).
 pub const HISTORY_BYTES_PER_APPLE: f64 = 64.0 * 1024.0;
+
+/// Memory the default impact histories cost per apple (bytes): [`CONTACTS_PER_APPLE`] contacts
+/// of [`IMPACT_HISTORY_SAMPLES`] samples of 16 bytes.
+pub const IMPACT_HISTORY_BYTES_PER_APPLE: f64 = CONTACTS_PER_APPLE * IMPACT_HISTORY_SAMPLES * 16.0;
 
 /// Default limit of the estimated memory of a run (MiB): `model.max_memory_mb`.
 pub const DEFAULT_MAX_MEMORY_MB: f64 = 8192.0;
@@ -22,13 +32,48 @@ pub const DEFAULT_MAX_MEMORY_MB: f64 = 8192.0;
 /// Default limit of the estimated size of a run's output files (MiB): `model.max_output_mb`.
 pub const DEFAULT_MAX_OUTPUT_MB: f64 = 4096.0;
 
-/// Bytes of one row of `bodies.csv` (measured: 189 on the 1000-apple pile, 154 on the handling
-/// line; rounded up).
-pub const BODIES_ROW_BYTES: f64 = 200.0;
+/// Bytes of one row of `bodies.csv` at full precision (measured: 283 on the 150-apple bin fill,
+/// 189 on the 1000-apple pile, 154 on the handling line; the largest, rounded up).
+pub const BODIES_ROW_BYTES: f64 = 290.0;
+
+/// Bytes of one row of `bodies.csv` at 9 significant digits (measured: PLACEHOLDER on the
+/// 150-apple bin fill; rounded up). Other precisions are interpolated between this and
+/// [`BODIES_ROW_BYTES`] by the digits.
+pub const BODIES_ROW_BYTES_9: f64 = 170.0;
 
 /// Bytes of one row of `rollers.csv` (a roller's name and three numbers in full precision: about
 /// 70; rounded up).
 pub const ROLLERS_ROW_BYTES: f64 = 100.0;
+
+/// Contacts a run holds per apple (measured: 18.5 on the 150-apple bin fill, 2782 contacts; 2.6
+/// apple-apple ones per apple in the 1000-apple pile; rounded up).
+pub const CONTACTS_PER_APPLE: f64 = 20.0;
+
+/// Bytes per contact of `contacts.csv` and `apple_contacts.csv` together at 9 digits (measured
+/// PLACEHOLDER on the bin fill; full precision about 1.5 times more).
+pub const CONTACT_ROW_BYTES: f64 = 700.0;
+
+/// Bytes per contact of `summary.json`'s `contacts` (measured: 2500 on the bin fill; the rest of
+/// the file is small beside it).
+pub const SUMMARY_BYTES_PER_CONTACT: f64 = 2600.0;
+
+/// Samples of a contact's default (impact) force history (measured: PLACEHOLDER on the bin fill;
+/// rounded up).
+pub const IMPACT_HISTORY_SAMPLES: f64 = 100.0;
+
+/// Samples of a contact's `"full"` force history (measured: a mean of 674 on the bin fill, at
+/// most 4096).
+pub const FULL_HISTORY_SAMPLES: f64 = 700.0;
+
+/// Bytes of one row of `forces.csv` at 9 digits (contact index, names, time, force).
+pub const FORCES_ROW_BYTES: f64 = 40.0;
+
+/// Size of a gzipped CSV over the plain one (`output.compress`; measured PLACEHOLDER on the bin
+/// fill's files; rounded up).
+pub const GZIP_RATIO: f64 = 0.4;
+
+/// The estimate is printed before a run (`applesim run`) when it reaches this many MB.
+pub const ESTIMATE_SHOWN_MB: f64 = 20.0;
 
 /// How many free-turning rollers `sc` has (a bed counts each of its rollers): the rows of
 /// `rollers.csv` per sample.
@@ -48,15 +93,18 @@ pub fn planned_apples(sc: &Scenario) -> f64 {
     sc.apples.len() as f64 + generated + fed
 }
 
+/// The memory a kept force history costs per apple (bytes; 0 without).
+fn history_bytes_per_apple(sc: &Scenario) -> f64 {
+    match sc.output.force_history {
+        ForceHistory::Full => HISTORY_BYTES_PER_APPLE,
+        ForceHistory::Impact => IMPACT_HISTORY_BYTES_PER_APPLE,
+        ForceHistory::Off => 0.0,
+    }
+}
+
 /// The memory a run of `sc` is estimated to need (bytes).
 pub fn memory_bytes(sc: &Scenario) -> f64 {
-    let per_apple = BYTES_PER_APPLE
-        + if sc.output.force_history {
-            HISTORY_BYTES_PER_APPLE
-        } else {
-            0.0
-        };
-    planned_apples(sc) * per_apple
+    planned_apples(sc) * (BYTES_PER_APPLE + history_bytes_per_apple(sc))
 }
 
 /// Refuses a scenario whose estimated memory exceeds `max_memory_mb`, naming the field to change.
@@ -78,10 +126,10 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
                 planned_apples(sc),
                 bytes / (1024.0 * 1024.0 * 1024.0),
                 bytes / planned_apples(sc) / 1024.0,
-                if sc.output.force_history {
-                    " with force histories; output.force_history: false saves most of it"
-                } else {
-                    ""
+                match sc.output.force_history {
+                    ForceHistory::Full => " with whole force histories; output.force_history: true (the impacts only) or false saves most of it",
+                    ForceHistory::Impact => " with impact force histories; output.force_history: false saves them",
+                    ForceHistory::Off => "",
                 }
             ),
         ));
@@ -89,30 +137,145 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
     Ok(())
 }
 
-/// The size of the output files a run of `sc` is estimated to write (bytes): `bodies.csv`, one
-/// row per apple per sample, and `rollers.csv`, one row per free-turning roller per sample (the
-/// other files grow with the contacts, far less).
+/// One output file's estimated size.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FileEstimate {
+    /// The file's name as written (`bodies.csv.gz` when compressed).
+    pub name: String,
+    /// Bytes.
+    pub bytes: f64,
+}
+
+/// The estimated output of a run: its largest files, largest first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputEstimate {
+    /// The files (those that grow with the run: samples and contacts).
+    pub files: Vec<FileEstimate>,
+}
+
+impl OutputEstimate {
+    /// Bytes of all the files.
+    pub fn total_bytes(&self) -> f64 {
+        self.files.iter().map(|f| f.bytes).sum()
+    }
+
+    /// One line: `about 24 MB in 6 files (bodies.csv 14 MB, summary.json 7 MB, ...)`.
+    pub fn line(&self) -> String {
+        let mb = |b: f64| {
+            let m = b / 1e6;
+            if m >= 10.0 {
+                format!("{m:.0} MB")
+            } else {
+                format!("{m:.1} MB")
+            }
+        };
+        let parts: Vec<String> = self
+            .files
+            .iter()
+            .map(|f| format!("{} {}", f.name, mb(f.bytes)))
+            .collect();
+        format!(
+            "about {} in {} files ({})",
+            mb(self.total_bytes()),
+            self.files.len(),
+            parts.join(", ")
+        )
+    }
+}
+
+/// Bytes of a `bodies.csv` row at the scenario's precision.
+pub fn bodies_row_bytes(sc: &Scenario) -> f64 {
+    match sc.output.precision {
+        Precision::Full => BODIES_ROW_BYTES,
+        Precision::Digits(n) => {
+            let per_digit = (BODIES_ROW_BYTES - BODIES_ROW_BYTES_9) / (17.0 - 9.0);
+            (BODIES_ROW_BYTES_9 + per_digit * (f64::from(n) - 9.0)).max(60.0)
+        }
+    }
+}
+
+/// The estimated output files of a run of `sc`, from the scenario alone: `bodies.csv` (one row
+/// per apple per sample), `rollers.csv` (one per free-turning roller per sample), and by
+/// [`CONTACTS_PER_APPLE`] the contacts' files (`contacts.csv` with `apple_contacts.csv`,
+/// `forces.csv` by the force histories kept, and `summary.json`). Each CSV is counted at the
+/// scenario's precision, and gzipped at [`GZIP_RATIO`] with `output.compress`. What the output
+/// budget (`model.max_output_mb`) and the estimate `applesim run` prints are taken from.
+pub fn output_estimate(sc: &Scenario) -> OutputEstimate {
+    let samples = super::output::samples(sc.duration_s, sc.sample_interval_s());
+    let apples = planned_apples(sc);
+    let contacts = apples * CONTACTS_PER_APPLE;
+    let full = sc.output.precision == Precision::Full;
+    let digits_scale = bodies_row_bytes(sc) / BODIES_ROW_BYTES_9;
+    let gz = if sc.output.compress { GZIP_RATIO } else { 1.0 };
+    let csv = |name: &str, bytes: f64| FileEstimate {
+        name: if sc.output.compress {
+            format!("{name}.gz")
+        } else {
+            name.to_string()
+        },
+        bytes: bytes * gz,
+    };
+    let mut files = vec![csv("bodies.csv", samples * apples * bodies_row_bytes(sc))];
+    let rollers = free_rollers(sc);
+    if rollers > 0.0 {
+        let row = if full {
+            ROLLERS_ROW_BYTES
+        } else {
+            0.7 * ROLLERS_ROW_BYTES
+        };
+        files.push(csv("rollers.csv", samples * rollers * row));
+    }
+    let history = match sc.output.force_history {
+        ForceHistory::Full => FULL_HISTORY_SAMPLES,
+        ForceHistory::Impact => IMPACT_HISTORY_SAMPLES,
+        ForceHistory::Off => 0.0,
+    };
+    if history > 0.0 {
+        files.push(csv(
+            "forces.csv",
+            contacts * history * FORCES_ROW_BYTES * digits_scale,
+        ));
+    }
+    files.push(csv(
+        "contacts.csv",
+        contacts * CONTACT_ROW_BYTES * digits_scale,
+    ));
+    files.push(FileEstimate {
+        name: "summary.json".into(),
+        bytes: contacts * SUMMARY_BYTES_PER_CONTACT,
+    });
+    files.sort_by(|a, b| b.bytes.total_cmp(&a.bytes).then(a.name.cmp(&b.name)));
+    OutputEstimate { files }
+}
+
+/// The size of the output files a run of `sc` is estimated to write (bytes; [`output_estimate`]).
 pub fn output_bytes(sc: &Scenario) -> f64 {
-    let samples = (sc.duration_s / sc.output.sample_interval_s).floor() + 2.0;
-    samples * (planned_apples(sc) * BODIES_ROW_BYTES + free_rollers(sc) * ROLLERS_ROW_BYTES)
+    output_estimate(sc).total_bytes()
+}
+
+/// Whether `applesim run` prints the estimate before running: when it reaches
+/// [`ESTIMATE_SHOWN_MB`].
+pub fn estimate_worth_showing(sc: &Scenario) -> bool {
+    output_bytes(sc) >= ESTIMATE_SHOWN_MB * 1e6
 }
 
 /// Refuses a scenario whose output is estimated beyond `max_output_mb`, naming the field to
 /// change (a sample interval of 1e-9 s over 1 ms wrote a 97 MB `bodies.csv` for one apple).
 pub fn check_output(sc: &Scenario, max_output_mb: f64) -> Result<(), ScenarioError> {
-    let bytes = output_bytes(sc);
+    let estimate = output_estimate(sc);
+    let bytes = estimate.total_bytes();
     if bytes > max_output_mb * 1024.0 * 1024.0 {
+        let interval = sc.sample_interval_s();
         return Err(ScenarioError::invalid(
             "output.sample_interval_s",
             format!(
-                "{} s over {} s for {:.3e} apples{} writes about {:.1} GiB of bodies.csv ({} bytes per apple per sample){}, more than model.max_output_mb = {max_output_mb} MiB: sample less often, or raise model.max_output_mb",
-                sc.output.sample_interval_s,
+                "{} s{} over {} s for {:.3e} apples{} writes {}, more than model.max_output_mb = {max_output_mb} MiB: sample less often, or raise model.max_output_mb",
+                interval,
+                if sc.output.sample_interval_s.is_none() { " (the default)" } else { "" },
                 sc.duration_s,
                 planned_apples(sc),
                 rollers_part(sc, " and {} free-turning rollers"),
-                bytes / (1024.0 * 1024.0 * 1024.0),
-                BODIES_ROW_BYTES,
-                rollers_part(sc, " and rollers.csv")
+                estimate.line(),
             ),
         ));
     }
