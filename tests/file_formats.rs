@@ -559,7 +559,7 @@ fn step_caps_and_sampling_are_as_documented() {
     assert!(t.windows(2).all(|w| (w[1] - w[0] - 1e-3).abs() < 1e-12));
     // ... and is rounded to whole steps: 25 us at 10 us steps samples every 3 steps.
     let mut sc = shipped("scenarios/drop_on_steel.json");
-    sc.output.sample_interval_s = 2.5e-5;
+    sc.output.sample_interval_s = Some(2.5e-5);
     sc.duration_s = 1e-3;
     let (_, s) = run(&sc);
     let t: Vec<f64> = s.of(0).iter().map(|(t, _)| *t).collect();

@@ -666,7 +666,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
     let states_b64 = b64(&st);
 
     // Contacts, with their bruise verdicts.
-    let bruise_path = run_dir.join(crate::output::APPLE_CONTACTS_CSV);
+    let bruise_path = crate::output::csv_file::locate(run_dir, crate::output::APPLE_CONTACTS_CSV);
     let risks = if bruise_path.is_file() {
         Some(read_bruise(&bruise_path)?)
     } else {
@@ -748,7 +748,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         .asset_dir
         .clone()
         .unwrap_or_else(|| run_dir.to_path_buf());
-    let rollers_path = run_dir.join(crate::output::ROLLERS_CSV);
+    let rollers_path = crate::output::csv_file::locate(run_dir, crate::output::ROLLERS_CSV);
     let spins = match rollers_path.is_file() {
         true => Some(read_rollers(&rollers_path, &times, &sc)?),
         false => None,
