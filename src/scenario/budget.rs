@@ -36,10 +36,10 @@ pub const DEFAULT_MAX_OUTPUT_MB: f64 = 4096.0;
 /// 189 on the 1000-apple pile, 154 on the handling line; the largest, rounded up).
 pub const BODIES_ROW_BYTES: f64 = 290.0;
 
-/// Bytes of one row of `bodies.csv` at 9 significant digits (measured: PLACEHOLDER on the
-/// 150-apple bin fill; rounded up). Other precisions are interpolated between this and
-/// [`BODIES_ROW_BYTES`] by the digits.
-pub const BODIES_ROW_BYTES_9: f64 = 170.0;
+/// Bytes of one row of `bodies.csv` at 9 significant digits (measured: 183 on the 150-apple bin
+/// fill; rounded up). Other precisions are interpolated between this and [`BODIES_ROW_BYTES`]
+/// by the digits.
+pub const BODIES_ROW_BYTES_9: f64 = 190.0;
 
 /// Bytes of one row of `rollers.csv` (a roller's name and three numbers in full precision: about
 /// 70; rounded up).
@@ -49,28 +49,32 @@ pub const ROLLERS_ROW_BYTES: f64 = 100.0;
 /// apple-apple ones per apple in the 1000-apple pile; rounded up).
 pub const CONTACTS_PER_APPLE: f64 = 20.0;
 
-/// Bytes per contact of `contacts.csv` and `apple_contacts.csv` together at 9 digits (measured
-/// PLACEHOLDER on the bin fill; full precision about 1.5 times more).
-pub const CONTACT_ROW_BYTES: f64 = 700.0;
+/// Bytes of a row of `contacts.csv` at 9 digits (measured: 513 on the bin fill).
+pub const CONTACT_ROW_BYTES: f64 = 520.0;
 
-/// Bytes per contact of `summary.json`'s `contacts` (measured: 2500 on the bin fill; the rest of
-/// the file is small beside it).
-pub const SUMMARY_BYTES_PER_CONTACT: f64 = 2600.0;
+/// Bytes per contact of `apple_contacts.csv` at 9 digits (measured: 441 on the bin fill).
+pub const APPLE_CONTACT_ROW_BYTES: f64 = 450.0;
 
-/// Samples of a contact's default (impact) force history (measured: PLACEHOLDER on the bin fill;
-/// rounded up).
+/// Bytes per contact of `summary.json` (its `contacts` list, in full precision; measured: 2096
+/// on the bin fill, the rest of the file small beside it).
+pub const SUMMARY_BYTES_PER_CONTACT: f64 = 2100.0;
+
+/// Samples of a contact's default (impact) force history (measured: a mean of 98.5 on the bin
+/// fill, whose apple-apple impacts last 26 ms at the median; rounded up).
 pub const IMPACT_HISTORY_SAMPLES: f64 = 100.0;
 
 /// Samples of a contact's `"full"` force history (measured: a mean of 674 on the bin fill, at
 /// most 4096).
 pub const FULL_HISTORY_SAMPLES: f64 = 700.0;
 
-/// Bytes of one row of `forces.csv` at 9 digits (contact index, names, time, force).
-pub const FORCES_ROW_BYTES: f64 = 40.0;
+/// Bytes of one row of `forces.csv` at 9 digits (contact index, names, time, force; measured:
+/// 44 on the bin fill).
+pub const FORCES_ROW_BYTES: f64 = 45.0;
 
-/// Size of a gzipped CSV over the plain one (`output.compress`; measured PLACEHOLDER on the bin
-/// fill's files; rounded up).
-pub const GZIP_RATIO: f64 = 0.4;
+/// Size of a gzipped CSV over the plain one (`output.compress`; measured on the bin fill's files
+/// at 9 digits: bodies.csv 0.30, forces.csv 0.22, contacts.csv 0.38, apple_contacts.csv 0.27,
+/// transitions.csv 0.35; the share of the largest).
+pub const GZIP_RATIO: f64 = 0.3;
 
 /// The estimate is printed before a run (`applesim run`) when it reaches this many MB.
 pub const ESTIMATE_SHOWN_MB: f64 = 20.0;
@@ -196,8 +200,9 @@ pub fn bodies_row_bytes(sc: &Scenario) -> f64 {
 
 /// The estimated output files of a run of `sc`, from the scenario alone: `bodies.csv` (one row
 /// per apple per sample), `rollers.csv` (one per free-turning roller per sample), and by
-/// [`CONTACTS_PER_APPLE`] the contacts' files (`contacts.csv` with `apple_contacts.csv`,
-/// `forces.csv` by the force histories kept, and `summary.json`). Each CSV is counted at the
+/// [`CONTACTS_PER_APPLE`] the contacts' files (`contacts.csv`, `apple_contacts.csv`,
+/// `forces.csv` by the force histories kept, and `summary.json`; the others, a few per cent of a
+/// run's output, are left out). Each CSV is counted at the
 /// scenario's precision, and gzipped at [`GZIP_RATIO`] with `output.compress`. What the output
 /// budget (`model.max_output_mb`) and the estimate `applesim run` prints are taken from.
 pub fn output_estimate(sc: &Scenario) -> OutputEstimate {
@@ -239,6 +244,10 @@ pub fn output_estimate(sc: &Scenario) -> OutputEstimate {
     files.push(csv(
         "contacts.csv",
         contacts * CONTACT_ROW_BYTES * digits_scale,
+    ));
+    files.push(csv(
+        "apple_contacts.csv",
+        contacts * APPLE_CONTACT_ROW_BYTES * digits_scale,
     ));
     files.push(FileEstimate {
         name: "summary.json".into(),
@@ -295,9 +304,9 @@ mod tests {
     use super::*;
 
     /// `rollers.csv` counts in the output estimate: one apple sampled every 1e-6 s for 1 s writes
-    /// about 191 MiB of bodies.csv (under the default 4 GiB), but a bed of 1000 free-turning
-    /// rollers adds 1000 rows of rollers.csv a sample (about 93 GiB): refused, the message
-    /// naming both files and the rollers.
+    /// about 190 MB of bodies.csv (under the default 4 GiB), but a bed of 1000 free-turning
+    /// rollers adds 1000 rows of rollers.csv a sample (about 70 GB): refused, the message
+    /// naming the rollers and the files.
     #[test]
     fn free_rollers_count_in_the_output_estimate() {
         let scenario = |free: bool| -> Scenario {
@@ -326,10 +335,26 @@ mod tests {
         assert_eq!(free_rollers(&powered), 0.0);
         assert_eq!(free_rollers(&free), 1000.0);
         let samples = 1e6 + 2.0;
-        assert_eq!(output_bytes(&powered), samples * BODIES_ROW_BYTES);
+        let bodies = |sc: &Scenario| {
+            output_estimate(sc)
+                .files
+                .iter()
+                .find(|f| f.name == "bodies.csv")
+                .unwrap()
+                .bytes
+        };
+        assert_eq!(bodies(&powered), samples * BODIES_ROW_BYTES_9);
+        let rollers = |sc: &Scenario| {
+            output_estimate(sc)
+                .files
+                .iter()
+                .find(|f| f.name == "rollers.csv")
+                .map(|f| f.bytes)
+        };
+        assert_eq!(rollers(&powered), None);
         assert_eq!(
-            output_bytes(&free),
-            samples * (BODIES_ROW_BYTES + 1000.0 * ROLLERS_ROW_BYTES)
+            rollers(&free),
+            Some(samples * 1000.0 * 0.7 * ROLLERS_ROW_BYTES)
         );
         assert!(check_output(&powered, DEFAULT_MAX_OUTPUT_MB).is_ok());
         let e = check_output(&free, DEFAULT_MAX_OUTPUT_MB)
@@ -341,8 +366,46 @@ mod tests {
             "{e}"
         );
         assert!(
-            e.contains("of bodies.csv (200 bytes per apple per sample) and rollers.csv"),
+            e.contains("(rollers.csv 70000 MB, bodies.csv 190 MB"),
             "{e}"
         );
+    }
+
+    /// The shipped bin fill without its `output` section (the default 20 ms sampling, 9 digits,
+    /// impact histories): about 48 MB estimated (41 MB written, docs/performance.md); gzipped
+    /// the CSV files count 0.3 of it; full precision, whole histories and 1 ms sampling (the
+    /// defaults before issue 31) about 1.1 GB (538 MB written: the estimate counts every apple
+    /// from the start).
+    #[test]
+    fn the_estimate_counts_precision_compression_and_histories() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/scenarios/lines/bin_filling.json"
+        );
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        v.as_object_mut().unwrap().remove("output");
+        let sc = |output: serde_json::Value| {
+            let mut v = v.clone();
+            v["output"] = output;
+            crate::scenario::from_json(&v.to_string(), "bin").unwrap()
+        };
+        let mb = |sc: &Scenario| output_bytes(sc) / 1e6;
+        let default = sc(serde_json::json!({}));
+        assert!((40.0..55.0).contains(&mb(&default)), "{}", mb(&default));
+        let gz = sc(serde_json::json!({"compress": true}));
+        let summary = 150.0 * CONTACTS_PER_APPLE * SUMMARY_BYTES_PER_CONTACT / 1e6;
+        let csv = |x: f64| x - summary;
+        assert!((csv(mb(&gz)) / csv(mb(&default)) - GZIP_RATIO).abs() < 1e-9);
+        let old = sc(
+            serde_json::json!({"sample_interval_s": 1e-3, "precision": "full", "force_history": "full"}),
+        );
+        assert!((900.0..1300.0).contains(&mb(&old)), "{}", mb(&old));
+        let line = output_estimate(&gz).line();
+        assert!(
+            line.starts_with("about ") && line.contains("bodies.csv.gz"),
+            "{line}"
+        );
+        assert!(memory_bytes(&old) > memory_bytes(&default));
     }
 }
