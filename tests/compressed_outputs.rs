@@ -61,9 +61,19 @@ fn every_reader_reads_both_forms() {
     let p = names(&plain);
     let g: Vec<String> = names(&gz)
         .into_iter()
+        .filter(|n| n != applesim::output::CONTACTS_JSON_GZ)
         .map(|n| n.strip_suffix(".gz").map(String::from).unwrap_or(n))
         .collect();
     assert_eq!(p, g, "the same files, every CSV gzipped");
+    // summary.json's contact list, gzipped beside it: the same objects.
+    let summary = |d: &Path| -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap()
+    };
+    let (_, list) = csv_file::open(&gz.join(applesim::output::CONTACTS_JSON_GZ)).unwrap();
+    let list: serde_json::Value = serde_json::from_reader(list).unwrap();
+    assert!(summary(&gz).get("contacts").is_none());
+    assert_eq!(summary(&gz)["contacts_file"], "contacts.json.gz");
+    assert_eq!(summary(&plain)["contacts"], list);
     for n in names(&gz) {
         assert!(!n.ends_with(".csv"), "{n} is not gzipped");
     }

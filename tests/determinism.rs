@@ -176,7 +176,7 @@ fn one_thread_and_two_write_identical_files() {
     let f = assert_same_files("--threads 1 and 2", &a, &b);
     assert!(f.len() >= 6, "{f:?}");
     // Gzipped (output.compress): the same bytes at one thread and two, every CSV as NAME.csv.gz,
-    // holding the plain run's text.
+    // holding the plain run's text, and summary.json's contact list in contacts.json.gz.
     let mut gz = sc.clone();
     gz["output"]["compress"] = serde_json::json!(true);
     let gz_path = base.join("pile_gz.json");
@@ -193,8 +193,9 @@ fn one_thread_and_two_write_identical_files() {
     let gz_csv: BTreeSet<String> = g
         .iter()
         .map(|p| p.display().to_string())
-        .filter_map(|n| n.strip_suffix(".gz").map(String::from))
+        .filter_map(|n| n.strip_suffix(".csv.gz").map(|n| format!("{n}.csv")))
         .collect();
+    assert!(g.contains(Path::new(applesim::output::CONTACTS_JSON_GZ)));
     assert_eq!(gz_csv, plain_csv, "every CSV gzipped, and only they");
     assert!(!g.iter().any(|p| p.display().to_string().ends_with(".csv")));
     for name in &plain_csv {

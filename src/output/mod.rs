@@ -65,8 +65,12 @@ pub struct Summary<'a> {
     pub sampling: crate::scenario::Sampling,
     /// Wall-clock time of the stepping loop (s).
     pub wall_time_s: f64,
-    /// Contact events.
-    pub contacts: &'a [ContactEvent],
+    /// Contact events (with `output.compress` in [`CONTACTS_JSON_GZ`] beside it instead).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contacts: Option<&'a [ContactEvent]>,
+    /// With `output.compress`: the file holding the contact events, [`CONTACTS_JSON_GZ`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contacts_file: Option<&'static str>,
     /// Final state and peak force per apple, and its damage (bruises, grade) when assessed.
     pub apples: Vec<AppleRow<'a>>,
     /// Warnings.
@@ -388,7 +392,8 @@ pub fn write_summary_with(
         fidelity: r.fidelity_limits,
         sampling: sc.sampling(),
         wall_time_s: r.wall_time_s,
-        contacts: &r.events,
+        contacts: (!sc.output.compress).then_some(r.events.as_slice()),
+        contacts_file: sc.output.compress.then_some(CONTACTS_JSON_GZ),
         apples: r
             .apples
             .iter()
@@ -458,9 +463,27 @@ pub fn write_summary_with(
             })
             .collect(),
     };
+    if sc.output.compress {
+        write_contacts_json_gz(&path.with_file_name(CONTACTS_JSON_GZ), &r.events)?;
+    }
     let mut bytes = serde_json::to_vec_pretty(&s).map_err(std::io::Error::other)?;
     bytes.push(b'\n');
     atomic::write_file(path, &bytes)
+}
+
+/// With `output.compress`, summary.json's `contacts` list is written gzipped beside it under
+/// this name (the same objects in the same order; summary.json names it in `contacts_file`): it
+/// is most of summary.json in a run with many contacts (2100 bytes a contact, 85 % of the bin
+/// fill's 7 MB), and a batch's folders are then about 3.4 times smaller, not 2.5.
+pub const CONTACTS_JSON_GZ: &str = "contacts.json.gz";
+
+/// Writes `contacts` as a pretty-printed JSON array, gzipped, whole or not at all.
+fn write_contacts_json_gz(path: &Path, contacts: &[ContactEvent]) -> std::io::Result<()> {
+    let file = atomic::AtomicFile::create(path)?;
+    let mut gz = flate2::write::GzEncoder::new(file, flate2::Compression::new(atomic::GZIP_LEVEL));
+    serde_json::to_writer_pretty(&mut gz, contacts).map_err(std::io::Error::other)?;
+    std::io::Write::write_all(&mut gz, b"\n")?;
+    gz.finish()?.commit()
 }
 
 /// Writes the scenario as it was run (`scenario.json`).
