@@ -558,7 +558,7 @@ fn step_caps_and_sampling_are_as_documented() {
     );
     let (r, _) = flight("auto", Some(2e-4));
     assert_eq!(r.time_step_s, 2e-4, "capped by the output interval");
-    // README: output.sample_interval_s defaults to 1 ms.
+    // README: output.sample_interval_s defaults to 1 ms for a short run (one apple, 0.5 s).
     let (_, t) = flight("auto", None);
     assert_eq!(t.len(), 501);
     assert!(t.windows(2).all(|w| (w[1] - w[0] - 1e-3).abs() < 1e-12));
