@@ -310,9 +310,7 @@ fn fit_event(
             duration * (1.0 - CONTACT_TIME_RANGE),
             duration * (1.0 + CONTACT_TIME_RANGE),
         );
-        let Some((shape, rms, converged)) = fit_samples(&t, &p, guess, range) else {
-            return None;
-        };
+        let (shape, rms, converged) = fit_samples(&t, &p, guess, range)?;
         let m = match e.b_party {
             Party::Apple(_) => reduced_mass(mass_kg(&e.a), mass_kg(&e.b)),
             Party::Surface(_) => mass_kg(&e.a),

@@ -4,7 +4,8 @@
 //! `NAME.csv` and `NAME.csv.gz` alike.
 //!
 //! With `output.compress` every CSV of a run is written as `NAME.csv.gz` (gzip, whole or not at
-//! all as the plain files: [`super::atomic::AtomicCsv`]); pandas (`read_csv` infers the
+//! all as the plain files: [`super::atomic::AtomicCsv`]), and `summary.json`'s contact list as
+//! [`super::CONTACTS_JSON_GZ`] ([`open`] reads it too); pandas (`read_csv` infers the
 //! compression from `.gz`), R (`read.csv` opens gzipped files as they are) and the project's own
 //! readers take either form.
 

@@ -247,7 +247,7 @@ impl Scenario {
 }
 
 /// Output settings.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Interval of the `bodies.csv` time series (s); rounded to a whole number of steps. Absent,
@@ -353,19 +353,6 @@ pub struct VtkSpec {
 
 fn default_true() -> bool {
     true
-}
-
-impl Default for OutputSpec {
-    fn default() -> Self {
-        Self {
-            sample_interval_s: None,
-            force_history: ForceHistory::default(),
-            precision: Precision::default(),
-            compress: false,
-            vtk: None,
-            transitions: TransitionSpec::default(),
-        }
-    }
 }
 
 /// A material: shear or Young's modulus (one of them), Poisson's ratio, and density when an
