@@ -111,6 +111,8 @@ pub fn to_dir_with(
 /// Runs a validated scenario and writes into the folder `out_dir` (created if missing; use
 /// [`to_dir`] for a result folder the user sees, this one writes in place):
 /// `summary.json`, `contacts.csv`, `bodies.csv`, `scenario.json`, `apple_contacts.csv`,
+/// (every CSV as `NAME.csv.gz` with `output.compress`, numbers as `output.precision` asks,
+/// [`output::csv_file`])
 /// `bruises.csv`, `audit.csv`, `audit.md`, `ird.svg` (with impacts), the probes' files; in a scene with
 /// a free-turning roller `rollers.csv` ([`rollers`]); with force
 /// histories (`output.force_history`) `forces.csv` and `pulse_fits.csv`; with `output.vtk` the
@@ -123,17 +125,19 @@ pub fn into_dir(
     progress: &mut dyn FnMut(f64),
 ) -> Result<RunResult, RunError> {
     std::fs::create_dir_all(out_dir).map_err(io_at(out_dir))?;
+    let csv = output::CsvFormat::of(&sc.output);
+    let nf = csv.numbers;
     let sim = crate::sim::Simulation::new(sc, base_dir)?;
     let surfaces = sc
         .output
         .vtk
         .as_ref()
         .map(|_| output::vtk::SceneSurfaces::capture(sim.world()));
-    let bodies_path = out_dir.join("bodies.csv");
-    let mut bodies = output::BodiesCsv::create(&bodies_path).map_err(io_at(&bodies_path))?;
-    let rollers_path = out_dir.join(output::ROLLERS_CSV);
+    let bodies_path = csv.path(out_dir, "bodies.csv");
+    let mut bodies = output::BodiesCsv::create(&bodies_path, nf).map_err(io_at(&bodies_path))?;
+    let rollers_path = csv.path(out_dir, output::ROLLERS_CSV);
     let mut rollers = match sim.world().has_free_rollers() {
-        true => Some(output::RollersCsv::create(&rollers_path).map_err(io_at(&rollers_path))?),
+        true => Some(output::RollersCsv::create(&rollers_path, nf).map_err(io_at(&rollers_path))?),
         false => None,
     };
     let mut sink = output::rollers::RunSamples {
@@ -174,24 +178,24 @@ pub fn into_dir(
             .metrics
             .insert("vtk_frames".into(), written.frames.len() as f64);
     }
-    if sc.output.force_history {
-        let p = out_dir.join("forces.csv");
-        output::write_forces(&p, &result.events).map_err(io_at(&p))?;
-        let p = out_dir.join("pulse_fits.csv");
-        output::write_pulse_fits(&p, &analysis.pulse_fits).map_err(io_at(&p))?;
+    if sc.output.force_history.is_kept() {
+        let p = csv.path(out_dir, "forces.csv");
+        output::write_forces(&p, &result.events, nf).map_err(io_at(&p))?;
+        let p = csv.path(out_dir, "pulse_fits.csv");
+        output::write_pulse_fits(&p, &analysis.pulse_fits, nf).map_err(io_at(&p))?;
     }
-    let p = out_dir.join(output::APPLE_CONTACTS_CSV);
-    output::write_apple_contacts(&p, &analysis).map_err(io_at(&p))?;
-    let p = out_dir.join(output::BRUISES_CSV);
-    output::write_bruises(&p, &analysis).map_err(io_at(&p))?;
-    let p = out_dir.join("audit.csv");
-    output::audit::write_audit(&p, &analysis.audit).map_err(io_at(&p))?;
+    let p = csv.path(out_dir, output::APPLE_CONTACTS_CSV);
+    output::write_apple_contacts(&p, &analysis, nf).map_err(io_at(&p))?;
+    let p = csv.path(out_dir, output::BRUISES_CSV);
+    output::write_bruises(&p, &analysis, nf).map_err(io_at(&p))?;
+    let p = csv.path(out_dir, "audit.csv");
+    output::audit::write_audit(&p, &analysis.audit, nf).map_err(io_at(&p))?;
     let p = out_dir.join(output::audit::AUDIT_MD);
     let title = sc.description.as_deref().unwrap_or("run");
     atomic::write_file(&p, analysis.audit.markdown(title).as_bytes()).map_err(io_at(&p))?;
     let points = &analysis.contact_points;
     for pr in &result.probes {
-        output::probe::write_probe(out_dir, pr, &result.events, points)
+        output::probe::write_probe(out_dir, pr, &result.events, points, &csv)
             .map_err(|(path, source)| RunError::Io { path, source })?;
     }
     if let Some(chart) =
@@ -201,11 +205,11 @@ pub fn into_dir(
             .write_svg(&out_dir.join("ird.svg"))
             .map_err(output::plot::PlotError::from)?;
     }
-    let p = out_dir.join("contacts.csv");
-    output::write_contacts(&p, &result.events, points, &result.roster).map_err(io_at(&p))?;
+    let p = csv.path(out_dir, "contacts.csv");
+    output::write_contacts(&p, &result.events, points, &result.roster, nf).map_err(io_at(&p))?;
     if result.transition_summary.is_some() {
-        let p = out_dir.join("transitions.csv");
-        output::write_transitions(&p, &result.transitions).map_err(io_at(&p))?;
+        let p = csv.path(out_dir, "transitions.csv");
+        output::write_transitions(&p, &result.transitions, nf).map_err(io_at(&p))?;
     }
     let p = out_dir.join("scenario.json");
     output::write_scenario(&p, sc).map_err(io_at(&p))?;

@@ -50,8 +50,8 @@ fn drop(
     sc.time_step_s = step;
     sc.accuracy = accuracy;
     sc.duration_s = 0.04;
-    sc.output.sample_interval_s = 0.01;
-    sc.output.force_history = false;
+    sc.output.sample_interval_s = Some(0.01);
+    sc.output.force_history = false.into();
     // t_H / 10 is at the guard's default limit: let the N = 10 row run.
     sc.model.min_steps_per_impact = 5.0;
     sc.model.sleep.enabled = false;

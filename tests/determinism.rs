@@ -175,6 +175,38 @@ fn one_thread_and_two_write_identical_files() {
     );
     let f = assert_same_files("--threads 1 and 2", &a, &b);
     assert!(f.len() >= 6, "{f:?}");
+    // Gzipped (output.compress): the same bytes at one thread and two, every CSV as NAME.csv.gz,
+    // holding the plain run's text, and summary.json's contact list in contacts.json.gz.
+    let mut gz = sc.clone();
+    gz["output"]["compress"] = serde_json::json!(true);
+    let gz_path = base.join("pile_gz.json");
+    std::fs::write(&gz_path, serde_json::to_vec_pretty(&gz).unwrap()).unwrap();
+    let (c, d) = (base.join("gz1"), base.join("gz2"));
+    run_cli(&gz_path, &c, &["--threads", "1"]);
+    run_cli(&gz_path, &d, &["--threads", "2"]);
+    let g = assert_same_files("gzipped, --threads 1 and 2", &c, &d);
+    let plain_csv: BTreeSet<String> = f
+        .iter()
+        .map(|p| p.display().to_string())
+        .filter(|n| n.ends_with(".csv"))
+        .collect();
+    let gz_csv: BTreeSet<String> = g
+        .iter()
+        .map(|p| p.display().to_string())
+        .filter_map(|n| n.strip_suffix(".csv.gz").map(|n| format!("{n}.csv")))
+        .collect();
+    assert!(g.contains(Path::new(applesim::output::CONTACTS_JSON_GZ)));
+    assert_eq!(gz_csv, plain_csv, "every CSV gzipped, and only they");
+    assert!(!g.iter().any(|p| p.display().to_string().ends_with(".csv")));
+    for name in &plain_csv {
+        let mut text = String::new();
+        let (_, mut r) = applesim::output::csv_file::open(&c.join(name)).unwrap();
+        std::io::Read::read_to_string(&mut r, &mut text).unwrap();
+        assert!(
+            text == std::fs::read_to_string(a.join(name)).unwrap(),
+            "{name}: the gzipped file does not hold the plain one's text"
+        );
+    }
     let _ = std::fs::remove_dir_all(&base);
 }
 

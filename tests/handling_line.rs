@@ -355,7 +355,7 @@ fn policies_on_the_line_against_rk4() {
         let mut sc = shipped("scenarios/handling_line.json");
         sc.time_step_s = step;
         sc.accuracy = acc;
-        sc.output.sample_interval_s = 0.5;
+        sc.output.sample_interval_s = Some(0.5);
         let (r, _) = run(&sc);
         assert_eq!(r.steps, steps, "{label}: steps");
         // Each apple's first contact is its landing on the belt.

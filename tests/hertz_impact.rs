@@ -68,7 +68,7 @@ fn force_never_pulls() {
     sc.gravity_m_s2 = [0.0, 0.0, 0.0];
     sc.contact.ke = Some(0.01);
     sc.contact.lambda_s_m = Some(10.0);
-    sc.output.sample_interval_s = 1e-5;
+    sc.output.sample_interval_s = Some(1e-5);
     let (_, series) = run(&sc);
     let mut touched = false;
     for (_, s) in series.of(0) {

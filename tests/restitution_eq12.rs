@@ -14,7 +14,7 @@ fn restitution(ke: f64, lambda: f64, v0: f64, dt: f64) -> f64 {
     // Unloading lasts up to 1/sqrt(ke) times the loading (physics.md section 3): run long enough.
     let t_h = 0.0083 * (0.2 / v0).powf(0.2);
     sc.duration_s = (1.5 * t_h * (1.0 + 1.0 / ke.sqrt())).max(0.03);
-    sc.output.sample_interval_s = 0.01;
+    sc.output.sample_interval_s = Some(0.01);
     // With ke -> 0 the apple backs out of the contact at a few mm/s: below the sleep threshold.
     sc.model.sleep.enabled = false;
     let (r, _) = run(&sc);

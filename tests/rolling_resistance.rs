@@ -345,7 +345,7 @@ fn constant_torque_after_the_stop_stays_stopped() {
         4.5,
         1e-4,
     );
-    sc.output.sample_interval_s = 1e-4;
+    sc.output.sample_interval_s = Some(1e-4);
     let (_, s) = run(&sc);
     let s = s.of(0);
     let at = |t: f64| s.iter().find(|(x, _)| *x >= t - 1e-9).unwrap().1;

@@ -24,7 +24,7 @@ fn slip_roll(v0: f64, w0: f64, mu: f64) -> (f64, f64, f64) {
     sc.contact.friction = mu;
     let t_roll = ode::slip_to_roll(v0, w0, 0.04, 0.04, mu, 9.81).time_s;
     sc.duration_s = t_roll * 1.5 + 0.01;
-    sc.output.sample_interval_s = 1e-4;
+    sc.output.sample_interval_s = Some(1e-4);
     let (_, series) = run(&sc);
     let s = series.of(0);
     let slip: Vec<(f64, f64)> = s

@@ -232,7 +232,7 @@ fn resting_sag_against_the_closed_form() {
         sc.time_step_s = TimeStep::Fixed(dt);
         sc.duration_s = duration;
         sc.model.sleep.enabled = false;
-        sc.output.sample_interval_s = 1e-3;
+        sc.output.sample_interval_s = Some(1e-3);
         let (_, s) = run(&sc);
         s.of(0)
             .iter()

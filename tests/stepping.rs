@@ -27,7 +27,7 @@ fn fig1(time_step: TimeStep, accuracy: Option<Accuracy>) -> applesim::sim::RunRe
     sc.time_step_s = time_step;
     sc.accuracy = accuracy;
     // Samples every 1 ms: the output interval does not cap the step.
-    sc.output.sample_interval_s = 1e-3;
+    sc.output.sample_interval_s = Some(1e-3);
     run(&sc).0
 }
 
@@ -149,7 +149,7 @@ fn fixed_fraction(n: f64, phase: f64) -> applesim::record::events::ContactEvent 
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
     sc.time_step_s = TimeStep::Fixed(h);
     sc.model.min_steps_per_impact = 5.0;
-    sc.output.sample_interval_s = 0.01;
+    sc.output.sample_interval_s = Some(0.01);
     run(&sc).0.events[0].clone()
 }
 
@@ -278,7 +278,7 @@ fn too_many_steps_are_refused() {
     // Adaptive steps: the estimate (0.03 s in steps of at most 1 ms, 30) passes, the run takes
     // more (the impact is resolved in 20 steps per contact time) and is stopped while running.
     sc.time_step_s = TimeStep::Adaptive;
-    sc.output.sample_interval_s = 1e-3;
+    sc.output.sample_interval_s = Some(1e-3);
     sc.model.max_steps = 35;
     let sim = Simulation::new(&sc, &repo("scenarios")).unwrap();
     let err = sim.run(&mut NoSamples, &mut |_| {}).unwrap_err();
@@ -302,7 +302,7 @@ fn adaptive_landing_after_free_fall_matches_a_fine_fixed_step() {
         sc.duration_s = 0.06;
         sc.time_step_s = time_step;
         sc.accuracy = Some(Accuracy::Balanced);
-        sc.output.sample_interval_s = 0.01;
+        sc.output.sample_interval_s = Some(0.01);
         run(&sc).0
     };
     let fine = drop(TimeStep::Fixed(1e-6));

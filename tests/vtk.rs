@@ -109,7 +109,7 @@ fn drops_with_ke(ke: Option<f64>) -> Scenario {
         a.velocity_m_s = [0.0, 0.0, -v];
         sc.apples.push(a);
     }
-    sc.output.sample_interval_s = 1e-3;
+    sc.output.sample_interval_s = Some(1e-3);
     sc.output.vtk = Some(VtkSpec { interval_s: 0.005 });
     scenario::validate(&sc).unwrap();
     sc
@@ -202,7 +202,7 @@ fn frames_follow_a_changing_apple_count_and_surfaces_are_tessellated() {
     // bodies.csv with 2, 3 and 1 apples (one of them not in the scenario), written by hand: the
     // apple count may change from frame to frame (apples fed in later).
     let mut sc = drops();
-    sc.output.sample_interval_s = 0.001;
+    sc.output.sample_interval_s = Some(0.001);
     let dir = tmp("vtk_count");
     std::fs::create_dir_all(&dir).unwrap();
     let head =
@@ -385,7 +385,7 @@ fn handling_line_with_fed_apples_and_bin() {
     // second) for 1.5 s: the apple count grows from frame to frame, the surfaces are drawn.
     let mut sc = shipped("scenarios/handling_line.json");
     sc.duration_s = 1.5;
-    sc.output.sample_interval_s = 0.01;
+    sc.output.sample_interval_s = Some(0.01);
     sc.output.vtk = Some(VtkSpec { interval_s: 0.1 });
     let dir = tmp("vtk_line");
     let r = applesim::run::to_dir(&sc, &repo("scenarios"), &dir, &mut |_| {}).unwrap();
@@ -598,7 +598,7 @@ const FLOOR_VTP: &str = r#"<?xml version="1.0"?>
       </CellData>
       <Points>
         <DataArray type="Float64" Name="points" NumberOfComponents="3" format="ascii">
-          0.6993989020054834 -0.49939890200548337 0 0.6993989020054834 0.49939890200548337 0 -0.29939890200548336 0.49939890200548337 0 -0.29939890200548336 -0.49939890200548337 0
+          0.6993989020187892 -0.4993989020187891 0 0.6993989020187892 0.4993989020187891 0 -0.2993989020187891 0.4993989020187891 0 -0.2993989020187891 -0.4993989020187891 0
         </DataArray>
       </Points>
       <Polys>

@@ -252,18 +252,42 @@ pub fn fit_samples(
 
 /// Fits every finished impact that has a force history (scenario `output.force_history`) and
 /// started moving (a restitution); contacts that start at rest (an apple resting on a belt) have
-/// no pulse to fit. `mass_kg` gives an apple's mass by name, for eq. 14's m; surfaces are
+/// no pulse to fit, and a contact whose history was kept over its impact only (the default
+/// `output.force_history`, [`crate::record::events::HistorySpan::Impact`]) while it rested on
+/// long after is not fitted: the fit spans touch to parting, and the history does not. `mass_kg` gives an apple's mass by name, for eq. 14's m; surfaces are
 /// treated as immovable.
-pub fn fit_events(events: &[ContactEvent], mass_kg: &dyn Fn(&str) -> f64) -> Vec<PulseFit> {
-    let mut out = Vec::new();
-    for (k, e) in events.iter().enumerate() {
+pub fn fit_events(
+    events: &[ContactEvent],
+    mass_kg: &(dyn Fn(&str) -> f64 + Sync),
+) -> Vec<PulseFit> {
+    // Each fit depends on its contact alone: fitted in parallel, collected in contact order (the
+    // same fits, in the same order, at any thread count).
+    use rayon::prelude::*;
+    events
+        .par_iter()
+        .enumerate()
+        .filter_map(|(k, e)| fit_event(k, e, mass_kg))
+        .collect()
+}
+
+/// The fit of contact `k` ([`fit_events`]), if it has one.
+fn fit_event(
+    k: usize,
+    e: &ContactEvent,
+    mass_kg: &(dyn Fn(&str) -> f64 + Sync),
+) -> Option<PulseFit> {
+    {
         let (Some(h), Some(duration), Some(restitution)) =
             (&e.history, e.duration_s, e.restitution)
         else {
-            continue;
+            return None;
         };
-        if h.len() + 2 < MIN_SAMPLES || duration.is_nan() || duration <= 0.0 {
-            continue;
+        if h.len() + 2 < MIN_SAMPLES
+            || duration.is_nan()
+            || duration <= 0.0
+            || e.history_cut_s.is_some()
+        {
+            return None;
         }
         // The touch and parting instants are measured points of zero force.
         let mut t = Vec::with_capacity(h.len() + 2);
@@ -286,14 +310,12 @@ pub fn fit_events(events: &[ContactEvent], mass_kg: &dyn Fn(&str) -> f64) -> Vec
             duration * (1.0 - CONTACT_TIME_RANGE),
             duration * (1.0 + CONTACT_TIME_RANGE),
         );
-        let Some((shape, rms, converged)) = fit_samples(&t, &p, guess, range) else {
-            continue;
-        };
+        let (shape, rms, converged) = fit_samples(&t, &p, guess, range)?;
         let m = match e.b_party {
             Party::Apple(_) => reduced_mass(mass_kg(&e.a), mass_kg(&e.b)),
             Party::Surface(_) => mass_kg(&e.a),
         };
-        out.push(PulseFit {
+        Some(PulseFit {
             contact: k,
             a: e.a.clone(),
             b: e.b.clone(),
@@ -313,9 +335,8 @@ pub fn fit_events(events: &[ContactEvent], mass_kg: &dyn Fn(&str) -> f64) -> Vec
             effective_mass_kg: m,
             eq15_peak_force_n: m * e.approach_speed_m_s * (1.0 + restitution)
                 / (ELASTIC_PULSE_COEFFICIENT * duration),
-        });
+        })
     }
-    out
 }
 
 #[cfg(test)]

@@ -64,6 +64,9 @@ pub fn main(a: Args) -> Result<(), String> {
         ..PlotOptions::default()
     };
     let (sc, base) = super::load_scenario(&scenario)?;
+    if !a.quiet && applesim::scenario::budget::estimate_worth_showing(&sc) {
+        eprintln!("{}", estimate_line(&sc));
+    }
     // The bar only on a terminal: a pipe or a log file gets no control characters.
     let bar = (std::io::stderr().is_terminal() && !a.quiet).then(|| progress_bar(sc.duration_s));
     // Time left from the recent simulated-time rate (the bar's own estimate misreads a run
@@ -305,4 +308,20 @@ fn batch_job() -> Result<(), String> {
         None => Ok(()),
         Some(e) => Err(e),
     }
+}
+
+/// The line printed before a large run: the estimated output, file by file, and the sampling
+/// behind it (the same estimate as the output budget, `scenario::budget::output_estimate`).
+fn estimate_line(sc: &applesim::scenario::Scenario) -> String {
+    let sampling = sc.sampling();
+    format!(
+        "estimated output: {}; bodies.csv sampled every {} s ({})",
+        applesim::scenario::budget::output_estimate(sc).line(),
+        sampling.interval_s,
+        if sampling.set_by == "scenario" {
+            "output.sample_interval_s"
+        } else {
+            "the default for the run's length and apples"
+        }
+    )
 }

@@ -103,6 +103,8 @@ pub struct LayerConfig {
     pub grid_skin_ratio: f64,
     /// Samples of force history kept per contact (0: none); long contacts are decimated.
     pub force_history_cap: usize,
+    /// Which part of each contact the force history covers (default the whole contact).
+    pub force_history_span: crate::record::events::HistorySpan,
     /// Stability guard.
     pub guard: Guard,
     /// The collision group that marks apples; apple-apple pairs are excluded from rapier with it.
@@ -128,6 +130,7 @@ impl Default for LayerConfig {
             tangential_relaxation: 0.5,
             grid_skin_ratio: 0.25,
             force_history_cap: 0,
+            force_history_span: Default::default(),
             guard: Guard::default(),
             apple_group: Group::GROUP_32,
             sleep: SleepConfig::default(),

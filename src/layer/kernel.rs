@@ -435,6 +435,7 @@ impl Ctx<'_> {
             c.overlap_m,
             v_app,
             self.config.force_history_cap,
+            self.config.force_history_span,
         );
         // The apple's shares of the deformation and of the loss (contact::share): the pair
         // law's, once (a pad's are set pose by pose).

@@ -71,28 +71,80 @@ impl Write for AtomicFile {
 
 /// A CSV file written whole or not at all: a [`csv::Writer`] (reached through `Deref`, so rows
 /// are `write_record`s) over an [`AtomicFile`], its header written first, and the file under its
-/// final name only on [`AtomicCsv::commit`]. Every CSV output is one, so each writes its rows
-/// and nothing of the temporary-file protocol.
+/// final name only on [`AtomicCsv::commit`]. A name ending in `.gz` (`bodies.csv.gz`,
+/// `output.compress`) is written gzipped, and is as whole: the gzip stream is finished before the
+/// file is renamed. Every CSV output is one, so each writes its rows and nothing of the
+/// temporary-file protocol.
 pub struct AtomicCsv {
-    w: csv::Writer<AtomicFile>,
+    w: csv::Writer<CsvSink>,
+}
+
+/// What an [`AtomicCsv`] writes into: the file itself, or a gzip stream into it.
+pub enum CsvSink {
+    /// Plain text.
+    Plain(AtomicFile),
+    /// Gzipped (level 6, zlib's default; a fixed header without a time stamp, so the same rows
+    /// give the same bytes).
+    Gz(flate2::write::GzEncoder<AtomicFile>),
+}
+
+impl CsvSink {
+    fn commit(self) -> std::io::Result<()> {
+        match self {
+            CsvSink::Plain(f) => f.commit(),
+            CsvSink::Gz(g) => g.finish()?.commit(),
+        }
+    }
+}
+
+impl Write for CsvSink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            CsvSink::Plain(f) => f.write(buf),
+            CsvSink::Gz(g) => g.write(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            CsvSink::Plain(f) => f.flush(),
+            CsvSink::Gz(g) => g.flush(),
+        }
+    }
 }
 
 impl AtomicCsv {
-    /// Starts writing `dest` (its folder must exist) with the row `header`.
+    /// Starts writing `dest` (its folder must exist) with the row `header`; gzipped when its
+    /// name ends in `.gz`.
     pub fn create(dest: &Path, header: &[&str]) -> std::io::Result<Self> {
-        let mut w = csv::Writer::from_writer(AtomicFile::create(dest)?);
+        let file = AtomicFile::create(dest)?;
+        let sink = if super::csv_file::is_gzipped(dest) {
+            CsvSink::Gz(flate2::write::GzEncoder::new(
+                file,
+                flate2::Compression::new(GZIP_LEVEL),
+            ))
+        } else {
+            CsvSink::Plain(file)
+        };
+        let mut w = csv::WriterBuilder::new()
+            .buffer_capacity(1 << 16)
+            .from_writer(sink);
         w.write_record(header)?;
         Ok(Self { w })
     }
 
-    /// Flushes the rows and renames the file to its final name ([`AtomicFile::commit`]).
+    /// Flushes the rows, finishes the gzip stream if any, and renames the file to its final
+    /// name ([`AtomicFile::commit`]).
     pub fn commit(self) -> std::io::Result<()> {
         self.w.into_inner().map_err(|e| e.into_error())?.commit()
     }
 }
 
+/// The gzip level of compressed CSV files (zlib's default).
+pub const GZIP_LEVEL: u32 = 6;
+
 impl std::ops::Deref for AtomicCsv {
-    type Target = csv::Writer<AtomicFile>;
+    type Target = csv::Writer<CsvSink>;
     fn deref(&self) -> &Self::Target {
         &self.w
     }

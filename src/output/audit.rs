@@ -33,12 +33,13 @@ pub const AUDIT_HEADER: [&str; 20] = [
 /// The line audit as a table to read (`audit.md`, [`crate::analysis::audit::Audit::markdown`]).
 pub const AUDIT_MD: &str = "audit.md";
 
-/// Writes `audit.csv` (a figure without impacts to take it from is empty).
-pub fn write_audit(path: &Path, audit: &Audit) -> std::io::Result<()> {
+/// Writes `audit.csv` (a figure without impacts to take it from is empty), numbers as `nf`
+/// prints them.
+pub fn write_audit(path: &Path, audit: &Audit, nf: super::NumberFormat) -> std::io::Result<()> {
     let mut w = AtomicCsv::create(path, &AUDIT_HEADER)?;
     let num = |x: f64| {
         if x.is_finite() {
-            x.to_string()
+            nf.num(x)
         } else {
             String::new()
         }
@@ -83,8 +84,14 @@ pub enum AuditReadError {
     },
 }
 
-/// Reads an `audit.csv` written by [`write_audit`] (an empty cell reads as NaN).
+/// Reads an `audit.csv` written by [`write_audit`] (an empty cell reads as NaN), plain or
+/// gzipped (`audit.csv.gz`: `path` may name either, [`super::csv_file::open`]).
 pub fn read_audit(path: &Path) -> Result<Audit, AuditReadError> {
+    let (path, mut rd) = super::csv_file::reader(path).map_err(|e| AuditReadError::Csv {
+        path: path.to_path_buf(),
+        source: e.into(),
+    })?;
+    let path = path.as_path();
     let csv_err = |source| AuditReadError::Csv {
         path: path.to_path_buf(),
         source,
@@ -93,7 +100,6 @@ pub fn read_audit(path: &Path) -> Result<Audit, AuditReadError> {
         path: path.to_path_buf(),
         message,
     };
-    let mut rd = csv::Reader::from_path(path).map_err(csv_err)?;
     let header: Vec<String> = rd
         .headers()
         .map_err(csv_err)?

@@ -113,13 +113,18 @@ pub fn read_run(dir: &Path) -> Result<RunSample, RunReadError> {
         });
     }
 
-    let cp = dir.join(APPLE_CONTACTS_CSV);
+    // Plain or gzipped (`output.compress`), through the one opener of run files.
+    let (cp, mut rd) = super::csv_file::reader(&dir.join(APPLE_CONTACTS_CSV)).map_err(|source| {
+        RunReadError::Read {
+            path: super::csv_file::locate(dir, APPLE_CONTACTS_CSV),
+            source,
+            hint: NOT_A_RUN,
+        }
+    })?;
     let csv_err = |source| RunReadError::Csv {
         path: cp.clone(),
         source,
     };
-    let bytes = read(&cp)?;
-    let mut rd = csv::Reader::from_reader(&bytes[..]);
     let header: Vec<String> = rd
         .headers()
         .map_err(csv_err)?

@@ -5,13 +5,18 @@
 //! ParaView files ([`vtk`]) and the charts ([`plot`]).
 //!
 //! Every file is written whole or not at all, and a run's folder is switched in as a whole set
-//! ([`atomic`], [`crate::run::to_dir`]). Numbers are printed in Rust's
-//! shortest round-trip form, so the same run gives byte-identical files; the one exception is
-//! `wall_time_s` in `summary.json`, a measurement of the machine.
+//! ([`atomic`], [`crate::run::to_dir`]). Numbers in the CSV files are printed by one formatter
+//! ([`number`]: 9 significant digits by default, `output.precision`), gzipped with
+//! `output.compress` ([`csv_file`]); `summary.json` keeps Rust's shortest round-trip form (its
+//! metrics are what `applesim merge` tabulates, digit for digit). The same run gives
+//! byte-identical files; the one exception is `wall_time_s` in `summary.json`, a measurement of
+//! the machine.
 
 pub mod atomic;
 pub mod audit;
 pub mod compare;
+pub mod csv_file;
+pub mod number;
 pub mod plot;
 pub mod probe;
 pub mod report;
@@ -27,6 +32,8 @@ use crate::record::transitions::{Transition, TransitionSummary};
 use crate::scenario::Scenario;
 use crate::sim::{AppleFinal, RunResult};
 use atomic::AtomicCsv;
+pub use csv_file::CsvFormat;
+pub use number::NumberFormat;
 pub use rollers::{RollersCsv, ROLLERS_CSV};
 use serde::Serialize;
 use std::path::Path;
@@ -54,10 +61,17 @@ pub struct Summary<'a> {
     pub stiffest_contact: Option<&'a crate::sim::timestep::StiffestContact>,
     /// The fidelity level and what it cannot tell.
     pub fidelity: &'a str,
+    /// The interval of `bodies.csv`, and why: given by the scenario, or the default that follows
+    /// the run's length and apples ([`crate::scenario::output::sampling`]).
+    pub sampling: crate::scenario::Sampling,
     /// Wall-clock time of the stepping loop (s).
     pub wall_time_s: f64,
-    /// Contact events.
-    pub contacts: &'a [ContactEvent],
+    /// Contact events (with `output.compress` in [`CONTACTS_JSON_GZ`] beside it instead).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contacts: Option<&'a [ContactEvent]>,
+    /// With `output.compress`: the file holding the contact events, [`CONTACTS_JSON_GZ`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contacts_file: Option<&'static str>,
     /// Final state and peak force per apple, and its damage (bruises, grade) when assessed.
     pub apples: Vec<AppleRow<'a>>,
     /// Warnings.
@@ -182,7 +196,7 @@ pub struct ProbeImpactRow<'a> {
 }
 
 /// Header of `contacts.csv`.
-pub const CONTACT_HEADER: [&str; 41] = [
+pub const CONTACT_HEADER: [&str; 42] = [
     "a",
     "b",
     "t_start_s",
@@ -224,18 +238,16 @@ pub const CONTACT_HEADER: [&str; 41] = [
     "resting_mean_pressure_pa",
     "resting_max_pressure_pa",
     "transfer_point",
+    "force_history_cut_s",
 ];
 
-fn opt(v: Option<f64>) -> String {
-    v.map(|x| x.to_string()).unwrap_or_default()
-}
-
-/// Writes `contacts.csv`.
+/// Writes `contacts.csv` (numbers as `nf` prints them).
 pub fn write_contacts(
     path: &Path,
     events: &[ContactEvent],
     points: &[String],
     roster: &crate::world::Roster,
+    nf: NumberFormat,
 ) -> std::io::Result<()> {
     let mut w = AtomicCsv::create(path, &CONTACT_HEADER)?;
     let by_name = roster.by_name();
@@ -249,7 +261,7 @@ pub fn write_contacts(
         let side = |s: Option<(f64, f64)>, towards: bool| match (e.impact.as_ref(), s) {
             (Some(p), Some((_, m))) => {
                 let x = crate::analysis::impacts::for_apple(p, m, towards);
-                (x.velocity_change_m_s.to_string(), x.peak_g.to_string())
+                (nf.num(x.velocity_change_m_s), nf.num(x.peak_g))
             }
             _ => (String::new(), String::new()),
         };
@@ -257,30 +269,27 @@ pub fn write_contacts(
         let (b_dv, b_g) = side(b, false);
         let i = e.impact.as_ref();
         let r = e.resting.as_ref();
-        let num = |x: Option<f64>| opt(x);
+        let num = |x: Option<f64>| nf.opt(x);
         w.write_record([
             e.a.to_string(),
             e.b.to_string(),
-            e.t_start_s.to_string(),
-            opt(e.t_end_s),
-            opt(e.duration_s),
-            e.peak_force_n.to_string(),
-            e.t_peak_s.to_string(),
-            e.impulse_n_s.to_string(),
-            e.max_overlap_m.to_string(),
-            e.max_contact_radius_m.to_string(),
-            e.max_pressure_pa.to_string(),
-            e.approach_speed_m_s.to_string(),
-            opt(e.separation_speed_m_s),
-            opt(e.restitution),
-            e.absorbed_energy_j.to_string(),
-            e.a_absorbed_energy_j.to_string(),
-            (e.absorbed_energy_j - e.a_absorbed_energy_j).to_string(),
+            nf.num(e.t_start_s),
+            nf.opt(e.t_end_s),
+            nf.opt(e.duration_s),
+            nf.num(e.peak_force_n),
+            nf.num(e.t_peak_s),
+            nf.num(e.impulse_n_s),
+            nf.num(e.max_overlap_m),
+            nf.num(e.max_contact_radius_m),
+            nf.num(e.max_pressure_pa),
+            nf.num(e.approach_speed_m_s),
+            nf.opt(e.separation_speed_m_s),
+            nf.opt(e.restitution),
+            nf.num(e.absorbed_energy_j),
+            nf.num(e.a_absorbed_energy_j),
+            nf.num(e.absorbed_energy_j - e.a_absorbed_energy_j),
             e.steps.to_string(),
-            format!(
-                "{} {} {}",
-                e.contact_point_m[0], e.contact_point_m[1], e.contact_point_m[2]
-            ),
+            nf.point(e.contact_point_m),
             num(a.map(|x| x.0)),
             num(a.map(|x| x.1)),
             num(b.map(|x| x.0)),
@@ -303,6 +312,7 @@ pub fn write_contacts(
             num(r.map(|x| x.mean_pressure_pa)),
             num(r.map(|x| x.max_pressure_pa)),
             point.clone(),
+            num(e.history_cut_s),
         ])?;
     }
     w.commit()
@@ -329,7 +339,11 @@ pub const TRANSITION_HEADER: [&str; 16] = [
 ];
 
 /// Writes `transitions.csv`: one row per slip/roll transition ([`TRANSITION_HEADER`]).
-pub fn write_transitions(path: &Path, rows: &[Transition]) -> std::io::Result<()> {
+pub fn write_transitions(
+    path: &Path,
+    rows: &[Transition],
+    nf: NumberFormat,
+) -> std::io::Result<()> {
     let mut w = AtomicCsv::create(path, &TRANSITION_HEADER)?;
     for e in rows {
         let name = |s: &Option<std::sync::Arc<str>>| s.as_deref().unwrap_or("").to_string();
@@ -339,17 +353,17 @@ pub fn write_transitions(path: &Path, rows: &[Transition]) -> std::io::Result<()
             e.to.as_str().to_string(),
             name(&e.from_surface),
             name(&e.surface),
-            e.time_s.to_string(),
-            e.position_m[0].to_string(),
-            e.position_m[1].to_string(),
-            e.position_m[2].to_string(),
-            opt(e.along_m),
-            e.speed_m_s.to_string(),
-            e.spin_rad_s.to_string(),
-            e.slip_m_s.to_string(),
-            e.slid_m.to_string(),
-            e.sliding_time_s.to_string(),
-            e.since_previous_s.to_string(),
+            nf.num(e.time_s),
+            nf.num(e.position_m[0]),
+            nf.num(e.position_m[1]),
+            nf.num(e.position_m[2]),
+            nf.opt(e.along_m),
+            nf.num(e.speed_m_s),
+            nf.num(e.spin_rad_s),
+            nf.num(e.slip_m_s),
+            nf.num(e.slid_m),
+            nf.num(e.sliding_time_s),
+            nf.num(e.since_previous_s),
         ])?;
     }
     w.commit()
@@ -377,8 +391,10 @@ pub fn write_summary_with(
         step_range_s: r.step_range_s,
         stiffest_contact: r.stiffest_contact.as_ref(),
         fidelity: r.fidelity_limits,
+        sampling: sc.sampling(),
         wall_time_s: r.wall_time_s,
-        contacts: &r.events,
+        contacts: (!sc.output.compress).then_some(r.events.as_slice()),
+        contacts_file: sc.output.compress.then_some(CONTACTS_JSON_GZ),
         apples: r
             .apples
             .iter()
@@ -448,15 +464,35 @@ pub fn write_summary_with(
             })
             .collect(),
     };
+    if sc.output.compress {
+        write_contacts_json_gz(&path.with_file_name(CONTACTS_JSON_GZ), &r.events)?;
+    }
     let mut bytes = serde_json::to_vec_pretty(&s).map_err(std::io::Error::other)?;
     bytes.push(b'\n');
     atomic::write_file(path, &bytes)
 }
 
+/// With `output.compress`, summary.json's `contacts` list is written gzipped beside it under
+/// this name (the same objects in the same order; summary.json names it in `contacts_file`): it
+/// is most of summary.json in a run with many contacts (2100 bytes a contact, 85 % of the bin
+/// fill's 7 MB), and a batch's folders are then about 3.4 times smaller, not 2.5.
+pub const CONTACTS_JSON_GZ: &str = "contacts.json.gz";
+
+/// Writes `contacts` as a pretty-printed JSON array, gzipped, whole or not at all.
+fn write_contacts_json_gz(path: &Path, contacts: &[ContactEvent]) -> std::io::Result<()> {
+    let file = atomic::AtomicFile::create(path)?;
+    let mut gz = flate2::write::GzEncoder::new(file, flate2::Compression::new(atomic::GZIP_LEVEL));
+    serde_json::to_writer_pretty(&mut gz, contacts).map_err(std::io::Error::other)?;
+    std::io::Write::write_all(&mut gz, b"\n")?;
+    gz.finish()?.commit()
+}
+
 /// Writes the scenario as it was run (`scenario.json`).
 pub fn write_scenario(path: &Path, sc: &Scenario) -> std::io::Result<()> {
-    // The scenario as run: the sleep thresholds its accuracy chose are written out.
+    // The scenario as run: the sleep thresholds its accuracy chose and the sample interval
+    // (given, or the default for its length and apples) are written out.
     let mut sc = sc.clone();
+    sc.output.sample_interval_s = Some(sc.sample_interval_s());
     let rule = sc.model.sleep.rule(sc.accuracy);
     sc.model.sleep.speed_m_s = Some(rule.speed_m_s);
     sc.model.sleep.time_s = Some(rule.time_s);
@@ -491,13 +527,20 @@ pub const BODIES_HEADER: [&str; 17] = [
 /// A sample sink streaming `bodies.csv` to a temporary file, renamed on [`BodiesCsv::commit`].
 pub struct BodiesCsv {
     w: AtomicCsv,
+    nf: NumberFormat,
+    /// The cells of one row, reused.
+    cells: Vec<String>,
 }
 
 impl BodiesCsv {
-    /// Starts `path`.
-    pub fn create(path: &Path) -> std::io::Result<Self> {
+    /// Starts `path` (gzipped when its name ends in `.gz`), numbers as `nf` prints them.
+    pub fn create(path: &Path, nf: NumberFormat) -> std::io::Result<Self> {
         let w = AtomicCsv::create(path, &BODIES_HEADER)?;
-        Ok(Self { w })
+        Ok(Self {
+            w,
+            nf,
+            cells: vec![String::new(); BODIES_HEADER.len()],
+        })
     }
 
     /// Finishes the file under its final name.
@@ -508,31 +551,31 @@ impl BodiesCsv {
 
 impl SampleSink for BodiesCsv {
     fn sample(&mut self, time_s: f64, apples: &[AppleState]) -> std::io::Result<()> {
-        let t = time_s.to_string();
+        let nf = self.nf;
+        let t = nf.num(time_s);
         for a in apples {
             let p = a.position;
             let v = a.velocity;
             let w = a.angular_velocity;
             let f = a.contact_force;
-            self.w.write_record([
-                t.as_str(),
-                &a.name,
-                &p.x.to_string(),
-                &p.y.to_string(),
-                &p.z.to_string(),
-                &v.x.to_string(),
-                &v.y.to_string(),
-                &v.z.to_string(),
-                &w.x.to_string(),
-                &w.y.to_string(),
-                &w.z.to_string(),
-                &f.x.to_string(),
-                &f.y.to_string(),
-                &f.z.to_string(),
-                &a.slip_speed.map(|x| x.to_string()).unwrap_or_default(),
-                &a.diameter_m.to_string(),
-                &a.mass_kg.to_string(),
-            ])?;
+            let c = &mut self.cells;
+            c[0].clone_from(&t);
+            c[1].clear();
+            c[1].push_str(&a.name);
+            let numbers = [p.x, p.y, p.z, v.x, v.y, v.z, w.x, w.y, w.z, f.x, f.y, f.z];
+            for (cell, x) in c[2..14].iter_mut().zip(numbers) {
+                cell.clear();
+                nf.push(cell, x);
+            }
+            c[14].clear();
+            if let Some(x) = a.slip_speed {
+                nf.push(&mut c[14], x);
+            }
+            c[15].clear();
+            nf.push(&mut c[15], a.diameter_m);
+            c[16].clear();
+            nf.push(&mut c[16], a.mass_kg);
+            self.w.write_record(c.iter())?;
         }
         Ok(())
     }
@@ -540,13 +583,13 @@ impl SampleSink for BodiesCsv {
 
 /// Writes `forces.csv`: every recorded force sample of every contact with a history, one row
 /// each ([`plot::FORCES_HEADER`]; `contact` is the row index in `contacts.csv`).
-pub fn write_forces(path: &Path, events: &[ContactEvent]) -> std::io::Result<()> {
+pub fn write_forces(path: &Path, events: &[ContactEvent], nf: NumberFormat) -> std::io::Result<()> {
     let mut w = AtomicCsv::create(path, &plot::FORCES_HEADER)?;
     for (k, e) in events.iter().enumerate() {
         let Some(h) = &e.history else { continue };
         let k = k.to_string();
         for (t, p) in h {
-            w.write_record([&k, &*e.a, &*e.b, &t.to_string(), &p.to_string()])?;
+            w.write_record([&k, &*e.a, &*e.b, &nf.num(*t), &nf.num(*p)])?;
         }
     }
     w.commit()
@@ -577,7 +620,7 @@ pub const PULSE_FITS_HEADER: [&str; 19] = [
 
 /// Writes `pulse_fits.csv`: the fields of [`PulseFit`] (those of `summary.json`'s
 /// `pulse_fits`) plus `eq15_error`, eq15_peak_force_n / peak_force_n - 1.
-pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
+pub fn write_pulse_fits(path: &Path, fits: &[PulseFit], nf: NumberFormat) -> std::io::Result<()> {
     let mut w = AtomicCsv::create(path, &PULSE_FITS_HEADER)?;
     for p in fits {
         w.write_record([
@@ -585,21 +628,21 @@ pub fn write_pulse_fits(path: &Path, fits: &[PulseFit]) -> std::io::Result<()> {
             p.a.to_string(),
             p.b.to_string(),
             p.samples.to_string(),
-            p.fit_peak_force_n.to_string(),
-            p.fit_contact_time_s.to_string(),
-            p.fit_eps.to_string(),
-            p.fit_tau.to_string(),
-            p.rms_residual_n.to_string(),
+            nf.num(p.fit_peak_force_n),
+            nf.num(p.fit_contact_time_s),
+            nf.num(p.fit_eps),
+            nf.num(p.fit_tau),
+            nf.num(p.rms_residual_n),
             p.converged.to_string(),
-            p.k_p.to_string(),
-            p.k_p_shape.to_string(),
-            p.k_p_measured.to_string(),
-            p.peak_force_n.to_string(),
-            p.contact_time_s.to_string(),
-            p.restitution.to_string(),
-            p.effective_mass_kg.to_string(),
-            p.eq15_peak_force_n.to_string(),
-            (p.eq15_peak_force_n / p.peak_force_n - 1.0).to_string(),
+            nf.num(p.k_p),
+            nf.num(p.k_p_shape),
+            nf.num(p.k_p_measured),
+            nf.num(p.peak_force_n),
+            nf.num(p.contact_time_s),
+            nf.num(p.restitution),
+            nf.num(p.effective_mass_kg),
+            nf.num(p.eq15_peak_force_n),
+            nf.num(p.eq15_peak_force_n / p.peak_force_n - 1.0),
         ])?;
     }
     w.commit()
@@ -636,7 +679,7 @@ pub const APPLE_CONTACTS_HEADER: [&str; 22] = [
 pub const APPLE_CONTACTS_CSV: &str = "apple_contacts.csv";
 
 /// Writes `apple_contacts.csv`.
-pub fn write_apple_contacts(path: &Path, a: &Analysis) -> std::io::Result<()> {
+pub fn write_apple_contacts(path: &Path, a: &Analysis, nf: NumberFormat) -> std::io::Result<()> {
     let mut w = AtomicCsv::create(path, &APPLE_CONTACTS_HEADER)?;
     let grade: std::collections::BTreeMap<&str, &str> = a
         .bruise
@@ -651,22 +694,22 @@ pub fn write_apple_contacts(path: &Path, a: &Analysis) -> std::io::Result<()> {
             c.apple.to_string(),
             c.other.to_string(),
             c.transfer_point.clone(),
-            c.t_start_s.to_string(),
-            c.t_peak_s.to_string(),
-            format!("{} {} {}", p[0], p[1], p[2]),
-            c.peak_force_n.to_string(),
-            c.peak_pressure_pa.to_string(),
-            c.absorbed_energy_j.to_string(),
-            c.contact_absorbed_energy_j.to_string(),
-            c.velocity_change_m_s.to_string(),
-            c.peak_g.to_string(),
-            c.approach_speed_m_s.to_string(),
+            nf.num(c.t_start_s),
+            nf.num(c.t_peak_s),
+            nf.point(p),
+            nf.num(c.peak_force_n),
+            nf.num(c.peak_pressure_pa),
+            nf.num(c.absorbed_energy_j),
+            nf.num(c.contact_absorbed_energy_j),
+            nf.num(c.velocity_change_m_s),
+            nf.num(c.peak_g),
+            nf.num(c.approach_speed_m_s),
             c.bruised.to_string(),
             c.site.map(|s| s.to_string()).unwrap_or_default(),
-            opt(c.volume_mm3),
+            nf.opt(c.volume_mm3),
             grade.get(&*c.apple).copied().unwrap_or("").to_string(),
-            opt(c.static_max_force_n),
-            opt(c.static_max_pressure_pa),
+            nf.opt(c.static_max_force_n),
+            nf.opt(c.static_max_pressure_pa),
             c.exceeded.clone(),
             c.outside_validity.unwrap_or("").to_string(),
         ])?;
@@ -700,7 +743,7 @@ pub const BRUISES_HEADER: [&str; 16] = [
 pub const BRUISES_CSV: &str = "bruises.csv";
 
 /// Writes `bruises.csv`.
-pub fn write_bruises(path: &Path, a: &Analysis) -> std::io::Result<()> {
+pub fn write_bruises(path: &Path, a: &Analysis, nf: NumberFormat) -> std::io::Result<()> {
     let mut w = AtomicCsv::create(path, &BRUISES_HEADER)?;
     let grade: std::collections::BTreeMap<&str, &str> = a
         .bruise
@@ -712,19 +755,19 @@ pub fn write_bruises(path: &Path, a: &Analysis) -> std::io::Result<()> {
         w.write_record([
             s.apple.to_string(),
             s.site.to_string(),
-            s.direction[0].to_string(),
-            s.direction[1].to_string(),
-            s.direction[2].to_string(),
-            s.first_hit_s.to_string(),
-            s.last_hit_s.to_string(),
+            nf.num(s.direction[0]),
+            nf.num(s.direction[1]),
+            nf.num(s.direction[2]),
+            nf.num(s.first_hit_s),
+            nf.num(s.last_hit_s),
             s.hits.to_string(),
             s.transfer_points.join("; "),
-            s.absorbed_energy_j.to_string(),
+            nf.num(s.absorbed_energy_j),
             s.bruised.to_string(),
-            opt(s.volume_mm3),
-            opt(s.area_mm2),
-            opt(s.depth_mm),
-            opt(s.diameter_mm),
+            nf.opt(s.volume_mm3),
+            nf.opt(s.area_mm2),
+            nf.opt(s.depth_mm),
+            nf.opt(s.diameter_mm),
             grade.get(&*s.apple).copied().unwrap_or("").to_string(),
         ])?;
     }

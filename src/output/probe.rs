@@ -67,15 +67,17 @@ pub fn transfer_points(p: &ProbeRecord, events: &[ContactEvent], points: &[Strin
         .collect()
 }
 
-/// Writes the probe's two files into `dir`; returns their paths.
+/// Writes the probe's two files into `dir` in format `csv`; returns their paths.
 pub fn write_probe(
     dir: &Path,
     p: &ProbeRecord,
     events: &[ContactEvent],
     points: &[String],
+    csv: &super::CsvFormat,
 ) -> Result<[PathBuf; 2], (PathBuf, std::io::Error)> {
     let stem = stem(&p.apple);
-    let trace = dir.join(format!("{stem}_trace.csv"));
+    let nf = csv.numbers;
+    let trace = csv.path(dir, &format!("{stem}_trace.csv"));
     let at = |path: &Path| {
         let path = path.to_path_buf();
         move |e: std::io::Error| (path.clone(), e)
@@ -83,25 +85,25 @@ pub fn write_probe(
     let write_trace = || -> std::io::Result<()> {
         let mut w = AtomicCsv::create(&trace, &TRACE_HEADER)?;
         for &(t, g) in &p.trace {
-            w.write_record([t.to_string(), g.to_string()])?;
+            w.write_record([nf.num(t), nf.num(g)])?;
         }
         w.commit()
     };
     write_trace().map_err(at(&trace))?;
-    let impacts = dir.join(format!("{stem}_impacts.csv"));
+    let impacts = csv.path(dir, &format!("{stem}_impacts.csv"));
     let pts = transfer_points(p, events, points);
     let write_impacts = || -> std::io::Result<()> {
         let mut w = AtomicCsv::create(&impacts, &IMPACTS_HEADER)?;
         for (k, (i, pt)) in p.impacts.iter().zip(&pts).enumerate() {
             w.write_record([
                 (k + 1).to_string(),
-                i.t_trigger_s.to_string(),
-                i.t_start_s.to_string(),
-                i.t_end_s.to_string(),
-                (i.t_end_s - i.t_start_s).to_string(),
-                i.peak_g.to_string(),
-                i.t_peak_s.to_string(),
-                i.velocity_change_m_s.to_string(),
+                nf.num(i.t_trigger_s),
+                nf.num(i.t_start_s),
+                nf.num(i.t_end_s),
+                nf.num(i.t_end_s - i.t_start_s),
+                nf.num(i.peak_g),
+                nf.num(i.t_peak_s),
+                nf.num(i.velocity_change_m_s),
                 pt.clone(),
             ])?;
         }

@@ -42,6 +42,20 @@ fn f(x: Option<f64>, d: usize) -> String {
     }
 }
 
+/// How many contacts the gzipped JSON list at `path` holds (`output.compress`).
+fn count_contacts(path: &Path) -> Result<usize, ReportError> {
+    let (_, input) = super::csv_file::open(path).map_err(|source| ReportError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let list: Vec<serde::de::IgnoredAny> = serde_json::from_reader(std::io::BufReader::new(input))
+        .map_err(|e| ReportError::Summary {
+            path: path.to_path_buf(),
+            message: format!("not a JSON list of contacts: {e}"),
+        })?;
+    Ok(list.len())
+}
+
 /// The report of the run in `dir`; `command` is the line that regenerates it (printed at its
 /// top).
 pub fn line_report(dir: &Path, command: &str) -> Result<String, ReportError> {
@@ -66,7 +80,7 @@ pub fn line_report(dir: &Path, command: &str) -> Result<String, ReportError> {
             path: scp.clone(),
             message: format!("not JSON: {e}"),
         })?;
-    let audit = read_audit(&dir.join("audit.csv"))?;
+    let audit = read_audit(&super::csv_file::locate(dir, "audit.csv"))?;
     let num = |v: &serde_json::Value, what: &str| {
         v.as_f64().ok_or_else(|| bad(format!("no number `{what}`")))
     };
@@ -104,7 +118,14 @@ pub fn line_report(dir: &Path, command: &str) -> Result<String, ReportError> {
             .map(|x| x.split(':').next().unwrap_or(x))
             .unwrap_or("?"),
     );
-    let contacts = s["contacts"].as_array().map_or(0, |c| c.len());
+    let contacts = match s["contacts"].as_array() {
+        Some(c) => c.len(),
+        // output.compress: the list is gzipped beside summary.json.
+        None => match s["contacts_file"].as_str() {
+            Some(f) => count_contacts(&dir.join(f))?,
+            None => 0,
+        },
+    };
     let _ = writeln!(out, "- {contacts} contacts.");
     let diam: Vec<f64> = apples
         .iter()

@@ -31,13 +31,14 @@ pub const ROLLERS_HEADER: [&str; 5] = [
 /// Streams `rollers.csv` to a temporary file, renamed on [`RollersCsv::commit`].
 pub struct RollersCsv {
     w: AtomicCsv,
+    nf: super::NumberFormat,
 }
 
 impl RollersCsv {
-    /// Starts `path`.
-    pub fn create(path: &Path) -> std::io::Result<Self> {
+    /// Starts `path` (gzipped when its name ends in `.gz`), numbers as `nf` prints them.
+    pub fn create(path: &Path, nf: super::NumberFormat) -> std::io::Result<Self> {
         let w = AtomicCsv::create(path, &ROLLERS_HEADER)?;
-        Ok(Self { w })
+        Ok(Self { w, nf })
     }
 
     /// Finishes the file under its final name.
@@ -45,16 +46,17 @@ impl RollersCsv {
         self.w.commit()
     }
 
-    /// The rows of one sample (numbers in the shortest round-trip form, as every output).
+    /// The rows of one sample (numbers as every CSV output prints them, [`super::number`]).
     fn write(&mut self, time_s: f64, rollers: &[RollerSample]) -> std::io::Result<()> {
-        let t = time_s.to_string();
+        let nf = self.nf;
+        let t = nf.num(time_s);
         for r in rollers {
             self.w.write_record([
                 t.as_str(),
                 &r.name,
-                &r.angle_rad.to_string(),
-                &r.spin_rad_s.to_string(),
-                &r.surface_speed_m_s.to_string(),
+                &nf.num(r.angle_rad),
+                &nf.num(r.spin_rad_s),
+                &nf.num(r.surface_speed_m_s),
             ])?;
         }
         Ok(())

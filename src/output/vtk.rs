@@ -536,7 +536,7 @@ fn pvd(frames: &[(f64, String)], moving: bool) -> String {
     s
 }
 
-/// Reads `bodies.csv` sample by sample: (time, rows) in file order.
+/// Reads `bodies.csv` (or `bodies.csv.gz`) sample by sample: (time, rows) in file order.
 fn for_each_sample(
     path: &Path,
     mut f: impl FnMut(f64, &[csv::StringRecord]) -> Result<(), VtkError>,
@@ -545,7 +545,7 @@ fn for_each_sample(
         path: path.to_path_buf(),
         message,
     };
-    let mut rd = csv::Reader::from_path(path).map_err(|e| bad(e.to_string()))?;
+    let (_, mut rd) = super::csv_file::reader(path).map_err(|e| bad(e.to_string()))?;
     let header = rd.headers().map_err(|e| bad(e.to_string()))?.clone();
     // The first 14 columns (files written before `slip_m_s` was added are read too).
     if header.len() < 14
@@ -594,7 +594,7 @@ pub fn write_vtk(
     let vdir = dir.join(VTK_DIR);
     std::fs::create_dir_all(&vdir).map_err(io(&vdir))?;
     let mut summary = VtkSummary::default();
-    let sample = sc.output.sample_interval_s;
+    let sample = sc.sample_interval_s();
     if interval_s < sample * (1.0 - 1e-9) {
         summary.warnings.push(format!(
             "output.vtk.interval_s = {interval_s} s is shorter than output.sample_interval_s = {sample} s: one frame per sample"
@@ -620,7 +620,7 @@ pub fn write_vtk(
     let mut hi = Vec3::splat(f64::NEG_INFINITY);
     let mut next_due = 0.0f64;
     let mut unknown: Vec<String> = Vec::new();
-    let bodies = dir.join("bodies.csv");
+    let bodies = super::csv_file::locate(dir, "bodies.csv");
     let parse = |r: &csv::StringRecord, i: usize| -> Result<f64, VtkError> {
         r[i].parse().map_err(|_| VtkError::Bodies {
             path: bodies.clone(),

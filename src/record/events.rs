@@ -86,7 +86,30 @@ pub struct ContactEvent {
     /// Force history (time s, normal force N), when recorded; decimated evenly if long.
     #[serde(skip)]
     pub history: Option<Vec<(f64, f64)>>,
+    /// The end of the span the history was kept over (s) when the contact went on after it
+    /// ([`HistorySpan::Impact`]: the impact pulse and as much again); `None` when the history
+    /// holds the whole contact (or there is none).
+    #[serde(skip)]
+    pub history_cut_s: Option<f64>,
 }
+
+/// Which part of a contact its force history covers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HistorySpan {
+    /// The whole contact (decimated evenly to the cap).
+    #[default]
+    Whole,
+    /// The impact pulse and as much again after it ([`IMPACT_HISTORY_SPAN`]); nothing of a
+    /// contact that starts at rest. What the pulse fit, the force chart (its default window ends
+    /// 20 % after the last pulse) and the viewer's curves (the pulse and as much again) use, without
+    /// the seconds of resting force that made up most of `forces.csv` in a bin fill.
+    Impact,
+}
+
+/// A kept impact history runs from the touch to this many times the impact pulse's duration
+/// ([`HistorySpan::Impact`]): the pulse, and a tail as long again showing the force settle to
+/// its resting level or reach zero.
+pub const IMPACT_HISTORY_SPAN: f64 = 2.0;
 
 /// The impact at the start of a contact: from touch until the pulse is over, at separation (a
 /// rebound) or at the first turn of the overlap from unloading back to loading after the peak
@@ -219,6 +242,12 @@ pub struct OpenContact {
     point_at_peak: Vec3,
     /// Boxed: most runs record no histories, and the record is touched every step.
     history: Option<Box<History>>,
+    /// Samples after this time are not kept ([`HistorySpan::Impact`], once the pulse is over).
+    history_until: f64,
+    /// A sample after `history_until` was seen (and dropped).
+    history_cut: bool,
+    /// Which part of the contact the history covers.
+    history_span: HistorySpan,
     /// Elastic contact time and maximum overlap of the impact at the approach speed, once known.
     impact_scale: Option<(f64, f64)>,
     /// The impact pulse while it lasts (`None` once over, or for a contact starting at rest).
@@ -310,8 +339,18 @@ pub type Rotation = rapier3d_f64::math::Rotation;
 
 impl OpenContact {
     /// Opens a contact first seen overlapping at `time_s` with overlap `u` and overlap rate
-    /// `du_dt` (> 0 approaching). The touch instant is interpolated within the last step.
-    pub fn begin(time_s: f64, dt_s: f64, u: f64, du_dt: f64, history_cap: usize) -> Self {
+    /// `du_dt` (> 0 approaching). The touch instant is interpolated within the last step. Its
+    /// force history keeps at most `history_cap` samples (0: none) over `span`.
+    pub fn begin(
+        time_s: f64,
+        dt_s: f64,
+        u: f64,
+        du_dt: f64,
+        history_cap: usize,
+        span: HistorySpan,
+    ) -> Self {
+        let impact = du_dt > RESTING_APPROACH_SPEED_M_S;
+        let keep = history_cap > 0 && (span == HistorySpan::Whole || impact);
         let back = if du_dt > 0.0 {
             (u / du_dt).min(dt_s)
         } else {
@@ -337,9 +376,12 @@ impl OpenContact {
             rate: du_dt,
             steps: 0,
             point_at_peak: Vec3::ZERO,
-            history: (history_cap > 0).then(|| Box::new(History::new(history_cap))),
+            history: keep.then(|| Box::new(History::new(history_cap))),
+            history_until: f64::INFINITY,
+            history_cut: false,
+            history_span: span,
             impact_scale: None,
-            pulse: (du_dt > RESTING_APPROACH_SPEED_M_S).then(Box::default),
+            pulse: impact.then(Box::default),
             impact: None,
             rest: (0.0, 0.0, 0.0, 0.0, 0.0),
             last_in_pulse: false,
@@ -381,6 +423,9 @@ impl OpenContact {
     /// peak) or at `t_end` (separation).
     fn end_pulse(&mut self, t_end: f64) {
         if let Some(p) = self.pulse.take() {
+            if self.history_span == HistorySpan::Impact {
+                self.history_until = self.t_start + IMPACT_HISTORY_SPAN * (t_end - self.t_start);
+            }
             let [va, vb] = p.v_last;
             let [va0, vb0] = p.v_touch;
             self.impact = Some(Box::new(ImpactPulse {
@@ -494,7 +539,11 @@ impl OpenContact {
             }
         }
         if let Some(h) = &mut self.history {
-            h.push(s.time_s, s.force_n);
+            if s.time_s <= self.history_until {
+                h.push(s.time_s, s.force_n);
+            } else {
+                self.history_cut = true;
+            }
         }
     }
 
@@ -642,6 +691,7 @@ impl OpenContact {
             contact_point_m: arr3(self.point_at_peak),
             impact: self.impact.map(|i| *i),
             resting: resting_load(self.rest),
+            history_cut_s: self.history_cut.then_some(self.history_until),
             history: self.history.map(|h| h.samples),
         }
     }
@@ -685,6 +735,8 @@ pub struct FinishedContact {
     impact: Option<ImpactPulse>,
     resting: Option<RestingLoad>,
     history: Option<Box<[(f64, f64)]>>,
+    /// NaN when the history holds the whole contact.
+    history_cut_s: f64,
 }
 
 impl From<ContactEvent> for FinishedContact {
@@ -709,6 +761,7 @@ impl From<ContactEvent> for FinishedContact {
             impact: e.impact,
             resting: e.resting,
             history: e.history.map(Vec::into_boxed_slice),
+            history_cut_s: e.history_cut_s.unwrap_or(f64::NAN),
         }
     }
 }
@@ -758,6 +811,7 @@ impl FinishedContact {
             impact: self.impact,
             resting: self.resting,
             history: self.history.map(Vec::from),
+            history_cut_s: (!self.history_cut_s.is_nan()).then_some(self.history_cut_s),
         }
     }
 }
@@ -791,7 +845,7 @@ mod tests {
     #[test]
     fn interpolates_touch_and_parting() {
         // u grows at 1 m/s: first seen at t = 1.0 with u = 0.25 mm, dt = 1 ms -> touch at 0.99975.
-        let mut c = OpenContact::begin(1.0, 1e-3, 0.25e-3, 1.0, 0);
+        let mut c = OpenContact::begin(1.0, 1e-3, 0.25e-3, 1.0, 0, HistorySpan::Whole);
         c.observe(&ContactSample {
             time_s: 1.0,
             dt_s: 1e-3,
@@ -814,7 +868,7 @@ mod tests {
 
     #[test]
     fn finished_contact_gives_the_event_back() {
-        let mut c = OpenContact::begin(1.0, 1e-3, 0.25e-3, 1.0, 8);
+        let mut c = OpenContact::begin(1.0, 1e-3, 0.25e-3, 1.0, 8, HistorySpan::Whole);
         for k in 0..3 {
             c.observe(&ContactSample {
                 time_s: 1.0 + k as f64 * 1e-3,

@@ -5,16 +5,26 @@
 //! The figure per apple is measured, with a margin: the 8036-apple reference pile peaks at
 //! 41.5 MiB and the 1000-apple one at 11.2 MiB (docs/performance.md), 4.4 KiB per added apple
 //! (rapier's body, the layer's per-apple arrays, about seven open contacts, the finished contacts
-//! of a 5 s run); a force history adds up to 64 KiB per contact (4096 samples of time and force).
+//! of a 5 s run); a force history adds up to 64 KiB per contact (4096 samples of time and force)
+//! with `output.force_history: "full"`, far less with the default impact histories.
+//!
+//! The output files are estimated file by file ([`output_estimate`]) at the scenario's precision
+//! and compression: the same estimate refuses a run beyond `model.max_output_mb` and is printed
+//! before a large run.
 
-use super::{GeneratorSpec, Scenario, ScenarioError};
+use super::{ForceHistory, GeneratorSpec, Precision, Scenario, ScenarioError};
 
 /// Memory an apple costs while a run holds it, contacts and records included (bytes; measured
 /// 4.4 KiB, see the module documentation).
 pub const BYTES_PER_APPLE: f64 = 8.0 * 1024.0;
 
-/// Memory a kept force history costs per apple (bytes): one contact's full history.
+/// Memory a kept force history costs per apple (bytes) with `output.force_history: "full"`: one
+/// contact's full history (4096 samples of time and force).
 pub const HISTORY_BYTES_PER_APPLE: f64 = 64.0 * 1024.0;
+
+/// Memory the default impact histories cost per apple (bytes): [`CONTACTS_PER_APPLE`] contacts
+/// of [`IMPACT_HISTORY_SAMPLES`] samples of 16 bytes.
+pub const IMPACT_HISTORY_BYTES_PER_APPLE: f64 = CONTACTS_PER_APPLE * IMPACT_HISTORY_SAMPLES * 16.0;
 
 /// Default limit of the estimated memory of a run (MiB): `model.max_memory_mb`.
 pub const DEFAULT_MAX_MEMORY_MB: f64 = 8192.0;
@@ -22,9 +32,14 @@ pub const DEFAULT_MAX_MEMORY_MB: f64 = 8192.0;
 /// Default limit of the estimated size of a run's output files (MiB): `model.max_output_mb`.
 pub const DEFAULT_MAX_OUTPUT_MB: f64 = 4096.0;
 
-/// Bytes of one row of `bodies.csv` (measured: 189 on the 1000-apple pile, 154 on the handling
-/// line; rounded up).
-pub const BODIES_ROW_BYTES: f64 = 200.0;
+/// Bytes of one row of `bodies.csv` at full precision (measured: 283 on the 150-apple bin fill,
+/// 189 on the 1000-apple pile, 154 on the handling line; the largest, rounded up).
+pub const BODIES_ROW_BYTES: f64 = 290.0;
+
+/// Bytes of one row of `bodies.csv` at 9 significant digits (measured: 183 on the 150-apple bin
+/// fill; rounded up). Other precisions are interpolated between this and [`BODIES_ROW_BYTES`]
+/// by the digits.
+pub const BODIES_ROW_BYTES_9: f64 = 190.0;
 
 /// Bytes of one row of `rollers.csv` (a roller's name and three numbers in full precision: about
 /// 70; rounded up).
@@ -77,6 +92,44 @@ fn probe_refusal(sc: &Scenario, k: usize, samples: f64, what: &str, limit: &str)
     )
 }
 
+/// Contacts a run holds per apple (measured: 18.5 on the 150-apple bin fill, 2782 contacts; 2.6
+/// apple-apple ones per apple in the 1000-apple pile; rounded up).
+pub const CONTACTS_PER_APPLE: f64 = 20.0;
+
+/// Bytes of a row of `contacts.csv` at 9 digits (measured: 513 on the bin fill).
+pub const CONTACT_ROW_BYTES: f64 = 520.0;
+
+/// Bytes per contact of `apple_contacts.csv` at 9 digits (measured: 441 on the bin fill).
+pub const APPLE_CONTACT_ROW_BYTES: f64 = 450.0;
+
+/// Bytes per contact of `summary.json` (its `contacts` list, in full precision; measured: 2096
+/// on the bin fill, the rest of the file small beside it).
+pub const SUMMARY_BYTES_PER_CONTACT: f64 = 2100.0;
+
+/// Samples of a contact's default (impact) force history (measured: a mean of 98.5 on the bin
+/// fill, whose apple-apple impacts last 26 ms at the median; rounded up).
+pub const IMPACT_HISTORY_SAMPLES: f64 = 100.0;
+
+/// Samples of a contact's `"full"` force history (measured: a mean of 674 on the bin fill, at
+/// most 4096).
+pub const FULL_HISTORY_SAMPLES: f64 = 700.0;
+
+/// Bytes of one row of `forces.csv` at 9 digits (contact index, names, time, force; measured:
+/// 44 on the bin fill).
+pub const FORCES_ROW_BYTES: f64 = 45.0;
+
+/// Size of a gzipped CSV over the plain one (`output.compress`; measured on the bin fill's files
+/// at 9 digits: bodies.csv 0.30, forces.csv 0.22, contacts.csv 0.38, apple_contacts.csv 0.27,
+/// transitions.csv 0.35; the share of the largest).
+pub const GZIP_RATIO: f64 = 0.3;
+
+/// What summary.json holds beside its contact list, as a share of the whole (measured: 0.17 on
+/// the bin fill): its size with `output.compress`, which writes the list gzipped beside it.
+pub const SUMMARY_SHARE_BESIDE_CONTACTS: f64 = 0.2;
+
+/// The estimate is printed before a run (`applesim run`) when it reaches this many MB.
+pub const ESTIMATE_SHOWN_MB: f64 = 20.0;
+
 /// How many free-turning rollers `sc` has (a bed counts each of its rollers): the rows of
 /// `rollers.csv` per sample.
 /// Counted from the specs, never by expanding a bed: the budgets are checked before a bed's
@@ -100,19 +153,22 @@ pub fn planned_apples(sc: &Scenario) -> f64 {
     sc.apples.len() as f64 + generated + fed
 }
 
+/// The memory a kept force history costs per apple (bytes; 0 without).
+fn history_bytes_per_apple(sc: &Scenario) -> f64 {
+    match sc.output.force_history {
+        ForceHistory::Full => HISTORY_BYTES_PER_APPLE,
+        ForceHistory::Impact => IMPACT_HISTORY_BYTES_PER_APPLE,
+        ForceHistory::Off => 0.0,
+    }
+}
+
 /// The memory a run of `sc` is estimated to need (bytes): its apples, and its probes' traces.
 pub fn memory_bytes(sc: &Scenario) -> f64 {
     apples_memory_bytes(sc) + probes_memory_bytes(sc)
 }
 
 fn apples_memory_bytes(sc: &Scenario) -> f64 {
-    let per_apple = BYTES_PER_APPLE
-        + if sc.output.force_history {
-            HISTORY_BYTES_PER_APPLE
-        } else {
-            0.0
-        };
-    planned_apples(sc) * per_apple
+    planned_apples(sc) * (BYTES_PER_APPLE + history_bytes_per_apple(sc))
 }
 
 fn probes_memory_bytes(sc: &Scenario) -> f64 {
@@ -160,10 +216,10 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
                 planned_apples(sc),
                 bytes / (1024.0 * 1024.0 * 1024.0),
                 apples_memory_bytes(sc) / planned_apples(sc) / 1024.0,
-                if sc.output.force_history {
-                    " with force histories; output.force_history: false saves most of it"
-                } else {
-                    ""
+                match sc.output.force_history {
+                    ForceHistory::Full => " with whole force histories; output.force_history: true (the impacts only) or false saves most of it",
+                    ForceHistory::Impact => " with impact force histories; output.force_history: false saves them",
+                    ForceHistory::Off => "",
                 }
             ),
         ));
@@ -171,25 +227,153 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
     Ok(())
 }
 
-/// The size of the output files a run of `sc` is estimated to write (bytes): `bodies.csv`, one
-/// row per apple per sample, and `rollers.csv`, one row per free-turning roller per sample (the
-/// other files grow with the contacts, far less).
+/// One output file's estimated size.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FileEstimate {
+    /// The file's name as written (`bodies.csv.gz` when compressed).
+    pub name: String,
+    /// Bytes.
+    pub bytes: f64,
+}
+
+/// The estimated output of a run: its largest files, largest first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputEstimate {
+    /// The files (those that grow with the run: samples and contacts).
+    pub files: Vec<FileEstimate>,
+}
+
+impl OutputEstimate {
+    /// Bytes of all the files.
+    pub fn total_bytes(&self) -> f64 {
+        self.files.iter().map(|f| f.bytes).sum()
+    }
+
+    /// One line: `about 24 MB in 6 files (bodies.csv 14 MB, summary.json 7 MB, ...)`.
+    pub fn line(&self) -> String {
+        let mb = |b: f64| {
+            let m = b / 1e6;
+            if m >= 10.0 {
+                format!("{m:.0} MB")
+            } else {
+                format!("{m:.1} MB")
+            }
+        };
+        let parts: Vec<String> = self
+            .files
+            .iter()
+            .map(|f| format!("{} {}", f.name, mb(f.bytes)))
+            .collect();
+        format!(
+            "about {} in {} files ({})",
+            mb(self.total_bytes()),
+            self.files.len(),
+            parts.join(", ")
+        )
+    }
+}
+
+/// Bytes of a `bodies.csv` row at the scenario's precision.
+pub fn bodies_row_bytes(sc: &Scenario) -> f64 {
+    match sc.output.precision {
+        Precision::Full => BODIES_ROW_BYTES,
+        Precision::Digits(n) => {
+            let per_digit = (BODIES_ROW_BYTES - BODIES_ROW_BYTES_9) / (17.0 - 9.0);
+            (BODIES_ROW_BYTES_9 + per_digit * (f64::from(n) - 9.0)).max(60.0)
+        }
+    }
+}
+
+/// The estimated output files of a run of `sc`, from the scenario alone: `bodies.csv` (one row
+/// per apple per sample), `rollers.csv` (one per free-turning roller per sample), and by
+/// [`CONTACTS_PER_APPLE`] the contacts' files (`contacts.csv`, `apple_contacts.csv`,
+/// `forces.csv` by the force histories kept, and `summary.json`; the others, a few per cent of a
+/// run's output, are left out). Each CSV is counted at the
+/// scenario's precision, and gzipped at [`GZIP_RATIO`] with `output.compress`. What the output
+/// budget (`model.max_output_mb`) and the estimate `applesim run` prints are taken from.
+pub fn output_estimate(sc: &Scenario) -> OutputEstimate {
+    let samples = super::output::samples(sc.duration_s, sc.sample_interval_s());
+    let apples = planned_apples(sc);
+    let contacts = apples * CONTACTS_PER_APPLE;
+    let full = sc.output.precision == Precision::Full;
+    let digits_scale = bodies_row_bytes(sc) / BODIES_ROW_BYTES_9;
+    let gz = if sc.output.compress { GZIP_RATIO } else { 1.0 };
+    let csv = |name: &str, bytes: f64| FileEstimate {
+        name: if sc.output.compress {
+            format!("{name}.gz")
+        } else {
+            name.to_string()
+        },
+        bytes: bytes * gz,
+    };
+    let mut files = vec![csv("bodies.csv", samples * apples * bodies_row_bytes(sc))];
+    let rollers = free_rollers(sc);
+    if rollers > 0.0 {
+        let row = if full {
+            ROLLERS_ROW_BYTES
+        } else {
+            0.7 * ROLLERS_ROW_BYTES
+        };
+        files.push(csv("rollers.csv", samples * rollers * row));
+    }
+    let history = match sc.output.force_history {
+        ForceHistory::Full => FULL_HISTORY_SAMPLES,
+        ForceHistory::Impact => IMPACT_HISTORY_SAMPLES,
+        ForceHistory::Off => 0.0,
+    };
+    if history > 0.0 {
+        files.push(csv(
+            "forces.csv",
+            contacts * history * FORCES_ROW_BYTES * digits_scale,
+        ));
+    }
+    files.push(csv(
+        "contacts.csv",
+        contacts * CONTACT_ROW_BYTES * digits_scale,
+    ));
+    files.push(csv(
+        "apple_contacts.csv",
+        contacts * APPLE_CONTACT_ROW_BYTES * digits_scale,
+    ));
+    let summary = contacts * SUMMARY_BYTES_PER_CONTACT;
+    if sc.output.compress {
+        // The contact list gzipped beside summary.json (`output::CONTACTS_JSON_GZ`).
+        files.push(FileEstimate {
+            name: "summary.json".into(),
+            bytes: summary * SUMMARY_SHARE_BESIDE_CONTACTS,
+        });
+        files.push(FileEstimate {
+            name: "contacts.json.gz".into(),
+            bytes: summary * GZIP_RATIO,
+        });
+    } else {
+        files.push(FileEstimate {
+            name: "summary.json".into(),
+            bytes: summary,
+        });
+    }
+    for (k, n) in probe_samples(sc) {
+        files.push(csv(
+            &format!(
+                "{}_trace.csv",
+                crate::record::probe::file_stem(&sc.apples[k].name)
+            ),
+            n * PROBE_ROW_BYTES,
+        ));
+    }
+    files.sort_by(|a, b| b.bytes.total_cmp(&a.bytes).then(a.name.cmp(&b.name)));
+    OutputEstimate { files }
+}
+
+/// The size of the output files a run of `sc` is estimated to write (bytes; [`output_estimate`]).
 pub fn output_bytes(sc: &Scenario) -> f64 {
-    samples_output_bytes(sc) + probes_output_bytes(sc)
+    output_estimate(sc).total_bytes()
 }
 
-/// `bodies.csv` and `rollers.csv`.
-fn samples_output_bytes(sc: &Scenario) -> f64 {
-    let samples = (sc.duration_s / sc.output.sample_interval_s).floor() + 2.0;
-    samples * (planned_apples(sc) * BODIES_ROW_BYTES + free_rollers(sc) * ROLLERS_ROW_BYTES)
-}
-
-/// The probes' `probe_NAME_trace.csv`, at most a row per sampling instant.
-fn probes_output_bytes(sc: &Scenario) -> f64 {
-    probe_samples(sc)
-        .iter()
-        .map(|(_, n)| n * PROBE_ROW_BYTES)
-        .sum()
+/// Whether `applesim run` prints the estimate before running: when it reaches
+/// [`ESTIMATE_SHOWN_MB`].
+pub fn estimate_worth_showing(sc: &Scenario) -> bool {
+    output_bytes(sc) >= ESTIMATE_SHOWN_MB * 1e6
 }
 
 /// Refuses a scenario whose output is estimated beyond `max_output_mb`, naming the field to
@@ -197,16 +381,24 @@ fn probes_output_bytes(sc: &Scenario) -> f64 {
 /// probe at 10 MHz wrote 573 MB of trace in two seconds of line: its `sample_rate_hz` is named
 /// when its trace is the larger part).
 pub fn check_output(sc: &Scenario, max_output_mb: f64) -> Result<(), ScenarioError> {
-    let bytes = output_bytes(sc);
+    let estimate = output_estimate(sc);
+    let bytes = estimate.total_bytes();
     if bytes > max_output_mb * 1024.0 * 1024.0 {
+        // A probe's trace the larger part: its sampling rate is the field to change.
+        let samples_bytes: f64 = estimate
+            .files
+            .iter()
+            .filter(|f| f.name.starts_with("bodies.csv") || f.name.starts_with("rollers.csv"))
+            .map(|f| f.bytes)
+            .sum();
         if let Some((k, samples)) = largest_probe(sc) {
-            if samples * PROBE_ROW_BYTES >= samples_output_bytes(sc) {
+            if samples * PROBE_ROW_BYTES >= samples_bytes {
                 return Err(probe_refusal(
                     sc,
                     k,
                     samples,
                     &format!(
-                        "about {:.1} GiB of probe_NAME_trace.csv ({PROBE_ROW_BYTES} bytes per row; the run's output {:.1} GiB in all)",
+                        "about {:.1} GiB of its trace file ({PROBE_ROW_BYTES} bytes per row; the run's output {:.1} GiB in all)",
                         samples * PROBE_ROW_BYTES / GIB,
                         bytes / GIB
                     ),
@@ -214,17 +406,17 @@ pub fn check_output(sc: &Scenario, max_output_mb: f64) -> Result<(), ScenarioErr
                 ));
             }
         }
+        let interval = sc.sample_interval_s();
         return Err(ScenarioError::invalid(
             "output.sample_interval_s",
             format!(
-                "{} s over {} s for {:.3e} apples{} writes about {:.1} GiB of bodies.csv ({} bytes per apple per sample){}, more than model.max_output_mb = {max_output_mb} MiB: sample less often, or raise model.max_output_mb",
-                sc.output.sample_interval_s,
+                "{} s{} over {} s for {:.3e} apples{} writes {}, more than model.max_output_mb = {max_output_mb} MiB: sample less often, or raise model.max_output_mb",
+                interval,
+                if sc.output.sample_interval_s.is_none() { " (the default)" } else { "" },
                 sc.duration_s,
                 planned_apples(sc),
                 rollers_part(sc, " and {} free-turning rollers"),
-                bytes / (1024.0 * 1024.0 * 1024.0),
-                BODIES_ROW_BYTES,
-                rollers_part(sc, " and rollers.csv")
+                estimate.line(),
             ),
         ));
     }
@@ -244,9 +436,9 @@ mod tests {
     use super::*;
 
     /// `rollers.csv` counts in the output estimate: one apple sampled every 1e-6 s for 1 s writes
-    /// about 191 MiB of bodies.csv (under the default 4 GiB), but a bed of 1000 free-turning
-    /// rollers adds 1000 rows of rollers.csv a sample (about 93 GiB): refused, the message
-    /// naming both files and the rollers.
+    /// about 190 MB of bodies.csv (under the default 4 GiB), but a bed of 1000 free-turning
+    /// rollers adds 1000 rows of rollers.csv a sample (about 70 GB): refused, the message
+    /// naming the rollers and the files.
     #[test]
     fn free_rollers_count_in_the_output_estimate() {
         let scenario = |free: bool| -> Scenario {
@@ -275,10 +467,26 @@ mod tests {
         assert_eq!(free_rollers(&powered), 0.0);
         assert_eq!(free_rollers(&free), 1000.0);
         let samples = 1e6 + 2.0;
-        assert_eq!(output_bytes(&powered), samples * BODIES_ROW_BYTES);
+        let bodies = |sc: &Scenario| {
+            output_estimate(sc)
+                .files
+                .iter()
+                .find(|f| f.name == "bodies.csv")
+                .unwrap()
+                .bytes
+        };
+        assert_eq!(bodies(&powered), samples * BODIES_ROW_BYTES_9);
+        let rollers = |sc: &Scenario| {
+            output_estimate(sc)
+                .files
+                .iter()
+                .find(|f| f.name == "rollers.csv")
+                .map(|f| f.bytes)
+        };
+        assert_eq!(rollers(&powered), None);
         assert_eq!(
-            output_bytes(&free),
-            samples * (BODIES_ROW_BYTES + 1000.0 * ROLLERS_ROW_BYTES)
+            rollers(&free),
+            Some(samples * 1000.0 * 0.7 * ROLLERS_ROW_BYTES)
         );
         assert!(check_output(&powered, DEFAULT_MAX_OUTPUT_MB).is_ok());
         let e = check_output(&free, DEFAULT_MAX_OUTPUT_MB)
@@ -290,8 +498,47 @@ mod tests {
             "{e}"
         );
         assert!(
-            e.contains("of bodies.csv (200 bytes per apple per sample) and rollers.csv"),
+            e.contains("(rollers.csv 70000 MB, bodies.csv 190 MB"),
             "{e}"
         );
+    }
+
+    /// The shipped bin fill without its `output` section (the default 20 ms sampling, 9 digits,
+    /// impact histories): about 48 MB estimated (41 MB written, docs/performance.md); gzipped
+    /// the CSV files and summary.json's contact list count 0.3 of it; full precision, whole histories and 1 ms sampling (the
+    /// defaults before issue 31) about 1.1 GB (538 MB written: the estimate counts every apple
+    /// from the start).
+    #[test]
+    fn the_estimate_counts_precision_compression_and_histories() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/scenarios/lines/bin_filling.json"
+        );
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        v.as_object_mut().unwrap().remove("output");
+        let sc = |output: serde_json::Value| {
+            let mut v = v.clone();
+            v["output"] = output;
+            crate::scenario::from_json(&v.to_string(), "bin").unwrap()
+        };
+        let mb = |sc: &Scenario| output_bytes(sc) / 1e6;
+        let default = sc(serde_json::json!({}));
+        assert!((40.0..55.0).contains(&mb(&default)), "{}", mb(&default));
+        let gz = sc(serde_json::json!({"compress": true}));
+        let summary = 150.0 * CONTACTS_PER_APPLE * SUMMARY_BYTES_PER_CONTACT / 1e6;
+        // Gzipped: the CSV files and the contact list; summary.json's rest stays plain.
+        let gz_csv = mb(&gz) - summary * SUMMARY_SHARE_BESIDE_CONTACTS;
+        assert!((gz_csv / mb(&default) - GZIP_RATIO).abs() < 1e-9);
+        let old = sc(
+            serde_json::json!({"sample_interval_s": 1e-3, "precision": "full", "force_history": "full"}),
+        );
+        assert!((900.0..1300.0).contains(&mb(&old)), "{}", mb(&old));
+        let line = output_estimate(&gz).line();
+        assert!(
+            line.starts_with("about ") && line.contains("bodies.csv.gz"),
+            "{line}"
+        );
+        assert!(memory_bytes(&old) > memory_bytes(&default));
     }
 }

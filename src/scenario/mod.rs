@@ -13,6 +13,7 @@ pub mod lab;
 pub mod layout;
 pub mod models;
 pub mod motion;
+pub mod output;
 pub mod presets;
 pub mod ranges;
 pub mod stepping;
@@ -25,6 +26,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 pub use generators::{DiameterSpec, FileApple, FileSpec, GeneratorSpec, JitterSpec, SourceSpec};
+pub use output::{ForceHistory, Precision, Sampling};
 pub use stepping::{Accuracy, Fidelity, TimeStep};
 pub use surfaces::{ContactModel, RotationSpec, SurfaceSpec};
 pub use validate::validate;
@@ -233,7 +235,18 @@ impl Scenario {
             1e-3
         };
         self.max_time_step_s
-            .unwrap_or_else(|| self.output.sample_interval_s.min(cap))
+            .unwrap_or_else(|| self.sample_interval_s().min(cap))
+    }
+
+    /// The interval of `bodies.csv` (s): `output.sample_interval_s`, or the default that
+    /// follows the run's length and apples ([`output::sampling`]).
+    pub fn sample_interval_s(&self) -> f64 {
+        self.sampling().interval_s
+    }
+
+    /// The interval of `bodies.csv` and why ([`output::sampling`]).
+    pub fn sampling(&self) -> Sampling {
+        output::sampling(self)
     }
 
     /// Reads the apple lists of `file` generators, resolving their paths against `base_dir` (the
@@ -301,15 +314,24 @@ impl Scenario {
 }
 
 /// Output settings.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
-    /// Interval of the `bodies.csv` time series (s); rounded to a whole number of steps.
-    #[serde(default = "default_sample_interval")]
-    pub sample_interval_s: f64,
-    /// Keep each contact's force history (for plots and the pulse fit); capped per contact.
-    #[serde(default = "default_true")]
-    pub force_history: bool,
+    /// Interval of the `bodies.csv` time series (s); rounded to a whole number of steps. Absent,
+    /// it follows the run's length and apples ([`output::sampling`]: 1 ms for a short run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample_interval_s: Option<f64>,
+    /// Which part of each contact's force history is kept (for plots and the pulse fit): the
+    /// impact pulse (default, `true`), the whole contact (`"full"`, capped per contact) or none
+    /// (`false`).
+    #[serde(default)]
+    pub force_history: ForceHistory,
+    /// Significant digits of the numbers in the CSV files (default 9) or `"full"`.
+    #[serde(default, skip_serializing_if = "Precision::is_default")]
+    pub precision: Precision,
+    /// Write every CSV file gzipped (`NAME.csv.gz`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub compress: bool,
     /// ParaView time series of the apples and surfaces (`scene.pvd`, `vtk/`); off when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vtk: Option<VtkSpec>,
@@ -396,23 +418,8 @@ pub struct VtkSpec {
     pub interval_s: f64,
 }
 
-fn default_sample_interval() -> f64 {
-    1e-3
-}
-
 fn default_true() -> bool {
     true
-}
-
-impl Default for OutputSpec {
-    fn default() -> Self {
-        Self {
-            sample_interval_s: default_sample_interval(),
-            force_history: true,
-            vtk: None,
-            transitions: TransitionSpec::default(),
-        }
-    }
 }
 
 /// A material: shear or Young's modulus (one of them), Poisson's ratio, and density when an

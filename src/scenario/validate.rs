@@ -370,7 +370,9 @@ pub fn validate(sc: &Scenario) -> R {
 }
 
 fn output(sc: &Scenario) -> R {
-    ranges::DURATION.check("output.sample_interval_s", sc.output.sample_interval_s)?;
+    if let Some(s) = sc.output.sample_interval_s {
+        ranges::DURATION.check("output.sample_interval_s", s)?;
+    }
     let tr = &sc.output.transitions;
     ranges::SPEED_THRESHOLD.check("output.transitions.slip_speed_m_s", tr.slip_speed_m_s)?;
     ranges::RELATIVE_TOLERANCE.check(

@@ -333,7 +333,7 @@ impl Simulation {
             step_policy,
             fidelity_limits: sc.fidelity.limits(),
             duration_s: sc.duration_s,
-            sample_interval_s: sc.output.sample_interval_s,
+            sample_interval_s: sc.sample_interval_s(),
             time_s: 0.0,
             dt_range: [f64::INFINITY, 0.0],
             step: 0,

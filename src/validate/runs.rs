@@ -91,7 +91,10 @@ impl Run {
 
     /// The samples of apple `name` from `bodies.csv`.
     pub fn bodies(&self, name: &str) -> Result<Vec<BodySample>, ValidateError> {
-        read_bodies(&self.dir.join("bodies.csv"), name)
+        read_bodies(
+            &crate::output::csv_file::locate(&self.dir, "bodies.csv"),
+            name,
+        )
     }
 }
 
@@ -168,7 +171,7 @@ fn read_run(batch: &Batch, index: usize, out: &Path) -> Result<Run, ValidateErro
         .zip(&planned.values)
         .map(|(p, v)| (p.name.clone(), v.as_f64().unwrap_or(f64::NAN)))
         .collect();
-    let contacts = read_contacts(&dir.join("contacts.csv"))?;
+    let contacts = read_contacts(&crate::output::csv_file::locate(&dir, "contacts.csv"))?;
     Ok(Run {
         index,
         params,
@@ -185,8 +188,17 @@ fn parse_err(path: &Path, message: impl std::fmt::Display) -> ValidateError {
     }
 }
 
-fn reader(path: &Path) -> Result<(csv::Reader<std::fs::File>, csv::StringRecord), ValidateError> {
-    let mut rd = csv::Reader::from_path(path).map_err(|e| parse_err(path, e))?;
+/// A CSV reader of the file at `path`, plain or gzipped ([`crate::output::csv_file::open`]).
+fn reader(
+    path: &Path,
+) -> Result<
+    (
+        csv::Reader<crate::output::csv_file::Input>,
+        csv::StringRecord,
+    ),
+    ValidateError,
+> {
+    let (_, mut rd) = crate::output::csv_file::reader(path).map_err(|e| parse_err(path, e))?;
     let header = rd.headers().map_err(|e| parse_err(path, e))?.clone();
     Ok((rd, header))
 }

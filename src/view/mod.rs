@@ -521,7 +521,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
     let speed_step = scan.max_speed / 65535.0;
 
     // Motion states from transitions.csv when the run wrote it.
-    let transitions_path = run_dir.join("transitions.csv");
+    let transitions_path = crate::output::csv_file::locate(run_dir, "transitions.csv");
     let tracks = if transitions_path.is_file() && sampled {
         Some(read_transitions(&transitions_path, &index)?)
     } else {
@@ -666,7 +666,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
     let states_b64 = b64(&st);
 
     // Contacts, with their bruise verdicts.
-    let bruise_path = run_dir.join(crate::output::APPLE_CONTACTS_CSV);
+    let bruise_path = crate::output::csv_file::locate(run_dir, crate::output::APPLE_CONTACTS_CSV);
     let risks = if bruise_path.is_file() {
         Some(read_bruise(&bruise_path)?)
     } else {
@@ -696,7 +696,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         default_threshold,
     )?;
     let max_peak = contacts.iter().map(|c| c.impact_n).fold(0.0, f64::max);
-    let forces_path = run_dir.join("forces.csv");
+    let forces_path = crate::output::csv_file::locate(run_dir, "forces.csv");
     let mut curves = BTreeMap::new();
     if forces_path.is_file() {
         let mut risky: Vec<usize> = (0..contacts.len())
@@ -733,7 +733,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
             }
         ));
     } else {
-        notes.push(if sc.output.force_history {
+        notes.push(if sc.output.force_history.is_kept() {
             "no forces.csv: contacts show their peak figures, not force curves".to_string()
         } else {
             "force histories were not kept (output.force_history: false): contacts show their peak figures, not force curves".to_string()
@@ -748,7 +748,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         .asset_dir
         .clone()
         .unwrap_or_else(|| run_dir.to_path_buf());
-    let rollers_path = run_dir.join(crate::output::ROLLERS_CSV);
+    let rollers_path = crate::output::csv_file::locate(run_dir, crate::output::ROLLERS_CSV);
     let spins = match rollers_path.is_file() {
         true => Some(read_rollers(&rollers_path, &times, &sc)?),
         false => None,

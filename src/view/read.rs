@@ -4,7 +4,7 @@
 use super::*;
 
 pub(super) fn require(run_dir: &Path, name: &str, why: &'static str) -> Result<PathBuf, ViewError> {
-    let p = run_dir.join(name);
+    let p = crate::output::csv_file::locate(run_dir, name);
     if p.is_file() {
         Ok(p)
     } else {
@@ -26,16 +26,20 @@ pub(super) fn column(
     })
 }
 
-pub(super) fn csv_reader(path: &Path) -> Result<csv::Reader<std::fs::File>, ViewError> {
-    let f = std::fs::File::open(path).map_err(io(path))?;
+/// A CSV reader of `path`, plain or gzipped ([`crate::output::csv_file::open`]).
+pub(super) fn csv_reader(path: &Path) -> Result<csv::Reader<CsvInput>, ViewError> {
+    let (_, f) = crate::output::csv_file::open(path).map_err(io(path))?;
     Ok(csv::ReaderBuilder::new().has_headers(true).from_reader(f))
 }
+
+/// A run's CSV file open for reading, plain or gzipped.
+pub(super) type CsvInput = crate::output::csv_file::Input;
 
 /// A run's CSV file and its header; an empty file (no header: the run was stopped before it
 /// wrote it, or the file was cut) is refused naming it.
 pub(super) fn open_csv(
     path: &Path,
-) -> Result<(csv::Reader<std::fs::File>, csv::StringRecord), ViewError> {
+) -> Result<(csv::Reader<CsvInput>, csv::StringRecord), ViewError> {
     let mut r = csv_reader(path)?;
     let h = r.headers().map_err(|e| csv_err(path, e))?.clone();
     if h.is_empty() || h.iter().all(|x| x.is_empty()) {

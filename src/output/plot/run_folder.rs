@@ -7,6 +7,7 @@
 //! ([`super`]) so a reader of the file formats finds them in one place.
 
 use super::PlotError;
+use crate::output::csv_file::{locate, Input};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -86,15 +87,17 @@ fn parse_error(path: &Path, e: impl std::fmt::Display) -> PlotError {
     }
 }
 
-/// A CSV reader of the file at `path`.
-fn reader(path: &Path) -> Result<csv::Reader<std::fs::File>, PlotError> {
-    csv::Reader::from_path(path).map_err(|e| parse_error(path, e))
+/// A CSV reader of the file at `path`, plain or gzipped ([`crate::output::csv_file::open`]).
+fn reader(path: &Path) -> Result<csv::Reader<Input>, PlotError> {
+    crate::output::csv_file::reader(path)
+        .map(|(_, rd)| rd)
+        .map_err(|e| parse_error(path, e))
 }
 
 /// Column indices of `names` in a CSV header.
 fn columns(
     path: &Path,
-    rd: &mut csv::Reader<std::fs::File>,
+    rd: &mut csv::Reader<Input>,
     names: &[&str],
 ) -> Result<Vec<usize>, PlotError> {
     let h = rd.headers().map_err(|e| parse_error(path, e))?;
@@ -117,11 +120,13 @@ fn num(path: &Path, s: &str) -> Result<f64, PlotError> {
         .map_err(|_| parse_error(path, format!("'{s}' is not a number")))
 }
 
-/// Reads the curves of a run folder.
+/// Reads the curves of a run folder (its CSV files plain or gzipped). A contact whose force
+/// history was kept over its impact only (`contacts.csv` `force_history_cut_s`) ends at its
+/// last kept sample, without the parting point.
 pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
     let mut out = RunCurves::default();
-    let contacts_path = dir.join("contacts.csv");
-    let forces_path = dir.join("forces.csv");
+    let contacts_path = locate(dir, "contacts.csv");
+    let forces_path = locate(dir, "forces.csv");
     if forces_path.exists() {
         out.has_forces = true;
         let mut rd = reader(&contacts_path)?;
@@ -135,11 +140,19 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
             .headers()
             .ok()
             .and_then(|h| h.iter().position(|c| c == "impact_duration_s"));
+        let cut_col = rd
+            .headers()
+            .ok()
+            .and_then(|h| h.iter().position(|c| c == "force_history_cut_s"));
         let mut by_index = Vec::new();
         for rec in rd.records() {
             let rec = rec.map_err(|e| parse_error(&contacts_path, e))?;
             let t0 = num(&contacts_path, &rec[c[2]])?;
             let t1 = num(&contacts_path, &rec[c[3]])?;
+            let cut = match cut_col {
+                Some(i) => num(&contacts_path, rec.get(i).unwrap_or(""))?.is_finite(),
+                None => false,
+            };
             by_index.push(ForceCurve {
                 contact: by_index.len(),
                 a: rec[c[0]].to_string(),
@@ -152,7 +165,7 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
                     None => None,
                 },
                 impact_known: impact_col.is_some(),
-                points: if t1.is_finite() {
+                points: if t1.is_finite() && !cut {
                     vec![(t1 - t0, 0.0)]
                 } else {
                     vec![]
@@ -190,7 +203,7 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
             .filter(|f| f.points.len() > 2)
             .collect();
     }
-    let bodies_path = dir.join("bodies.csv");
+    let bodies_path = locate(dir, "bodies.csv");
     let mut rd = reader(&bodies_path)?;
     let c = columns(
         &bodies_path,
@@ -228,7 +241,7 @@ pub fn read_run(dir: &Path) -> Result<RunCurves, PlotError> {
             }
         }
     }
-    let tr_path = dir.join("transitions.csv");
+    let tr_path = locate(dir, "transitions.csv");
     if tr_path.exists() {
         let mut rd = reader(&tr_path)?;
         let c = columns(
