@@ -385,8 +385,11 @@ struct Belt {
 /// The order of a contact row's fields in the page: `tp` the transfer point's index in
 /// `transfer_points` (-1: none), `carrier` the moving body that carries its mark (-1: none;
 /// `local_m` is then the point in that body's frame, as its parts' triangles are), `side_a`,
-/// `side_b` the apples' sides from apple_contacts.csv ([`SIDE_FIELDS`], null when none).
-const CONTACT_FIELDS: [&str; 17] = [
+/// `side_b` the apples' sides from apple_contacts.csv ([`SIDE_FIELDS`], null when none),
+/// `t_impact_s` the time of its impact's peak force (null without an impact): the hit's time,
+/// from which its figures and its bruise count (the contact's `t_peak_s` is that of its largest
+/// force, which a resting load after the impact may set later).
+const CONTACT_FIELDS: [&str; 18] = [
     "a",
     "b_apple",
     "b",
@@ -404,6 +407,7 @@ const CONTACT_FIELDS: [&str; 17] = [
     "local_m",
     "side_a",
     "side_b",
+    "t_impact_s",
 ];
 
 /// The order of an apple's side of a contact (apple_contacts.csv): the energy it absorbed (J),
@@ -466,6 +470,7 @@ impl ContactInfo {
             self.local_m.map(|p| p.map(sig6)),
             self.side_a.as_ref().map(side_row),
             self.side_b.as_ref().map(side_row),
+            self.t_impact_s,
         ])
     }
 }
@@ -515,6 +520,8 @@ struct ContactInfo {
     /// Apple a's and b's sides (apple_contacts.csv).
     side_a: Option<HitRow>,
     side_b: Option<HitRow>,
+    /// Time of the impact's peak force (s), the hit's time; none without an impact.
+    t_impact_s: Option<f64>,
 }
 
 struct Collected {

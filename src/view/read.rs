@@ -587,6 +587,7 @@ pub(super) fn read_contacts(
     let c = |n: &str| column(path, &h, n);
     let cid = c("impact_duration_s")?;
     let ctp = h.iter().position(|x| x == "transfer_point");
+    let cit = h.iter().position(|x| x == "impact_t_peak_s");
     let (ca, cb, cs, ce, cp, ctpk, cpr, cpt, ci) = (
         c("a")?,
         c("b")?,
@@ -656,6 +657,10 @@ pub(super) fn read_contacts(
             local_m: None,
             side_a: side(&rec[ca]),
             side_b: if b_apple >= 0 { side(&rec[cb]) } else { None },
+            t_impact_s: match cit {
+                Some(c) => opt_num(path, line, "impact_t_peak_s", &rec[c])?,
+                None => None,
+            },
         });
     }
     Ok((out, points))
