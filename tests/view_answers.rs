@@ -894,7 +894,7 @@ fn the_smaller_defects_of_the_first_look() {
 /// volume (brightness). By grade: at the start every apple has the best class; at the end each
 /// apple has the colour of summary.json's `grade`, the legend lists the standard's grades best
 /// first with summary.json's counts, and no apple's grade ever rises. The picked apple's panel
-/// lists its bruises (bruises.csv's sites) and its grade with why.
+/// lists its bruises (bruises.csv's bruised sites) and its grade with why.
 #[test]
 fn apples_coloured_by_bruise_volume_and_grade_as_bruises_arise() {
     let line = handling_line();
@@ -1041,7 +1041,7 @@ fn apples_coloured_by_bruise_volume_and_grade_as_bruises_arise() {
     );
     let want: Vec<String> = sites
         .iter()
-        .filter(|r| r["apple"] == name)
+        .filter(|r| r["apple"] == name && (r["bruised"] == "true" || f(r, "volume_mm3") > 0.0))
         .map(|r| r["site"].clone())
         .collect();
     assert_eq!(info[1], serde_json::json!(want), "{name}'s bruises");
@@ -1165,12 +1165,15 @@ fn the_audit_in_the_scene_picks_a_part_and_its_marks() {
     no_errors(&s);
 }
 
-/// Bruises on the skin: on the handling line at the end, every bruise of bruises.csv with a
-/// volume and an area is drawn on its apple, as a dome whose rim on the apple's skin is a circle
-/// of the bruise's area (sqrt(area / pi), within 2e-5 m), in the direction of its first hit's
-/// contact point from the apple's centre at that hit (apple_contacts.csv's point and bodies.csv's
-/// centres, interpolated; within 2e-3 rad). Halfway, only those hit by then; at the start none;
-/// the drawing shows (pixels change with the check box).
+/// Bruises on the skin: on the handling line, with the camera close to the bin, every bruise
+/// of bruises.csv with a volume and an area is drawn on its apple when the camera can see it
+/// (its direction within 120 degrees of the camera's, 90 + 27 and a margin) and it is at least
+/// 3.2 pixels across on the screen; none facing away (beyond 127 degrees) or under 2.8 pixels.
+/// Each is a dome whose rim on the apple's skin is a circle of the bruise's area so far
+/// (sqrt(area x volume so far / volume / pi), within 2e-5 m), in the direction of its first
+/// hit's contact point from the apple's centre at that hit (apple_contacts.csv's point and
+/// bodies.csv's centres, interpolated; within 2e-3 rad). Checked halfway and at the end; none at
+/// the start; the drawing shows (pixels change with the check box).
 #[test]
 fn bruises_are_drawn_on_the_skin_where_they_landed() {
     let line = handling_line();
@@ -1190,71 +1193,110 @@ fn bruises_are_drawn_on_the_skin_where_they_landed() {
         let a = if t1 > t0 { (t - t0) / (t1 - t0) } else { 0.0 };
         [0, 1, 2].map(|k| p0[k] + a * (p1[k] - p0[k]))
     };
+    // Where a bruise is (world direction of its first hit) and its drawn radius at t (m).
+    let expected = |name: &str, site: &str, t: f64, r_apple: f64| -> ([f64; 3], f64) {
+        let row = sites
+            .iter()
+            .find(|r| r["apple"] == name && r["site"] == site)
+            .unwrap();
+        let first = hits
+            .iter()
+            .filter(|h| h["apple"] == name && h["site"] == site)
+            .min_by(|p, q| f(p, "t_peak_s").total_cmp(&f(q, "t_peak_s")))
+            .unwrap();
+        let c = centre(name, f(first, "t_peak_s"));
+        let p: Vec<f64> = first["contact_point_m"]
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let u = [0, 1, 2].map(|j| p[j] - c[j]);
+        let nu = u.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let so_far: f64 = hits
+            .iter()
+            .filter(|h| h["apple"] == name && h["site"] == site && f(h, "t_peak_s") <= t)
+            .map(|h| f(h, "volume_mm3"))
+            .sum();
+        let area = f(row, "area_mm2") * (so_far / f(row, "volume_mm3")).min(1.0);
+        (
+            u.map(|v| v / nu),
+            ((area / std::f64::consts::PI).sqrt() / 1000.0).min(0.45 * r_apple),
+        )
+    };
     let s = launch("answers_bruises");
-    s.open(&line.join("view.html"), "#t=0");
+    s.open(&line.join("view.html"), "#t=0&cam=1.5,-0.5,0.6,1.85,0,0.05");
     assert_eq!(js(&s, "return V.sites.userData.count;"), 0);
     let frames = js(&s, "return V.frameTimes.length;").as_u64().unwrap() as usize;
-    let drawn_js = "return { t: V.state.t, sites: V.sites.userData.rows.map((k, n) => { const s = V.data.sites[k]; \
-        return [V.data.apples[s.apple].name, s.site, V.sites.userData.at(n), V.apples.userData.at(s.apple)]; }) };";
-    let (mut worst_r, mut worst_a) = (0.0f64, 0.0f64);
+    let drawn_js = "const ap = {}; for (let i = 0; i < V.data.apples.length; i++) ap[V.data.apples[i].name] = V.apples.userData.at(i); \
+        return { t: V.state.t, cam: V.camera.position.toArray(), px: V.renderer.domElement.clientHeight / (2 * Math.tan(V.camera.fov * Math.PI / 360)), apples: ap, \
+          small: V.stats.smallSites, sites: V.sites.userData.rows.map((k, n) => { const s = V.data.sites[k]; \
+          return [V.data.apples[s.apple].name, s.site, V.sites.userData.at(n)]; }) };";
+    let (mut worst_r, mut worst_a, mut must_total) = (0.0f64, 0.0f64, 0);
     for k in [frames / 2, frames - 1] {
         to_frame(&s, k);
         let v = js(&s, drawn_js);
         let t = v["t"].as_f64().unwrap();
-        let want: BTreeSet<(String, String)> = sites
-            .iter()
-            .filter(|r| {
-                f(r, "volume_mm3") > 0.0 && f(r, "area_mm2") > 0.0 && f(r, "first_hit_s") <= t
-            })
-            .map(|r| (r["apple"].clone(), r["site"].clone()))
-            .collect();
-        let got: BTreeSet<(String, String)> = v["sites"]
+        let cam: Vec<f64> = (0..3).map(|j| v["cam"][j].as_f64().unwrap()).collect();
+        let px_at_1m = v["px"].as_f64().unwrap();
+        let got: BTreeMap<(String, String), Vec<f64>> = v["sites"]
             .as_array()
             .unwrap()
             .iter()
-            .map(|x| (x[0].as_str().unwrap().to_string(), x[1].to_string()))
+            .map(|x| {
+                (
+                    (x[0].as_str().unwrap().to_string(), x[1].to_string()),
+                    (0..4).map(|j| x[2][j].as_f64().unwrap()).collect(),
+                )
+            })
             .collect();
-        assert_eq!(got, want, "the bruises drawn at {t} s");
-        for x in v["sites"].as_array().unwrap() {
-            let (name, site) = (x[0].as_str().unwrap(), x[1].to_string());
-            let row = sites
-                .iter()
-                .find(|r| r["apple"] == name && r["site"] == site)
-                .unwrap();
-            let b: Vec<f64> = (0..4).map(|j| x[2][j].as_f64().unwrap()).collect();
-            let a: Vec<f64> = (0..4).map(|j| x[3][j].as_f64().unwrap()).collect();
+        let (mut must, mut never) = (BTreeSet::new(), BTreeSet::new());
+        for r in sites.iter().filter(|r| {
+            f(r, "volume_mm3") > 0.0 && f(r, "area_mm2") > 0.0 && f(r, "first_hit_s") <= t
+        }) {
+            let name = r["apple"].as_str();
+            let a = &v["apples"][name];
+            let a: Vec<f64> = (0..4).map(|j| a[j].as_f64().unwrap()).collect();
+            if a[3] == 0.0 {
+                continue;
+            }
+            let (dir, rho) = expected(name, &r["site"], t, a[3]);
+            let to_cam = [0, 1, 2].map(|j| cam[j] - a[j]);
+            let dist = to_cam.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let cos = (0..3).map(|j| dir[j] * to_cam[j]).sum::<f64>() / dist;
+            let across_px = 2.0 * rho * px_at_1m / dist;
+            let key = (name.to_string(), r["site"].clone());
+            if cos > -0.5 && across_px > 3.2 {
+                must.insert(key);
+            } else if cos < -0.6 || across_px < 2.8 {
+                never.insert(key);
+            }
+        }
+        for key in &must {
+            assert!(
+                got.contains_key(key),
+                "at {t} s bruise {key:?} is not drawn"
+            );
+        }
+        for key in &never {
+            assert!(
+                !got.contains_key(key),
+                "at {t} s bruise {key:?} is drawn, unseen"
+            );
+        }
+        must_total += must.len();
+        for ((name, site), b) in &got {
+            let a = &v["apples"][name.as_str()];
+            let a: Vec<f64> = (0..4).map(|j| a[j].as_f64().unwrap()).collect();
             let d = (0..3).map(|j| (b[j] - a[j]).powi(2)).sum::<f64>().sqrt();
             // The circle where the dome meets the apple's skin.
             let xp = (d * d + a[3] * a[3] - b[3] * b[3]) / (2.0 * d);
             let rho = (a[3] * a[3] - xp * xp).sqrt();
-            // Its area in proportion to the volume so far.
-            let so_far: f64 = hits
-                .iter()
-                .filter(|h| h["apple"] == name && h["site"] == site && f(h, "t_peak_s") <= t)
-                .map(|h| f(h, "volume_mm3"))
-                .sum();
-            let area = f(row, "area_mm2") * (so_far / f(row, "volume_mm3")).min(1.0);
-            let want_rho = ((area / std::f64::consts::PI).sqrt() / 1000.0).min(0.45 * a[3]);
+            let (dir, want_rho) = expected(name, site, t, a[3]);
             worst_r = worst_r.max((rho - want_rho).abs());
             assert!(
                 (rho - want_rho).abs() < 2e-5,
-                "{name} site {site}: drawn radius {rho} m, area says {want_rho} m"
+                "{name} site {site}: drawn radius {rho} m, its area says {want_rho} m"
             );
-            // Its direction: the first hit's point from the centre then.
-            let first = hits
-                .iter()
-                .filter(|h| h["apple"] == name && h["site"] == site)
-                .min_by(|p, q| f(p, "t_peak_s").total_cmp(&f(q, "t_peak_s")))
-                .unwrap();
-            let tp = f(first, "t_peak_s");
-            let c = centre(name, tp);
-            let p: Vec<f64> = first["contact_point_m"]
-                .split(' ')
-                .map(|v| v.parse().unwrap())
-                .collect();
-            let u: Vec<f64> = (0..3).map(|j| p[j] - c[j]).collect();
-            let nu = u.iter().map(|v| v * v).sum::<f64>().sqrt();
-            let cos = (0..3).map(|j| (b[j] - a[j]) / d * u[j] / nu).sum::<f64>();
+            let cos = (0..3).map(|j| (b[j] - a[j]) / d * dir[j]).sum::<f64>();
             let ang = cos.clamp(-1.0, 1.0).acos();
             worst_a = worst_a.max(ang);
             assert!(
@@ -1262,9 +1304,16 @@ fn bruises_are_drawn_on_the_skin_where_they_landed() {
                 "{name} site {site}: drawn {ang} rad off its first hit's direction"
             );
         }
-        eprintln!("{} bruises drawn at {t} s", got.len());
+        eprintln!(
+            "{} bruises drawn at {t} s ({} that must be, {} that must not), {} under 3 px",
+            got.len(),
+            must.len(),
+            never.len(),
+            v["small"]
+        );
     }
-    // The bruises show: with and without them, close to an apple with the most.
+    assert!(must_total > 10, "only {must_total} bruises in sight");
+    // The bruises show: with and without them.
     let (with, _, _) = s.screenshot();
     click_on(&s, "#sites");
     let (without, _, _) = s.screenshot();

@@ -260,7 +260,8 @@ struct Page {
     transfer_points: Vec<String>,
     /// The names of a bruise site row's fields, in the order of each row of `sites`.
     site_fields: &'static [&'static str],
-    /// The bruise sites of bruises.csv, one array each ([`SITE_FIELDS`]).
+    /// The bruises of bruises.csv (its sites that are bruised or have a volume), one array each
+    /// ([`SITE_FIELDS`]).
     sites: Vec<serde_json::Value>,
     /// The grading standard and its grades (summary.json `damage`), when the run graded apples.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -1023,9 +1024,11 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
     }
 
     // Bruise sites, grades over time, the audit.
+    // The bruises only: a site hit without bruising (most of a heap's) is drawn as nothing.
     let sites: Vec<serde_json::Value> = site_rows
         .iter()
         .zip(&centre_at)
+        .filter(|(srow, _)| srow.bruised || srow.volume_mm3.is_some_and(|v| v > 0.0))
         .filter_map(|(srow, c)| {
             let i = *index.get(&srow.apple)?;
             let h = first_hit.get(&(srow.apple.as_str(), srow.site))?;
@@ -1330,6 +1333,62 @@ mod tests {
         assert_eq!(f[0], 0);
         assert_eq!(*f.last().unwrap(), 1000);
         assert_eq!(f[5], 500);
+    }
+
+    /// The page names its run by the folder's own name and its notes name files relative to
+    /// the run's or the assets' folder.
+    #[test]
+    fn the_page_names_no_local_path() {
+        assert_eq!(folder_name(Path::new("/home/me/runs/line")), "line");
+        assert_eq!(folder_name(Path::new("runs/line/")), "line");
+        let notes = strip_paths(
+            "surface 'plate' is not drawn: /home/me/runs/line/plate.obj: not found",
+            &["/home/me".into(), "/home/me/runs/line".into()],
+        );
+        assert_eq!(notes, "surface 'plate' is not drawn: plate.obj: not found");
+    }
+
+    /// An apple's grade over time: the best class until its first bruise that breaks a limit,
+    /// then lower as more bruises count from their first hits (a user table: A up to 15 mm
+    /// across, B up to 22 mm, C below); a site that is not a bruise does not count.
+    #[test]
+    fn grades_fall_as_bruises_arise() {
+        let (_, classes, below) = crate::analysis::bruise::grading(
+            &crate::scenario::from_json(
+                r#"{"duration_s": 1, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81], "materials": {},
+                    "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
+                    "grading": {"classes": [{"name": "A", "max_bruise_diameter_mm": 15},
+                                            {"name": "B", "max_bruise_diameter_mm": 22}],
+                                "below": "C"}}"#,
+                "test",
+            )
+            .unwrap(),
+        );
+        let site = |t: f64, d: f64, bruised: bool| SiteRow {
+            apple: "a".into(),
+            site: 0,
+            direction: [0.0, 0.0, 1.0],
+            first_hit_s: t,
+            hits: 1,
+            transfer_points: String::new(),
+            absorbed_energy_j: 0.1,
+            bruised,
+            volume_mm3: Some(100.0),
+            area_mm2: Some(std::f64::consts::PI * d * d / 4.0),
+            depth_mm: Some(1.0),
+            diameter_mm: Some(d),
+        };
+        let sites = [
+            site(2.0, 10.0, true),
+            site(3.0, 20.0, true),
+            site(1.0, 30.0, false),
+            site(4.0, 25.0, true),
+        ];
+        assert_eq!(
+            grade_steps(&classes, &below, &sites, "a"),
+            [(3.0, 1), (4.0, 2)]
+        );
+        assert!(grade_steps(&classes, &below, &sites, "b").is_empty());
     }
 
     #[test]
