@@ -59,7 +59,7 @@ const PICTURES: [Picture; 8] = [
     Picture {
         file: "handling_line_audit.png",
         run: "line",
-        hash: "#t=10&colour=volume&part=apples%20in%20bin",
+        hash: "#t=10&colour=volume&part=apples%20in%20bin&cam=1.3,-0.75,0.55,1.85,0,0.08",
         what:
             "the audit's row 'apples in bin' picked: the bin highlighted, only its contacts marked",
     },

@@ -37,6 +37,20 @@ fn handling_line() -> &'static Path {
     })
 }
 
+/// The shipped handling line's page stays under 1.5 MB with everything issue 27 added (the
+/// contact force per frame, the apples' sides of each contact, the bruises, the audit).
+#[test]
+fn the_handling_lines_page_stays_under_1_5_mb() {
+    let bytes = std::fs::metadata(handling_line().join("view.html"))
+        .unwrap()
+        .len();
+    assert!(
+        bytes < 1_500_000,
+        "the handling line's page is {bytes} bytes"
+    );
+    eprintln!("the handling line's page: {bytes} bytes");
+}
+
 /// The shipped bin filler (a bin lowered as it fills), run with `--view` once.
 fn bin_filler() -> &'static Path {
     static RUN: OnceLock<PathBuf> = OnceLock::new();
