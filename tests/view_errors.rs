@@ -171,6 +171,73 @@ fn truncated_csv_files() {
     assert!(dir.join("view.html").is_file());
 }
 
+/// A bodies.csv cut at a row boundary inside its last sample (whole rows, the last sample at the
+/// run's end time, but only 15 of its 20 apples) is refused naming the file; so is one whose
+/// rows of a sample in the middle went missing. The first look accepted the first and showed
+/// 15 of 20 apples at the end.
+#[test]
+fn a_bodies_csv_cut_at_a_row_boundary() {
+    let dir = tmp("cut_rows");
+    let run = dir.join("run");
+    let o = Command::new(exe())
+        .args(["run", "scenarios/handling_line.json", "-q", "--out"])
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let path = run.join("bodies.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let last_t = lines[lines.len() - 1].split(',').next().unwrap();
+    let in_last = lines
+        .iter()
+        .filter(|l| l.starts_with(&format!("{last_t},")))
+        .count();
+    assert_eq!(in_last, 20);
+    // The last 5 rows cut off: the last sample keeps its time, with 15 apples.
+    let cut = lines[..lines.len() - 5].join("\n") + "\n";
+    std::fs::write(&path, cut).unwrap();
+    let err = view_fails(&run, &dir.join("view.html"));
+    assert!(
+        err.contains(&format!(
+            "{}: the last sample (t = 10 s) has 15 apples where the one before it has 20: the file is truncated",
+            path.display()
+        )),
+        "{err}"
+    );
+    // Rows of a sample in the middle missing.
+    let mid_t = lines[lines.len() / 2]
+        .split(',')
+        .next()
+        .unwrap()
+        .to_string();
+    let kept: Vec<&str> = lines
+        .iter()
+        .enumerate()
+        .filter(|(k, l)| !(l.starts_with(&format!("{mid_t},")) && k % 2 == 0))
+        .map(|(_, l)| *l)
+        .collect();
+    std::fs::write(&path, kept.join("\n") + "\n").unwrap();
+    let err = view_fails(&run, &dir.join("view.html"));
+    assert!(
+        err.contains(&format!(
+            "{}: the sample at t = {mid_t} s has ",
+            path.display()
+        )) && err.contains("rows are missing, the file is damaged"),
+        "{err}"
+    );
+    // Whole, it views, and every apple is in the last sample.
+    std::fs::write(&path, &text).unwrap();
+    let o = Command::new(exe())
+        .arg("view")
+        .arg(&run)
+        .arg("--out")
+        .arg(dir.join("view.html"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 /// A run of a free-turning roller (the bearing spin-down of tests/rollers.rs, item 1a) in
 /// `dir/run`: it writes rollers.csv.
 fn free_roller_run(dir: &Path) -> PathBuf {

@@ -114,13 +114,14 @@ pub fn read_run(dir: &Path) -> Result<RunSample, RunReadError> {
     }
 
     // Plain or gzipped (`output.compress`), through the one opener of run files.
-    let (cp, mut rd) = super::csv_file::reader(&dir.join(APPLE_CONTACTS_CSV)).map_err(|source| {
-        RunReadError::Read {
-            path: super::csv_file::locate(dir, APPLE_CONTACTS_CSV),
-            source,
-            hint: NOT_A_RUN,
-        }
-    })?;
+    let (cp, mut rd) =
+        super::csv_file::reader(&dir.join(APPLE_CONTACTS_CSV)).map_err(|source| {
+            RunReadError::Read {
+                path: super::csv_file::locate(dir, APPLE_CONTACTS_CSV),
+                source,
+                hint: NOT_A_RUN,
+            }
+        })?;
     let csv_err = |source| RunReadError::Csv {
         path: cp.clone(),
         source,

@@ -233,6 +233,11 @@ struct Page {
     speeds_b64: String,
     /// Per frame, per apple, a [`motion`] state, base64.
     states_b64: String,
+    /// Per frame, per apple, the contact force on it |f| (bodies.csv `fx_n`..`fz_n`) as u16
+    /// little-endian over [0, largest], base64: the apple's history plot.
+    forces_b64: String,
+    /// Step of the u16 forces (N).
+    force_step_n: f64,
     /// Where the states come from.
     states_source: &'static str,
     surfaces: Vec<SurfaceInfo>,
@@ -241,13 +246,29 @@ struct Page {
     movers: Vec<MoverInfo>,
     /// The names of [`ContactInfo`]'s fields, in the order of each row of `contacts`.
     contact_fields: &'static [&'static str],
+    /// The names of an apple's side of a contact (`side_a`, `side_b`), in order.
+    side_fields: &'static [&'static str],
     /// One array per contact (rows rather than objects: a tenth of the size for a big run),
-    /// numbers to 6 significant digits.
+    /// numbers to 6 significant digits, times whole.
     contacts: Vec<serde_json::Value>,
     /// Force curves of the contacts over a bruise threshold (from forces.csv when the run kept
     /// force histories): contact row index -> [times (s), forces (N)], at most
     /// [`CURVE_POINTS`] points each, 5 significant digits.
     curves: BTreeMap<usize, [Vec<serde_json::Value>; 2]>,
+    /// The transfer points (contacts.csv `transfer_point`, the audit's rows): contact rows refer
+    /// to them by index.
+    transfer_points: Vec<String>,
+    /// The names of a bruise site row's fields, in the order of each row of `sites`.
+    site_fields: &'static [&'static str],
+    /// The bruises of bruises.csv (its sites that are bruised or have a volume), one array each
+    /// ([`SITE_FIELDS`]).
+    sites: Vec<serde_json::Value>,
+    /// The grading standard and its grades (summary.json `damage`), when the run graded apples.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    damage: Option<DamageInfo>,
+    /// The line audit (audit.csv), when the run wrote it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    audit: Option<AuditInfo>,
     /// The bruise force threshold(s) in use (N), for the legend.
     bruise_force_n: Vec<f64>,
     /// Largest impact peak force of the run (N).
@@ -273,6 +294,48 @@ struct AppleInfo {
     name: String,
     diameter_m: f64,
     mass_kg: f64,
+    /// Its grade at the end, why not the best class, and what first put it below it
+    /// (summary.json), when the run graded it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    grade: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    grade_why: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    downgraded_by: Option<serde_json::Value>,
+    /// Its grade's rank over time: (time, rank) at each change, from rank 0 (the best class):
+    /// the grade of the bruises whose first hit is at or before that time, at their sizes in
+    /// bruises.csv.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    grade_steps: Vec<(f64, usize)>,
+}
+
+impl AppleInfo {
+    fn new(name: &str, diameter_m: f64, mass_kg: f64) -> Self {
+        Self {
+            name: name.to_string(),
+            diameter_m,
+            mass_kg,
+            grade: None,
+            grade_why: None,
+            downgraded_by: None,
+            grade_steps: Vec::new(),
+        }
+    }
+}
+
+/// The grading standard of the run (summary.json `damage`).
+#[derive(Debug, Serialize)]
+struct DamageInfo {
+    standard: String,
+    /// The grades, best first, the one below every class last.
+    grades: Vec<String>,
+}
+
+/// The line audit (audit.csv) as written: its columns and rows.
+#[derive(Debug, Serialize)]
+pub(super) struct AuditInfo {
+    columns: Vec<String>,
+    rows: Vec<Vec<serde_json::Value>>,
 }
 
 #[derive(Debug, Serialize)]
@@ -306,6 +369,9 @@ struct MoverInfo {
     /// Per frame, the body's pose ([`crate::world::motion::Motion::pose`]): translation x y z
     /// (m) then rotation quaternion x y z w, f32 little-endian, base64.
     poses_b64: String,
+    /// The same poses, to carry the contacts' marks.
+    #[serde(skip)]
+    poses: Vec<rapier3d_f64::math::Pose>,
 }
 
 #[derive(Debug, Serialize)]
@@ -317,8 +383,14 @@ struct Belt {
     half_length_m: f64,
 }
 
-/// The order of a contact row's fields in the page.
-const CONTACT_FIELDS: [&str; 12] = [
+/// The order of a contact row's fields in the page: `tp` the transfer point's index in
+/// `transfer_points` (-1: none), `carrier` the moving body that carries its mark (-1: none;
+/// `local_m` is then the point in that body's frame, as its parts' triangles are), `side_a`,
+/// `side_b` the apples' sides from apple_contacts.csv ([`SIDE_FIELDS`], null when none),
+/// `t_impact_s` the time of its impact's peak force (null without an impact): the hit's time,
+/// from which its figures and its bruise count (the contact's `t_peak_s` is that of its largest
+/// force, which a resting load after the impact may set later).
+const CONTACT_FIELDS: [&str; 18] = [
     "a",
     "b_apple",
     "b",
@@ -331,9 +403,49 @@ const CONTACT_FIELDS: [&str; 12] = [
     "point_m",
     "risk_a",
     "risk_b",
+    "tp",
+    "carrier",
+    "local_m",
+    "side_a",
+    "side_b",
+    "t_impact_s",
 ];
 
-/// `x` to 6 significant digits (what the page shows, at a third of the text).
+/// The order of an apple's side of a contact (apple_contacts.csv): the energy it absorbed (J),
+/// its peak acceleration (g), velocity change (m/s), its part of its site's bruise volume (mm^3;
+/// null for an onset model), the site's index (-1: none), 1 when the hit alone bruised it.
+const SIDE_FIELDS: [&str; 6] = [
+    "energy_j",
+    "peak_g",
+    "dv_m_s",
+    "volume_mm3",
+    "site",
+    "bruised",
+];
+
+/// The order of a bruise site row's fields in the page: the apple's index, the site's index on
+/// it, its first hit (s), hits, the transfer points, the energy absorbed there (J), 1 when it is
+/// a bruise, volume (mm^3), area (mm^2), depth and diameter (mm), where it is in the apple's
+/// frame (bruises.csv x y z), and where it is drawn: the world direction from the apple's centre
+/// to its first hit's contact point at that hit's peak (the page draws apples without turning).
+const SITE_FIELDS: [&str; 13] = [
+    "apple",
+    "site",
+    "first_hit_s",
+    "hits",
+    "transfer_points",
+    "energy_j",
+    "bruised",
+    "volume_mm3",
+    "area_mm2",
+    "depth_mm",
+    "diameter_mm",
+    "dir_apple",
+    "dir_world",
+];
+
+/// `x` to 6 significant digits (what the page shows, at a third of the text). Times are kept
+/// whole: a hit counts from its own time, which a frame's time may be within 6 digits of.
 fn sig6(x: f64) -> serde_json::Value {
     let r: f64 = format!("{x:.5e}").parse().unwrap_or(x);
     serde_json::json!(r)
@@ -345,17 +457,35 @@ impl ContactInfo {
             self.a,
             self.b_apple,
             self.b,
-            sig6(self.t_start_s),
-            self.t_end_s.map(sig6),
-            sig6(self.t_peak_s),
+            self.t_start_s,
+            self.t_end_s,
+            self.t_peak_s,
             sig6(self.impact_n),
             sig6(self.peak_force_n),
             sig6(self.max_pressure_pa),
             self.point_m.map(sig6),
             self.risk_a,
             self.risk_b,
+            self.tp,
+            self.carrier,
+            self.local_m.map(|p| p.map(sig6)),
+            self.side_a.as_ref().map(side_row),
+            self.side_b.as_ref().map(side_row),
+            self.t_impact_s,
         ])
     }
+}
+
+/// An apple's side of a contact as a page row ([`SIDE_FIELDS`]).
+fn side_row(h: &HitRow) -> serde_json::Value {
+    serde_json::json!([
+        sig6(h.absorbed_energy_j),
+        sig6(h.peak_g),
+        sig6(h.velocity_change_m_s),
+        h.volume_mm3.map(sig6),
+        h.site.map_or(-1, |s| s as i64),
+        h.bruised as u8,
+    ])
 }
 
 #[derive(Debug)]
@@ -382,6 +512,17 @@ struct ContactInfo {
     /// Over a bruise threshold for apple a / b ("" when not; else which thresholds).
     risk_a: String,
     risk_b: String,
+    /// Index of its transfer point in the page's list (-1: none).
+    tp: i64,
+    /// The moving body carrying its mark (-1: none).
+    carrier: i64,
+    /// The point in the carrier's frame.
+    local_m: Option<[f64; 3]>,
+    /// Apple a's and b's sides (apple_contacts.csv).
+    side_a: Option<HitRow>,
+    side_b: Option<HitRow>,
+    /// Time of the impact's peak force (s), the hit's time; none without an impact.
+    t_impact_s: Option<f64>,
 }
 
 struct Collected {
@@ -399,6 +540,8 @@ struct SummaryIn {
     description: Option<String>,
     #[serde(default)]
     apples: Vec<SummaryApple>,
+    #[serde(default)]
+    damage: Option<SummaryDamage>,
 }
 
 #[derive(serde::Deserialize)]
@@ -407,6 +550,18 @@ struct SummaryApple {
     diameter_m: f64,
     mass_kg: f64,
     final_position_m: [f64; 3],
+    #[serde(default)]
+    grade: Option<String>,
+    #[serde(default)]
+    grade_why: Option<String>,
+    #[serde(default)]
+    downgraded_by: Option<serde_json::Value>,
+}
+
+#[derive(serde::Deserialize)]
+struct SummaryDamage {
+    standard: String,
+    grades: Vec<String>,
 }
 
 /// Pass 1 over bodies.csv: sample times, apples, extents.
@@ -417,7 +572,11 @@ struct BodiesScan {
     lo: Vec3,
     hi: Vec3,
     max_speed: f64,
+    /// Largest contact force on an apple in a sample (N).
+    max_force: f64,
     has_slip: bool,
+    /// The apples of the last sample.
+    last_names: Vec<String>,
 }
 
 struct BodyCols {
@@ -481,6 +640,31 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
             ));
         }
     }
+    // The last sample holds every apple of the run (none is ever removed): one cut short at a
+    // row boundary is refused.
+    if !scan.times.is_empty() && !summary.apples.is_empty() {
+        let have: std::collections::HashSet<&str> =
+            scan.last_names.iter().map(String::as_str).collect();
+        let missing: Vec<&str> = summary
+            .apples
+            .iter()
+            .map(|a| a.name.as_str())
+            .filter(|n| !have.contains(n))
+            .collect();
+        if !missing.is_empty() {
+            return Err(bad(
+                &bodies_path,
+                format!(
+                    "the last sample (t = {} s) has {} of the {} apples of summary.json ({}{} missing): the file is truncated",
+                    scan.times[scan.times.len() - 1],
+                    summary.apples.len() - missing.len(),
+                    summary.apples.len(),
+                    missing[..missing.len().min(3)].join(", "),
+                    if missing.len() > 3 { ", ..." } else { "" }
+                ),
+            ));
+        }
+    }
     let mut apples = scan.apples;
     let mut index = scan.index;
     let sampled = !scan.times.is_empty();
@@ -498,11 +682,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         });
         for a in &summary.apples {
             index.insert(a.name.clone(), apples.len() as u32);
-            apples.push(AppleInfo {
-                name: a.name.clone(),
-                diameter_m: a.diameter_m,
-                mass_kg: a.mass_kg,
-            });
+            apples.push(AppleInfo::new(&a.name, a.diameter_m, a.mass_kg));
             let p = crate::math::vec3(a.final_position_m);
             lo = lo.min(p);
             hi = hi.max(p);
@@ -519,6 +699,47 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         [s.x, s.y, s.z]
     };
     let speed_step = scan.max_speed / 65535.0;
+    let force_step = scan.max_force / 65535.0;
+
+    // What each hit did to each apple (apple_contacts.csv) and the bruise sites (bruises.csv),
+    // when the run assessed its fruit's damage.
+    let hits_path = crate::output::csv_file::locate(run_dir, crate::output::APPLE_CONTACTS_CSV);
+    let hits = if hits_path.is_file() {
+        Some(read_apple_contacts(&hits_path)?)
+    } else {
+        None
+    };
+    let sites_path = crate::output::csv_file::locate(run_dir, crate::output::BRUISES_CSV);
+    let site_rows = match (&hits, sites_path.is_file()) {
+        (Some(_), true) => read_sites(&sites_path)?,
+        _ => Vec::new(),
+    };
+    // A site is drawn in the direction of its first hit's contact point from the apple's
+    // centre at that hit's peak: the centre there is wanted from bodies.csv.
+    let mut first_hit: HashMap<(&str, usize), &HitRow> = HashMap::new();
+    for h in hits.iter().flatten() {
+        if let Some(site) = h.site {
+            let e = first_hit.entry((h.apple.as_str(), site)).or_insert(h);
+            if h.t_peak_s < e.t_peak_s {
+                *e = h;
+            }
+        }
+    }
+    // Per apple: (time, site row) wanted, in time order, and the centres found.
+    let mut wanted: Vec<Vec<(f64, usize)>> = vec![Vec::new(); n];
+    for (k, srow) in site_rows.iter().enumerate() {
+        let (Some(&i), Some(h)) = (
+            index.get(&srow.apple),
+            first_hit.get(&(srow.apple.as_str(), srow.site)),
+        ) else {
+            continue;
+        };
+        wanted[i as usize].push((h.t_peak_s, k));
+    }
+    for w in &mut wanted {
+        w.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    let mut centre_at: Vec<Option<[f64; 3]>> = vec![None; site_rows.len()];
 
     // Motion states from transitions.csv when the run wrote it.
     let transitions_path = crate::output::csv_file::locate(run_dir, "transitions.csv");
@@ -560,11 +781,15 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
     let mut pos = vec![0u16; nf * n * 3];
     let mut spd = vec![0u16; nf * n];
     let mut st = vec![motion::ABSENT; nf * n];
+    let mut frc = vec![0u16; nf * n];
     let times: Vec<f64> = if sampled {
         frames_idx.iter().map(|&s| scan.times[s]).collect()
     } else {
         vec![summary.simulated_time_s]
     };
+    // Per apple: its previous sample (time, centre) and the next wanted centre.
+    let mut prev: Vec<Option<(f64, [f64; 3])>> = vec![None; n];
+    let mut next = vec![0usize; n];
     if sampled {
         let mut r = csv_reader(&bodies_path)?;
         let mut rec = csv::StringRecord::new();
@@ -591,17 +816,36 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
                 )
             };
             let f = *frame_of.get(sample).ok_or_else(changed)?;
-            if f == u32::MAX {
+            let i = *index.get(&rec[cols.apple]).ok_or_else(changed)? as usize;
+            let g = |c: usize, name: &str| num(&bodies_path, line, name, &rec[c]);
+            if f == u32::MAX && next[i] == wanted[i].len() {
                 continue;
             }
-            let i = *index.get(&rec[cols.apple]).ok_or_else(changed)? as usize;
-            let k = f as usize * n + i;
-            let g = |c: usize, name: &str| num(&bodies_path, line, name, &rec[c]);
             let p = [
                 g(cols.p[0], "x_m")?,
                 g(cols.p[1], "y_m")?,
                 g(cols.p[2], "z_m")?,
             ];
+            // Centres wanted at or before this sample: between the apple's two samples around
+            // them, in a straight line (as the page moves it between frames).
+            while let Some(&(tw, k)) = wanted[i].get(next[i]) {
+                if tw > t {
+                    break;
+                }
+                centre_at[k] = Some(match prev[i] {
+                    Some((t0, p0)) if t > t0 => {
+                        let a = ((tw - t0) / (t - t0)).clamp(0.0, 1.0);
+                        [0, 1, 2].map(|j| p0[j] + a * (p[j] - p0[j]))
+                    }
+                    _ => p,
+                });
+                next[i] += 1;
+            }
+            prev[i] = Some((t, p));
+            if f == u32::MAX {
+                continue;
+            }
+            let k = f as usize * n + i;
             for a in 0..3 {
                 pos[3 * k + a] = q16(p[a], lo[a], step[a]);
             }
@@ -616,6 +860,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
                 g(cols.f[1], "fy_n")?,
                 g(cols.f[2], "fz_n")?,
             );
+            frc[k] = q16(force.length(), 0.0, force_step);
             let slip = opt_num(&bodies_path, line, "slip_m_s", &rec[cols.slip])?;
             st[k] = if let Some(track) = tracks.as_ref().map(|tr| tr.get(&(i as u32))) {
                 match track {
@@ -663,38 +908,40 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         le.extend_from_slice(&x.to_le_bytes());
     }
     let speeds_b64 = b64(&le);
+    le.clear();
+    for x in &frc {
+        le.extend_from_slice(&x.to_le_bytes());
+    }
+    let forces_b64 = b64(&le);
     let states_b64 = b64(&st);
+    // Centres wanted after the last sample: the last one.
+    for (i, w) in wanted.iter().enumerate() {
+        for &(_, k) in w {
+            if centre_at[k].is_none() {
+                centre_at[k] = prev.get(i).copied().flatten().map(|x| x.1);
+            }
+        }
+    }
 
-    // Contacts, with their bruise verdicts.
-    let bruise_path = crate::output::csv_file::locate(run_dir, crate::output::APPLE_CONTACTS_CSV);
-    let risks = if bruise_path.is_file() {
-        Some(read_bruise(&bruise_path)?)
-    } else {
-        None
-    };
+    // Contacts, with what they did to each apple.
     // The paper's firm-variety force threshold: the mark of a run folder without
     // apple_contacts.csv, and the force bar's reference tick.
     let default_threshold = PAPER_FIRM_FORCE_N;
-    let mut thresholds: Vec<f64> = match &risks {
-        Some(r) => r.1.clone(),
-        None => {
-            notes.push(format!(
-                "no apple_contacts.csv: contacts are marked as bruising by their impact peak force over {default_threshold} N only"
-            ));
-            vec![default_threshold]
-        }
-    };
-    thresholds.sort_by(f64::total_cmp);
-    thresholds.dedup();
-    if thresholds.is_empty() {
-        thresholds.push(default_threshold);
+    if hits.is_none() {
+        notes.push(format!(
+            "no apple_contacts.csv (a run of applesim from before the damage model): contacts are marked as bruising by their impact peak force over {default_threshold} N only, and the apples have no bruise volume, grade, absorbed energy, peak g or velocity change"
+        ));
+    } else if !sites_path.is_file() {
+        notes.push("no bruises.csv: the bruise sites are not drawn".into());
     }
-    let contacts = read_contacts(
-        &contacts_path,
-        &index,
-        risks.as_ref().map(|r| &r.0),
-        default_threshold,
-    )?;
+    let thresholds = vec![default_threshold];
+    let sides: Option<HashMap<(usize, String), HitRow>> = hits.as_ref().map(|hs| {
+        hs.iter()
+            .map(|h| ((h.contact, h.apple.clone()), h.clone()))
+            .collect()
+    });
+    let (mut contacts, transfer_points) =
+        read_contacts(&contacts_path, &index, sides.as_ref(), default_threshold)?;
     let max_peak = contacts.iter().map(|c| c.impact_n).fold(0.0, f64::max);
     let forces_path = crate::output::csv_file::locate(run_dir, "forces.csv");
     let mut curves = BTreeMap::new();
@@ -753,26 +1000,88 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         true => Some(read_rollers(&rollers_path, &times, &sc)?),
         false => None,
     };
+    let rmax = apples
+        .iter()
+        .map(|a| a.diameter_m / 2.0)
+        .fold(0.0, f64::max);
     let (surfaces, movers, bounded_lo, bounded_hi) = surfaces_of(
         &sc,
         &base,
         lo,
         hi,
         n > 0,
+        rmax,
         &times,
         spins.as_ref(),
         &mut notes,
     );
+    carry_marks(&mut contacts, &transfer_points, &surfaces, &movers, &times);
     let mut scene_lo = lo;
     let mut scene_hi = hi;
     if n > 0 {
-        let rmax = apples
-            .iter()
-            .map(|a| a.diameter_m / 2.0)
-            .fold(0.0, f64::max);
         scene_lo -= Vec3::splat(rmax);
         scene_hi += Vec3::splat(rmax);
     }
+
+    // Bruise sites, grades over time, the audit.
+    // The bruises only: a site hit without bruising (most of a heap's) is drawn as nothing.
+    let sites: Vec<serde_json::Value> = site_rows
+        .iter()
+        .zip(&centre_at)
+        .filter(|(srow, _)| srow.bruised || srow.volume_mm3.is_some_and(|v| v > 0.0))
+        .filter_map(|(srow, c)| {
+            let i = *index.get(&srow.apple)?;
+            let h = first_hit.get(&(srow.apple.as_str(), srow.site))?;
+            let c = crate::math::vec3((*c)?);
+            let d = (crate::math::vec3(h.point_m) - c).normalize_or_zero();
+            let dir_world = [d.x, d.y, d.z].map(sig6);
+            let dir_apple = srow.direction.map(sig6);
+            Some(serde_json::json!([
+                i,
+                srow.site,
+                srow.first_hit_s,
+                srow.hits,
+                srow.transfer_points,
+                sig6(srow.absorbed_energy_j),
+                srow.bruised as u8,
+                srow.volume_mm3.map(sig6),
+                srow.area_mm2.map(sig6),
+                srow.depth_mm.map(sig6),
+                srow.diameter_mm.map(sig6),
+                dir_apple,
+                dir_world,
+            ]))
+        })
+        .collect();
+    let damage = summary.damage.as_ref().map(|d| DamageInfo {
+        standard: d.standard.clone(),
+        grades: d.grades.clone(),
+    });
+    if damage.is_some() {
+        let (_, classes, below) = crate::analysis::bruise::grading(&sc);
+        let by_name: HashMap<&str, &SummaryApple> = summary
+            .apples
+            .iter()
+            .map(|a| (a.name.as_str(), a))
+            .collect();
+        for a in apples.iter_mut() {
+            let Some(sa) = by_name.get(a.name.as_str()) else {
+                continue;
+            };
+            a.grade = sa.grade.clone();
+            a.grade_why = sa.grade_why.clone();
+            a.downgraded_by = sa.downgraded_by.clone();
+            if a.grade.is_some() {
+                a.grade_steps = grade_steps(&classes, &below, &site_rows, &a.name);
+            }
+        }
+    }
+    let audit_path = crate::output::csv_file::locate(run_dir, "audit.csv");
+    let audit = if audit_path.is_file() {
+        Some(read_audit_table(&audit_path)?)
+    } else {
+        None
+    };
     if let (Some(a), Some(b)) = (bounded_lo, bounded_hi) {
         if n > 0 {
             scene_lo = scene_lo.min(a);
@@ -802,14 +1111,29 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         position_step_m: step,
         notes: notes.clone(),
     };
+    // The page travels: it names the run by its folder's own name, and its notes name files
+    // relative to the run's or the assets' folder, never by where they lie on this machine.
+    let label = opts
+        .label
+        .as_ref()
+        .map(PathBuf::from)
+        .unwrap_or_else(|| run_dir.to_path_buf());
+    let mut prefixes: Vec<String> = Vec::new();
+    for d in [run_dir, base.as_path(), label.as_path()] {
+        prefixes.push(d.display().to_string());
+        if let Ok(c) = d.canonicalize() {
+            prefixes.push(c.display().to_string());
+        }
+    }
+    if let Ok(c) = std::env::current_dir() {
+        prefixes.push(c.display().to_string());
+    }
+    let notes = notes.iter().map(|x| strip_paths(x, &prefixes)).collect();
     let page = Page {
-        format: 1,
+        format: 2,
         applesim_version: env!("CARGO_PKG_VERSION"),
         run: RunInfo {
-            folder: opts
-                .label
-                .clone()
-                .unwrap_or_else(|| run_dir.display().to_string()),
+            folder: folder_name(&label),
             description: summary.description,
             simulated_time_s: summary.simulated_time_s,
             steps: summary.steps,
@@ -824,12 +1148,20 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         positions_b64,
         speeds_b64,
         states_b64,
+        forces_b64,
+        force_step_n: force_step,
         states_source,
         surfaces,
         movers,
         contact_fields: &CONTACT_FIELDS,
+        side_fields: &SIDE_FIELDS,
         contacts: contacts.iter().map(ContactInfo::row).collect(),
         curves,
+        transfer_points,
+        site_fields: &SITE_FIELDS,
+        sites,
+        damage,
+        audit,
         bruise_force_n: thresholds,
         max_peak_force_n: max_peak,
         scene_lo_m: [scene_lo.x, scene_lo.y, scene_lo.z],
@@ -851,9 +1183,134 @@ fn fmt_mm(m: f64) -> String {
 /// The paper's bruise threshold for firm varieties (N; the `paper-firm` damage preset).
 const PAPER_FIRM_FORCE_N: f64 = 80.0;
 
-/// apple_contacts.csv: (contact index, apple) -> what the contact did ("" when nothing), and the
-/// force thresholds in use (none: the damage models are not force thresholds).
-type Risks = (BTreeMap<(usize, String), String>, Vec<f64>);
+/// The name a page gives its run: the folder's own name (its last component; `.` and `..`
+/// resolved), never the path that leads to it on this machine.
+fn folder_name(p: &Path) -> String {
+    let name = |q: &Path| {
+        q.file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .filter(|n| !n.is_empty())
+    };
+    name(p)
+        .or_else(|| p.canonicalize().ok().as_deref().and_then(name))
+        .unwrap_or_else(|| "run".into())
+}
+
+/// `s` with every path under one of `prefixes` (folders) made relative to it: a note naming
+/// `/home/me/runs/x/mesh.obj` names `mesh.obj`.
+fn strip_paths(s: &str, prefixes: &[String]) -> String {
+    let mut out = s.to_string();
+    let mut sorted: Vec<&String> = prefixes.iter().filter(|p| p.len() > 1).collect();
+    // The longest first: a folder inside another is stripped whole.
+    sorted.sort_by_key(|p| std::cmp::Reverse(p.len()));
+    for p in sorted {
+        let with_sep = format!("{}{}", p.trim_end_matches('/'), std::path::MAIN_SEPARATOR);
+        out = out.replace(&with_sep, "");
+    }
+    out
+}
+
+/// The grade of an apple over time (`name`'s bruised sites of `sites`, counted from their first
+/// hit at their sizes in bruises.csv, graded by `classes`): (time, rank) at each change of rank,
+/// the best class (0) before the first. The last is the grade of all its bruises, summary.json's.
+fn grade_steps(
+    classes: &[crate::scenario::damage::GradeClass],
+    below: &str,
+    sites: &[SiteRow],
+    name: &str,
+) -> Vec<(f64, usize)> {
+    use crate::analysis::damage::grade::{grade, BruiseSize};
+    let mut mine: Vec<&SiteRow> = sites
+        .iter()
+        .filter(|s| s.apple == name && s.bruised)
+        .collect();
+    mine.sort_by(|a, b| a.first_hit_s.total_cmp(&b.first_hit_s));
+    let mut steps = Vec::new();
+    let mut rank = 0;
+    let mut so_far: Vec<BruiseSize> = Vec::new();
+    for s in mine {
+        so_far.push(BruiseSize {
+            volume_mm3: s.volume_mm3,
+            diameter_mm: s.diameter_mm,
+            depth_mm: s.depth_mm,
+            area_mm2: s.area_mm2,
+        });
+        let g = grade(classes, below, &so_far);
+        if g.rank != rank {
+            rank = g.rank;
+            steps.push((s.first_hit_s, rank));
+        }
+    }
+    steps
+}
+
+/// Where each contact's mark is drawn: a contact with a moving part (its surface, or for two
+/// apples the part its transfer point names: `apples in BIN`, `apples on PART`) is carried by
+/// that part's body, its point kept in the body's frame (`local_m`) as the body was posed at the
+/// contact's peak by the page's own interpolation between frames; so the mark sits where the
+/// contact was on the part at every frame.
+fn carry_marks(
+    contacts: &mut [ContactInfo],
+    transfer_points: &[String],
+    surfaces: &[SurfaceInfo],
+    movers: &[MoverInfo],
+    times: &[f64],
+) {
+    if movers.is_empty() || times.is_empty() {
+        return;
+    }
+    let mover_of_part = |part: &str| -> Option<usize> {
+        surfaces
+            .iter()
+            .find(|s| s.name == part || s.name.starts_with(&format!("{part}/")))
+            .and_then(|s| s.mover)
+    };
+    for c in contacts.iter_mut() {
+        let part = if c.b_apple < 0 {
+            Some(c.b.as_str())
+        } else {
+            usize::try_from(c.tp)
+                .ok()
+                .and_then(|k| transfer_points.get(k))
+                .and_then(|tp| {
+                    tp.strip_prefix("apples in ")
+                        .or_else(|| tp.strip_prefix("apples on "))
+                })
+        };
+        let Some(m) = part.and_then(mover_of_part) else {
+            continue;
+        };
+        let pose = pose_between_frames(&movers[m].poses, times, c.t_peak_s);
+        // The page draws the body's parts at (rest - origin), moved by the pose: the point in
+        // those coordinates.
+        let local = pose.inverse_transform_point(crate::math::vec3(c.point_m));
+        c.carrier = m as i64;
+        c.local_m = Some([local.x, local.y, local.z]);
+    }
+}
+
+/// A body's pose at time `t` as the page draws it from its poses at the frames' `times`: the
+/// translation in a straight line and the rotation by the shorter way round between the two
+/// frames around `t` (held before the first and after the last).
+fn pose_between_frames(
+    poses: &[rapier3d_f64::math::Pose],
+    times: &[f64],
+    t: f64,
+) -> rapier3d_f64::math::Pose {
+    let f = times.partition_point(|&x| x <= t).saturating_sub(1);
+    let f1 = (f + 1).min(times.len() - 1);
+    let span = times[f1] - times[f];
+    let a = if span > 0.0 {
+        ((t - times[f]) / span).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (p, q) = (poses[f], poses[f1]);
+    rapier3d_f64::math::Pose::from_parts(
+        p.translation + (q.translation - p.translation) * a,
+        p.rotation.slerp(q.rotation, a),
+    )
+}
 
 #[cfg(test)]
 mod tests {
@@ -876,6 +1333,62 @@ mod tests {
         assert_eq!(f[0], 0);
         assert_eq!(*f.last().unwrap(), 1000);
         assert_eq!(f[5], 500);
+    }
+
+    /// The page names its run by the folder's own name and its notes name files relative to
+    /// the run's or the assets' folder.
+    #[test]
+    fn the_page_names_no_local_path() {
+        assert_eq!(folder_name(Path::new("/home/me/runs/line")), "line");
+        assert_eq!(folder_name(Path::new("runs/line/")), "line");
+        let notes = strip_paths(
+            "surface 'plate' is not drawn: /home/me/runs/line/plate.obj: not found",
+            &["/home/me".into(), "/home/me/runs/line".into()],
+        );
+        assert_eq!(notes, "surface 'plate' is not drawn: plate.obj: not found");
+    }
+
+    /// An apple's grade over time: the best class until its first bruise that breaks a limit,
+    /// then lower as more bruises count from their first hits (a user table: A up to 15 mm
+    /// across, B up to 22 mm, C below); a site that is not a bruise does not count.
+    #[test]
+    fn grades_fall_as_bruises_arise() {
+        let (_, classes, below) = crate::analysis::bruise::grading(
+            &crate::scenario::from_json(
+                r#"{"duration_s": 1, "time_step_s": 1e-4, "gravity_m_s2": [0, 0, -9.81], "materials": {},
+                    "contact": {"friction": 0.3, "ke": 0.09, "lambda_s_m": 1000},
+                    "grading": {"classes": [{"name": "A", "max_bruise_diameter_mm": 15},
+                                            {"name": "B", "max_bruise_diameter_mm": 22}],
+                                "below": "C"}}"#,
+                "test",
+            )
+            .unwrap(),
+        );
+        let site = |t: f64, d: f64, bruised: bool| SiteRow {
+            apple: "a".into(),
+            site: 0,
+            direction: [0.0, 0.0, 1.0],
+            first_hit_s: t,
+            hits: 1,
+            transfer_points: String::new(),
+            absorbed_energy_j: 0.1,
+            bruised,
+            volume_mm3: Some(100.0),
+            area_mm2: Some(std::f64::consts::PI * d * d / 4.0),
+            depth_mm: Some(1.0),
+            diameter_mm: Some(d),
+        };
+        let sites = [
+            site(2.0, 10.0, true),
+            site(3.0, 20.0, true),
+            site(1.0, 30.0, false),
+            site(4.0, 25.0, true),
+        ];
+        assert_eq!(
+            grade_steps(&classes, &below, &sites, "a"),
+            [(3.0, 1), (4.0, 2)]
+        );
+        assert!(grade_steps(&classes, &below, &sites, "b").is_empty());
     }
 
     #[test]

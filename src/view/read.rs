@@ -127,8 +127,13 @@ pub(super) fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewErr
         lo: Vec3::splat(f64::INFINITY),
         hi: Vec3::splat(f64::NEG_INFINITY),
         max_speed: 0.0,
+        max_force: 0.0,
         has_slip: false,
+        last_names: Vec::new(),
     };
+    // Apples in the sample being read: the run never removes an apple, so a sample with fewer
+    // than the one before it is a file that lost rows.
+    let (mut in_sample, mut before) = (0usize, 0usize);
     let mut rec = csv::StringRecord::new();
     loop {
         match r.read_record(&mut rec) {
@@ -146,9 +151,26 @@ pub(super) fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewErr
                     format!("line {line}: time_s = {t} goes back from {last}: not in time order"),
                 ))
             }
-            _ => s.times.push(t),
+            last => {
+                if let Some(&last) = last {
+                    if in_sample < before {
+                        return Err(bad(
+                            path,
+                            format!(
+                                "the sample at t = {last} s has {in_sample} apples where the one before it has {before}: rows are missing, the file is damaged"
+                            ),
+                        ));
+                    }
+                }
+                before = in_sample;
+                in_sample = 0;
+                s.last_names.clear();
+                s.times.push(t)
+            }
         }
+        in_sample += 1;
         let name = &rec[cols.apple];
+        s.last_names.push(name.to_string());
         let p = Vec3::new(
             num(path, line, "x_m", &rec[cols.p[0]])?,
             num(path, line, "y_m", &rec[cols.p[1]])?,
@@ -159,9 +181,12 @@ pub(super) fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewErr
             num(path, line, "vy_m_s", &rec[cols.v[1]])?,
             num(path, line, "vz_m_s", &rec[cols.v[2]])?,
         );
-        for k in 0..3 {
-            num(path, line, "f", &rec[cols.f[k]])?;
-        }
+        let f = Vec3::new(
+            num(path, line, "fx_n", &rec[cols.f[0]])?,
+            num(path, line, "fy_n", &rec[cols.f[1]])?,
+            num(path, line, "fz_n", &rec[cols.f[2]])?,
+        );
+        s.max_force = s.max_force.max(f.length());
         if !rec[cols.slip].trim().is_empty() {
             num(path, line, "slip_m_s", &rec[cols.slip])?;
             s.has_slip = true;
@@ -170,15 +195,20 @@ pub(super) fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewErr
         let m = num(path, line, "mass_kg", &rec[cols.m])?;
         if !s.index.contains_key(name) {
             s.index.insert(name.to_string(), s.apples.len() as u32);
-            s.apples.push(AppleInfo {
-                name: name.to_string(),
-                diameter_m: d,
-                mass_kg: m,
-            });
+            s.apples.push(AppleInfo::new(name, d, m));
         }
         s.lo = s.lo.min(p);
         s.hi = s.hi.max(p);
         s.max_speed = s.max_speed.max(v.length());
+    }
+    if in_sample < before {
+        return Err(bad(
+            path,
+            format!(
+                "the last sample (t = {} s) has {in_sample} apples where the one before it has {before}: the file is truncated",
+                s.times.last().copied().unwrap_or(0.0)
+            ),
+        ));
     }
     Ok((s, cols))
 }
@@ -331,25 +361,70 @@ pub(super) fn read_curves(
         .collect())
 }
 
-/// `apple_contacts.csv`: (contact index, apple) -> what the contact did ("bruise" when the hit
-/// bruised the apple by its damage model, else the static thresholds it exceeded, "" when
-/// none).
-pub(super) fn read_bruise(path: &Path) -> Result<Risks, ViewError> {
+/// One row of `apple_contacts.csv`: one apple's side of a contact and what it did to the apple
+/// (docs/damage.md section 7).
+#[derive(Debug, Clone)]
+pub(super) struct HitRow {
+    /// The contact's index in contacts.csv.
+    pub contact: usize,
+    /// The apple.
+    pub apple: String,
+    /// Time of the peak force (s).
+    pub t_peak_s: f64,
+    /// Contact point at the peak force (m, world).
+    pub point_m: [f64; 3],
+    /// Energy the apple absorbed (J).
+    pub absorbed_energy_j: f64,
+    /// Velocity change of the apple over the impact (m/s).
+    pub velocity_change_m_s: f64,
+    /// Peak acceleration of the apple (g).
+    pub peak_g: f64,
+    /// This hit alone bruised the apple by its model.
+    pub bruised: bool,
+    /// The bruise site it landed in.
+    pub site: Option<usize>,
+    /// Its part of its site's bruise volume (mm^3; none for an onset model).
+    pub volume_mm3: Option<f64>,
+    /// Static thresholds exceeded ("" when none).
+    pub exceeded: String,
+}
+
+impl HitRow {
+    /// What the contact did to the apple for the marks: "bruise" when the hit alone bruised it,
+    /// else the static thresholds it exceeded, "" when none.
+    pub fn risk(&self) -> String {
+        if self.bruised {
+            "bruise".into()
+        } else {
+            self.exceeded.clone()
+        }
+    }
+}
+
+/// `apple_contacts.csv`: every apple's side of every contact (fruit only).
+pub(super) fn read_apple_contacts(path: &Path) -> Result<Vec<HitRow>, ViewError> {
     let (mut r, h) = open_csv(path)?;
-    let (cc, ca, cb, ce) = (
-        column(path, &h, "contact")?,
-        column(path, &h, "apple")?,
-        column(path, &h, "bruised")?,
-        column(path, &h, "exceeded")?,
+    let c = |n: &str| column(path, &h, n);
+    let (cc, ca, ct, cp, ce, cv, cg, cb, cs, cvol, cx) = (
+        c("contact")?,
+        c("apple")?,
+        c("t_peak_s")?,
+        c("contact_point_m")?,
+        c("absorbed_energy_j")?,
+        c("velocity_change_m_s")?,
+        c("peak_g")?,
+        c("bruised")?,
+        c("site")?,
+        c("volume_mm3")?,
+        c("exceeded")?,
     );
-    let mut map = BTreeMap::new();
+    let mut out = Vec::new();
     for rec in r.records() {
         let rec = rec.map_err(|e| csv_err(path, e))?;
         let line = rec.position().map_or(0, |p| p.line());
-        let k = contact_index(path, line, &rec[cc])?;
-        let risk = match &rec[cb] {
-            "true" => "bruise".to_string(),
-            "false" => rec[ce].to_string(),
+        let bruised = match &rec[cb] {
+            "true" => true,
+            "false" => false,
             other => {
                 return Err(bad(
                     path,
@@ -357,21 +432,167 @@ pub(super) fn read_bruise(path: &Path) -> Result<Risks, ViewError> {
                 ))
             }
         };
-        map.insert((k, rec[ca].to_string()), risk);
+        let site = match rec[cs].trim() {
+            "" => None,
+            s => Some(
+                contact_index(path, line, s)
+                    .map_err(|_| bad(path, format!("line {line}: site = '{s}' is not an index")))?,
+            ),
+        };
+        out.push(HitRow {
+            contact: contact_index(path, line, &rec[cc])?,
+            apple: rec[ca].to_string(),
+            t_peak_s: num(path, line, "t_peak_s", &rec[ct])?,
+            point_m: point(path, line, "contact_point_m", &rec[cp])?,
+            absorbed_energy_j: num(path, line, "absorbed_energy_j", &rec[ce])?,
+            velocity_change_m_s: num(path, line, "velocity_change_m_s", &rec[cv])?,
+            peak_g: num(path, line, "peak_g", &rec[cg])?,
+            bruised,
+            site,
+            volume_mm3: opt_num(path, line, "volume_mm3", &rec[cvol])?,
+            exceeded: rec[cx].to_string(),
+        });
     }
-    Ok((map, Vec::new()))
+    Ok(out)
 }
 
+/// One row of `bruises.csv`: a bruise site of an apple (docs/damage.md section 4).
+#[derive(Debug, Clone)]
+pub(super) struct SiteRow {
+    /// The apple.
+    pub apple: String,
+    /// The site's index on the apple.
+    pub site: usize,
+    /// Where, in the apple's own frame (unit vector from its centre).
+    pub direction: [f64; 3],
+    /// First hit (s).
+    pub first_hit_s: f64,
+    /// Hits there.
+    pub hits: usize,
+    /// The transfer points of its hits, joined by "; ".
+    pub transfer_points: String,
+    /// Energy the apple absorbed there (J).
+    pub absorbed_energy_j: f64,
+    /// Whether it is a bruise.
+    pub bruised: bool,
+    /// Volume (mm^3).
+    pub volume_mm3: Option<f64>,
+    /// Surface area (mm^2).
+    pub area_mm2: Option<f64>,
+    /// Depth (mm).
+    pub depth_mm: Option<f64>,
+    /// Surface diameter (mm).
+    pub diameter_mm: Option<f64>,
+}
+
+/// `bruises.csv`: the bruise sites of every apple.
+pub(super) fn read_sites(path: &Path) -> Result<Vec<SiteRow>, ViewError> {
+    let (mut r, h) = open_csv(path)?;
+    let c = |n: &str| column(path, &h, n);
+    let (ca, cs, cx, cy, cz, cf, ch, ct, ce, cb) = (
+        c("apple")?,
+        c("site")?,
+        c("x")?,
+        c("y")?,
+        c("z")?,
+        c("first_hit_s")?,
+        c("hits")?,
+        c("transfer_points")?,
+        c("absorbed_energy_j")?,
+        c("bruised")?,
+    );
+    let (cv, car, cd, cdi) = (
+        c("volume_mm3")?,
+        c("area_mm2")?,
+        c("depth_mm")?,
+        c("diameter_mm")?,
+    );
+    let mut out = Vec::new();
+    for rec in r.records() {
+        let rec = rec.map_err(|e| csv_err(path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let index = |col: &str, s: &str| -> Result<usize, ViewError> {
+            s.trim()
+                .parse()
+                .map_err(|_| bad(path, format!("line {line}: {col} = '{s}' is not a count")))
+        };
+        let bruised = match &rec[cb] {
+            "true" => true,
+            "false" => false,
+            other => {
+                return Err(bad(
+                    path,
+                    format!("line {line}: bruised = '{other}' is not true or false"),
+                ))
+            }
+        };
+        out.push(SiteRow {
+            apple: rec[ca].to_string(),
+            site: index("site", &rec[cs])?,
+            direction: [
+                num(path, line, "x", &rec[cx])?,
+                num(path, line, "y", &rec[cy])?,
+                num(path, line, "z", &rec[cz])?,
+            ],
+            first_hit_s: num(path, line, "first_hit_s", &rec[cf])?,
+            hits: index("hits", &rec[ch])?,
+            transfer_points: rec[ct].to_string(),
+            absorbed_energy_j: num(path, line, "absorbed_energy_j", &rec[ce])?,
+            bruised,
+            volume_mm3: opt_num(path, line, "volume_mm3", &rec[cv])?,
+            area_mm2: opt_num(path, line, "area_mm2", &rec[car])?,
+            depth_mm: opt_num(path, line, "depth_mm", &rec[cd])?,
+            diameter_mm: opt_num(path, line, "diameter_mm", &rec[cdi])?,
+        });
+    }
+    Ok(out)
+}
+
+/// `audit.csv` as the page shows it: its columns as written, the first (the transfer point) as
+/// text, the others as numbers to 6 significant digits (an empty cell: null).
+pub(super) fn read_audit_table(path: &Path) -> Result<AuditInfo, ViewError> {
+    let (mut r, h) = open_csv(path)?;
+    if h.get(0) != Some("transfer_point") {
+        return Err(bad(
+            path,
+            "its first column is not transfer_point: not an audit.csv of an applesim run",
+        ));
+    }
+    let mut rows = Vec::new();
+    for rec in r.records() {
+        let rec = rec.map_err(|e| csv_err(path, e))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let mut row = vec![serde_json::json!(rec[0].to_string())];
+        for (k, cell) in rec.iter().enumerate().skip(1) {
+            row.push(match opt_num(path, line, &h[k], cell)? {
+                Some(x) => sig6(x),
+                None => serde_json::Value::Null,
+            });
+        }
+        rows.push(row);
+    }
+    Ok(AuditInfo {
+        columns: h.iter().map(String::from).collect(),
+        rows,
+    })
+}
+
+/// contacts.csv: one [`ContactInfo`] per row, with each apple's side from apple_contacts.csv
+/// (`sides`, by (contact, apple); without it a contact over `default_threshold` N of impact
+/// peak force marks), and the transfer points they name (contacts.csv `transfer_point`; none in
+/// a run from before it was written).
 pub(super) fn read_contacts(
     path: &Path,
     index: &HashMap<String, u32>,
-    risks: Option<&BTreeMap<(usize, String), String>>,
+    sides: Option<&HashMap<(usize, String), HitRow>>,
     default_threshold: f64,
-) -> Result<Vec<ContactInfo>, ViewError> {
+) -> Result<(Vec<ContactInfo>, Vec<String>), ViewError> {
     let (mut r, h) = open_csv(path)?;
     let c = |n: &str| column(path, &h, n);
     let cid = c("impact_duration_s")?;
-    let (ca, cb, cs, ce, cp, ctp, cpr, cpt, ci) = (
+    let ctp = h.iter().position(|x| x == "transfer_point");
+    let cit = h.iter().position(|x| x == "impact_t_peak_s");
+    let (ca, cb, cs, ce, cp, ctpk, cpr, cpt, ci) = (
         c("a")?,
         c("b")?,
         c("t_start_s")?,
@@ -383,6 +604,8 @@ pub(super) fn read_contacts(
         c("impact_peak_force_n")?,
     );
     let mut out = Vec::new();
+    let mut points: Vec<String> = Vec::new();
+    let mut point_index: HashMap<String, i64> = HashMap::new();
     for (k, rec) in r.records().enumerate() {
         let rec = rec.map_err(|e| csv_err(path, e))?;
         let line = rec.position().map_or(0, |p| p.line());
@@ -397,12 +620,23 @@ pub(super) fn read_contacts(
         };
         let b_apple = index.get(&rec[cb]).map_or(-1, |&i| i as i64);
         let impact = opt_num(path, line, "impact_peak_force_n", &rec[ci])?.unwrap_or(0.0);
+        let side = |who: &str| sides.and_then(|m| m.get(&(k, who.to_string())).cloned());
         let risk = |who: &str| -> String {
-            match risks {
-                Some(m) => m.get(&(k, who.to_string())).cloned().unwrap_or_default(),
+            match sides {
+                Some(m) => m
+                    .get(&(k, who.to_string()))
+                    .map(HitRow::risk)
+                    .unwrap_or_default(),
                 None if impact > default_threshold => "force".into(),
                 None => String::new(),
             }
+        };
+        let tp = match ctp.map(|c| rec[c].trim()) {
+            Some(t) if !t.is_empty() => *point_index.entry(t.to_string()).or_insert_with(|| {
+                points.push(t.to_string());
+                points.len() as i64 - 1
+            }),
+            _ => -1,
         };
         out.push(ContactInfo {
             a,
@@ -410,7 +644,7 @@ pub(super) fn read_contacts(
             b: rec[cb].to_string(),
             t_start_s: num(path, line, "t_start_s", &rec[cs])?,
             t_end_s: opt_num(path, line, "t_end_s", &rec[ce])?,
-            t_peak_s: num(path, line, "t_peak_s", &rec[ctp])?,
+            t_peak_s: num(path, line, "t_peak_s", &rec[ctpk])?,
             impact_n: impact,
             impact_duration_s: opt_num(path, line, "impact_duration_s", &rec[cid])?,
             peak_force_n: num(path, line, "peak_force_n", &rec[cp])?,
@@ -422,9 +656,18 @@ pub(super) fn read_contacts(
             } else {
                 String::new()
             },
+            tp,
+            carrier: -1,
+            local_m: None,
+            side_a: side(&rec[ca]),
+            side_b: if b_apple >= 0 { side(&rec[cb]) } else { None },
+            t_impact_s: match cit {
+                Some(c) => opt_num(path, line, "impact_t_peak_s", &rec[c])?,
+                None => None,
+            },
         });
     }
-    Ok(out)
+    Ok((out, points))
 }
 
 /// A `contact` column's value: the contact's index in contacts.csv.

@@ -54,6 +54,9 @@ type Carried = (String, Vec<Pose>, Vec<Pose>, Vec3);
 /// the frames. A surface that cannot be rebuilt (a mesh file not found from `base`) is left out
 /// with a note.
 /// `spins` holds the free-turning rollers' recorded angles at the frames, if the run wrote them.
+/// `lo`, `hi` bound the apples' centres, `apple_radius_m` is the largest apple's radius: a plane
+/// is cut to reach at least three of it beyond the apples (a lone apple stands on a plate of
+/// four diameters, not on a patch its own size).
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 pub(super) fn surfaces_of(
     sc: &Scenario,
@@ -61,6 +64,7 @@ pub(super) fn surfaces_of(
     lo: Vec3,
     hi: Vec3,
     have_apples: bool,
+    apple_radius_m: f64,
     times: &[f64],
     spins: Option<&RollerAngles>,
     notes: &mut Vec<String>,
@@ -263,15 +267,20 @@ pub(super) fn surfaces_of(
             }
         }
     }
+    let (alo, ahi) = (
+        lo - Vec3::splat(apple_radius_m),
+        hi + Vec3::splat(apple_radius_m),
+    );
     let (clo, chi) = match (have_apples, blo, bhi) {
-        (true, Some(a), Some(b)) => (lo.min(a), hi.max(b)),
-        (true, _, _) => (lo, hi),
+        (true, Some(a), Some(b)) => (alo.min(a), ahi.max(b)),
+        (true, _, _) => (alo, ahi),
         (false, Some(a), Some(b)) => (a, b),
         (false, _, _) => (Vec3::splat(-0.5), Vec3::splat(0.5)),
     };
-    // A plane is cut to the scene: the rectangle its box (padded by a tenth) covers when
-    // projected onto it (tessellate() draws a square twice the box's diagonal, for ParaView).
-    let pad = (chi - clo) * 0.1 + Vec3::splat(0.02);
+    // A plane is cut to the scene: the rectangle its box (padded by a tenth, and by at least
+    // three apple radii or 2 cm) covers when projected onto it (tessellate() draws a square
+    // twice the box's diagonal, for ParaView).
+    let pad = (chi - clo) * 0.1 + Vec3::splat((3.0 * apple_radius_m).max(0.02));
     let (clo, chi) = (clo - pad, chi + pad);
     let (meshes, warnings) = scene.tessellate(clo, chi);
     notes.extend(warnings);
@@ -317,6 +326,7 @@ pub(super) fn surfaces_of(
                 name,
                 origin_m: [origin.x, origin.y, origin.z],
                 poses_b64: b64(&bytes),
+                poses,
             }
         })
         .collect();
@@ -522,6 +532,7 @@ mod tests {
             Vec3::ZERO,
             Vec3::ONE,
             false,
+            0.0,
             &[0.0, 0.2],
             None,
             &mut notes,
@@ -598,6 +609,7 @@ mod tests {
             Vec3::ZERO,
             Vec3::ONE,
             false,
+            0.0,
             &[0.0, 0.1, 0.2],
             Some(&spins),
             &mut notes,
