@@ -114,9 +114,9 @@ pub fn to_dir_with(
 /// (every CSV as `NAME.csv.gz` with `output.compress`, numbers as `output.precision` asks,
 /// [`output::csv_file`])
 /// `bruises.csv`, `audit.csv`, `audit.md`, `ird.svg` (with impacts), the probes' files; in a scene with
-/// a free-turning roller `rollers.csv` ([`rollers`]); with force
+/// a free-turning roller `rollers.csv` ([`output::rollers`]); with force
 /// histories (`output.force_history`) `forces.csv` and `pulse_fits.csv`; with `output.vtk` the
-/// ParaView files ([`vtk`]). The analysis ([`crate::analysis::analyse`]) adds its headline
+/// ParaView files ([`output::vtk`]). The analysis ([`crate::analysis::analyse`]) adds its headline
 /// figures to the returned `metrics`. `summary.json` comes last.
 pub fn into_dir(
     sc: &Scenario,

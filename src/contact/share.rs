@@ -15,7 +15,7 @@
 //!    stored energy in a load-unload cycle (its loss factor: 1 - e_i^2, e_i its restitution when
 //!    struck by a rigid body). The contact's loss is then sum s_i eta_i U, and body 1's part of it
 //!    is w_1 = s_1 eta_1 / (s_1 eta_1 + s_2 eta_2). This is the split the literature file infers
-//!    (bruise-models.md M9, [INF]); no source measures it directly (Chen & Yazdani 1991, the
+//!    (bruise-models.md M9, \[INF\]); no source measures it directly (Chen & Yazdani 1991, the
 //!    paper that would, was not retrieved).
 //! 3. **Unknown loss factors are the contact's own.** A material that states no loss factor
 //!    loses the share the pair's law loses as a whole, 1 - e^2 with e the pair's nominal

@@ -8,8 +8,8 @@
 //! which override the preset's, which override [`DEFAULT_PRESET`]'s.
 //!
 //! Source tags, as in the project's literature file (`shared/literature/bruise-models.md`):
-//! `[R-abs]` read in an abstract, `[R-reg]` read in regulation text, `[R-sec]` read in a
-//! secondary summary, `[INF]` our inference, `[UNV]` not verified in a source.
+//! `\[R-abs\]` read in an abstract, `\[R-reg\]` read in regulation text, `\[R-sec\]` read in a
+//! secondary summary, `\[INF\]` our inference, `\[UNV\]` not verified in a source.
 
 use super::{ranges, ScenarioError};
 use serde::{Deserialize, Serialize};
@@ -152,10 +152,10 @@ pub struct Validity {
 pub const RIGID_SHARE: f64 = 0.9;
 
 /// Repeated hits at one site (bruise-models.md M10): hardest first, the hits count with weights
-/// 1, beta, beta^2, ... From the potato analogue (Molema 1999, [R-sec]): 0.6 J split over 9
+/// 1, beta, beta^2, ... From the potato analogue (Molema 1999, \[R-sec\]): 0.6 J split over 9
 /// impacts at one site bruised 64 % less than one impact of 0.6 J; with every hit at 0.067 J,
-/// (1 - beta^9) / (9 (1 - beta)) = 0.36 gives beta = 0.70 [INF]. The apple pendulum studies say
-/// that each repeat adds less and that the bruise stabilises by about the fifth hit [R-abs]; the
+/// (1 - beta^9) / (9 (1 - beta)) = 0.36 gives beta = 0.70 \[INF\]. The apple pendulum studies say
+/// that each repeat adds less and that the bruise stabilises by about the fifth hit \[R-abs\]; the
 /// geometric weights do both.
 pub const REPEAT_WEIGHT: Sourced = sourced(
     0.7,
@@ -164,7 +164,7 @@ pub const REPEAT_WEIGHT: Sourced = sourced(
 );
 
 /// Contact width over bruise width (Stropek & Golacki 2020, pears, the three highest velocities
-/// [R-abs]).
+/// \[R-abs\]).
 pub const WIDTH_RATIO: Sourced = sourced(
     1.4,
     "Stropek & Golacki 2020, Postharvest Biol. Technol. 163:111120, pears: contact width about 1.4 x bruise width at the highest velocities [R-abs]",
@@ -415,7 +415,7 @@ fn class(name: &str) -> GradeClass {
 
 /// A bruise of diameter `d` (mm) and depth `h` (mm) at most: one of WAC 16-403-174's sizes. Lesser
 /// bruises that together detract as much count as one (the rule's words): their total area at
-/// most that of a disc of diameter `d` [INF].
+/// most that of a disc of diameter `d` \[INF\].
 fn wa_class(name: &str, d: f64, h: f64) -> GradeClass {
     GradeClass {
         max_bruise_diameter_mm: Some(d),

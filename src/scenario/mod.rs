@@ -267,7 +267,7 @@ impl Scenario {
     }
 
     /// The surface of the scenario a part of the world belongs to (a bin's wall `BIN/x_min`, a
-    /// roller bed's roller `BED/3`), in words for a message: "surfaces[k]: its position_m, ..."
+    /// roller bed's roller `BED/3`), in words for a message: "surfaces\[k\]: its position_m, ..."
     /// (what puts it there). `None` for a part of no listed surface.
     pub fn surface_fields_of(&self, part: &str) -> Option<String> {
         let (k, s) = self.surfaces.iter().enumerate().find(|(_, s)| {

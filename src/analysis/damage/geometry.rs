@@ -50,7 +50,7 @@ pub fn shaped_cap(v: f64, d0: f64, h0: f64) -> (f64, f64) {
 
 /// Area of the part of a Hertz patch of radius `a` and centre pressure `p0` where the pressure
 /// p(r) = p0 sqrt(1 - r^2/a^2) is at least `p_c`: pi a^2 (1 - (p_c/p0)^2) when p0 > p_c, else 0
-/// (bruise-models.md M6, the Hertz mapping [INF]).
+/// (bruise-models.md M6, the Hertz mapping \[INF\]).
 pub fn area_above_pressure(a: f64, p0: f64, p_c: f64) -> f64 {
     if p0 <= p_c || a <= 0.0 {
         return 0.0;

@@ -7,7 +7,7 @@
 //!   depth ratio times the apple's own deformation (Stropek & Golacki, pears: the contact about
 //!   1.4 times as wide as the bruise, the bruise about 2.5 times as deep as the deformation); a
 //!   smaller volume is that cap scaled down, a larger one keeps its width and goes deeper
-//!   ([`geometry::shaped_cap`], [INF]).
+//!   ([`geometry::shaped_cap`], \[INF\]).
 //! - **pressure-area** (M6): the part of the Hertz patch where the pressure p0 sqrt(1 - r^2/a^2)
 //!   exceeds p_c is bruised, area pi a^2 (1 - (p_c/p0)^2); depth the depth ratio times the apple's
 //!   own deformation at the peak (Stropek & Golacki: about 2.5 times), volume that of the cap.

@@ -7,12 +7,12 @@
 //! is at most the larger contact radius of the two (a site is a patch of about one contact
 //! radius, bruise-models.md M10); the site keeps the place of its first hit.
 //!
-//! Repeated hits (M10 [INF]): the hits of a site, hardest first, count with weights 1, beta,
+//! Repeated hits (M10 \[INF\]): the hits of a site, hardest first, count with weights 1, beta,
 //! beta^2, ... (beta the repeat weight): the energy model adds energies, E_eq = sum_k beta^k E_(k),
 //! and bruises BS max(0, E_eq - E_th), so several hits below the threshold can bruise together;
 //! the pressure-area model adds volumes the same way. Equal hits then add less and less and the
 //! bruise stops growing at 1/(1 - beta) times one hit's dose, as the pendulum studies report
-//! (each repeat adds less, the bruise stabilises after about five hits [R-abs]); n hits bruise
+//! (each repeat adds less, the bruise stabilises after about five hits \[R-abs\]); n hits bruise
 //! less than one hit of their summed energy. The site's full bruise is as wide and as deep as
 //! its widest and deepest hit's, and its volume shapes it (`geometry::shaped_cap`).
 
