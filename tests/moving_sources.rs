@@ -315,7 +315,7 @@ fn vertical_jitter_into_a_surface_names_jitter_m() {
     let e = refusal(&feed(src(json!([0, 0, 0.03])), floor.clone(), 9.81, 0.1));
     println!("{e}");
     assert!(
-        e.starts_with("sources[0].jitter_m: the spawn region of source 'feed' (position_m +- jitter_m) overlaps surface 'floor' by 15.0 mm"),
+        e.starts_with("sources[0].jitter_m: the spawn region of source 'feed' (position_m +- jitter_m) overlaps surface 'floor' (surfaces[0]: its point_m, normal) by 15.0 mm"),
         "{e}"
     );
     let sc = feed(src(json!(0.03)), floor, 9.81, 0.1);

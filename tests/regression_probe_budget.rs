@@ -44,7 +44,7 @@ fn a_probe_trace_beyond_the_budgets_is_refused_up_front_with_the_estimate() {
         "ulimit -v 300000;",
         "apples[0].probe.sample_rate_hz",
         &[
-            "about 11.2 GiB of probe_NAME_trace.csv (40 bytes per row",
+            "about 11.2 GiB of its trace file (40 bytes per row; the run's output 11.2 GiB in all)",
             "more than model.max_output_mb = 4096 MiB",
         ],
         1.0,
