@@ -475,7 +475,10 @@ fn one_apple_from_its_hit_to_its_grade() {
             (v - 4700.0 * (e - 0.08)).abs() <= 2e-8 * v,
             "{run}: {v} against {e}"
         );
-        assert!(e <= w * (1.0 + 1e-12), "{run}: the share is at most the loss");
+        assert!(
+            e <= w * (1.0 + 1e-12),
+            "{run}: the share is at most the loss"
+        );
         let site = rows(&dir.join("bruises.csv"))
             .into_iter()
             .find(|r| r["apple"] == "feed-3" && r["site"] == "0")

@@ -636,17 +636,9 @@ fn without_motion_the_files_are_as_before() {
     let mut index = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
     );
-    for (k, t) in [
-        "0",
-        "0.005",
-        "0.01",
-        "0.015",
-        "0.02",
-        "0.025",
-        "0.03",
-    ]
-    .iter()
-    .enumerate()
+    for (k, t) in ["0", "0.005", "0.01", "0.015", "0.02", "0.025", "0.03"]
+        .iter()
+        .enumerate()
     {
         index.push_str(&format!(
             "    <DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"vtk/apples_{k:06}.vtp\"/>\n    <DataSet timestep=\"{t}\" group=\"\" part=\"1\" file=\"vtk/surfaces.vtp\"/>\n"
