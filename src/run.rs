@@ -178,7 +178,7 @@ pub fn into_dir(
             .metrics
             .insert("vtk_frames".into(), written.frames.len() as f64);
     }
-    if sc.output.force_history.is_kept() {
+    if sc.force_history().is_kept() {
         let p = csv.path(out_dir, "forces.csv");
         output::write_forces(&p, &result.events, nf).map_err(io_at(&p))?;
         let p = csv.path(out_dir, "pulse_fits.csv");

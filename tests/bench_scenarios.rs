@@ -62,7 +62,7 @@ fn both_piles_load_with_the_reference_scene() {
             sc.pairs.is_empty(),
             "{file}: one set of coefficients for all pairs"
         );
-        assert!(!sc.output.force_history.is_kept() && !sc.output.transitions.enabled);
+        assert!(!sc.force_history().is_kept() && !sc.output.transitions.enabled);
         assert_eq!(sc.output.sample_interval_s, Some(0.1));
         assert_eq!(
             sc.model,

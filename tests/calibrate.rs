@@ -26,7 +26,7 @@ fn full_run_restitution(ke: f64, lambda: f64, v0: f64, gravity: bool) -> f64 {
         sc.gravity_m_s2 = [0.0; 3];
     }
     sc.duration_s = 0.05;
-    sc.output.force_history = false.into();
+    sc.output.force_history = Some(false.into());
     let (r, _) = run(&sc);
     r.events[0].restitution.expect("the apple lifts off")
 }

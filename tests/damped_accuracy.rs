@@ -51,7 +51,7 @@ fn drop(
     sc.accuracy = accuracy;
     sc.duration_s = 0.04;
     sc.output.sample_interval_s = Some(0.01);
-    sc.output.force_history = false.into();
+    sc.output.force_history = Some(false.into());
     // t_H / 10 is at the guard's default limit: let the N = 10 row run.
     sc.model.min_steps_per_impact = 5.0;
     sc.model.sleep.enabled = false;

@@ -69,7 +69,7 @@ fn drop(model: Model, v0: f64, gravity: bool, dt: f64) -> ContactEvent {
     sc.time_step_s = dt.into();
     sc.duration_s = 0.04;
     sc.output.sample_interval_s = Some(0.01);
-    sc.output.force_history = false.into();
+    sc.output.force_history = Some(false.into());
     sc.model.sleep.enabled = false;
     let (r, _) = run(&sc);
     // Under gravity a slow rebound lands again: the first impact is the one compared.
@@ -395,7 +395,7 @@ fn viscoelastic_restitution_is_raised_by_the_clamp() {
         sc.gravity_m_s2 = [0.0; 3];
         sc.time_step_s = 2e-6.into();
         sc.duration_s = 0.02;
-        sc.output.force_history = false.into();
+        sc.output.force_history = Some(false.into());
         let (r, _) = run(&sc);
         let ev = &r.events[0];
         assert_ref(
@@ -492,7 +492,7 @@ fn static_overlap_of_each_model() {
             sc.time_step_s = 1e-4.into();
             sc.duration_s = 2.5;
             sc.output.sample_interval_s = Some(0.5);
-            sc.output.force_history = false.into();
+            sc.output.force_history = Some(false.into());
             sc.model.sleep.enabled = false;
             let (_, s) = run(&sc);
             let u = R - s.of(0).last().unwrap().1.position.z;
@@ -552,7 +552,7 @@ fn released_at_its_sag_an_apple_stays_there() {
             sc.time_step_s = dt.into();
             sc.duration_s = 1.0;
             sc.output.sample_interval_s = Some(1e-3);
-            sc.output.force_history = false.into();
+            sc.output.force_history = Some(false.into());
             sc.model.sleep.enabled = false;
             let (_, s) = run(&sc);
             let off: Vec<(f64, f64)> = s

@@ -19,7 +19,7 @@ fn five_elastic_bounces_keep_their_energy() {
     sc.apples[0].velocity_m_s = [0.0, 0.0, 0.0];
     sc.duration_s = 1.5;
     sc.output.sample_interval_s = Some(1e-4);
-    sc.output.force_history = false.into();
+    sc.output.force_history = Some(false.into());
     let (res, series) = run(&sc);
     assert!(res.events.len() >= 5, "{} bounces", res.events.len());
     let energy = |z: f64, v: f64, fz: f64| {

@@ -248,7 +248,7 @@ fn force_chart_window_keeps_landing_pulses_visible() {
     // chart shows the landing pulses (a few ms), not seconds of resting force.
     let mut sc = shipped("scenarios/handling_line.json");
     sc.duration_s = 1.5;
-    sc.output.force_history = true.into();
+    sc.output.force_history = Some(true.into());
     let root = tmp("plots_window");
     let run = root.join("line");
     applesim::run::to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();
@@ -289,7 +289,7 @@ fn force_chart_default_window_is_around_the_impact_of_a_resting_apple() {
     sc.contact.ke = Some(0.09);
     sc.apples[0].velocity_m_s = [0.0, 0.0, -0.5];
     // The whole contact's force: the chart's window, not the history kept, cuts the rest.
-    sc.output.force_history = applesim::scenario::ForceHistory::Full;
+    sc.output.force_history = Some(applesim::scenario::ForceHistory::Full);
     let root = tmp("plots_resting");
     let run = root.join("rest");
     applesim::run::to_dir(&sc, &repo("scenarios"), &run, &mut |_| {}).unwrap();

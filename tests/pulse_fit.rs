@@ -15,7 +15,7 @@ fn elastic_fit(v0: f64) -> pulse::PulseFit {
     let mut sc = shipped("scenarios/drop_on_steel.json");
     sc.gravity_m_s2 = [0.0, 0.0, 0.0];
     sc.apples[0].velocity_m_s = [0.0, 0.0, -v0];
-    sc.output.force_history = true.into();
+    sc.output.force_history = Some(true.into());
     let (r, _) = run(&sc);
     let a = analysis::analyse(&sc, &r);
     assert_eq!(a.pulse_fits.len(), 1, "one impact fitted");

@@ -344,7 +344,7 @@ impl OneImpact {
     pub fn scenario(&self, v0: f64, dt: f64, duration: f64) -> Scenario {
         let r = self.diameter_m / 2.0;
         let mut output = OutputSpec {
-            force_history: crate::scenario::ForceHistory::Off,
+            force_history: Some(crate::scenario::ForceHistory::Off),
             ..OutputSpec::default()
         };
         output.transitions.enabled = false;

@@ -64,6 +64,9 @@ pub struct Summary<'a> {
     /// The interval of `bodies.csv`, and why: given by the scenario, or the default that follows
     /// the run's length and apples ([`crate::scenario::output::sampling`]).
     pub sampling: crate::scenario::Sampling,
+    /// The force histories kept, and why: given by the scenario, or the default that follows
+    /// the run's apples ([`crate::scenario::output::force_history`]).
+    pub force_history: crate::scenario::HistoryChoice,
     /// Wall-clock time of the stepping loop (s).
     pub wall_time_s: f64,
     /// Contact events (with `output.compress` in [`CONTACTS_JSON_GZ`] beside it instead).
@@ -392,6 +395,7 @@ pub fn write_summary_with(
         stiffest_contact: r.stiffest_contact.as_ref(),
         fidelity: r.fidelity_limits,
         sampling: sc.sampling(),
+        force_history: crate::scenario::output::force_history(sc),
         wall_time_s: r.wall_time_s,
         contacts: (!sc.output.compress).then_some(r.events.as_slice()),
         contacts_file: sc.output.compress.then_some(CONTACTS_JSON_GZ),

@@ -155,7 +155,7 @@ pub fn planned_apples(sc: &Scenario) -> f64 {
 
 /// The memory a kept force history costs per apple (bytes; 0 without).
 fn history_bytes_per_apple(sc: &Scenario) -> f64 {
-    match sc.output.force_history {
+    match sc.force_history() {
         ForceHistory::Full => HISTORY_BYTES_PER_APPLE,
         ForceHistory::Impact => IMPACT_HISTORY_BYTES_PER_APPLE,
         ForceHistory::Off => 0.0,
@@ -216,7 +216,7 @@ pub fn check_memory(sc: &Scenario, max_memory_mb: f64) -> Result<(), ScenarioErr
                 planned_apples(sc),
                 bytes / (1024.0 * 1024.0 * 1024.0),
                 apples_memory_bytes(sc) / planned_apples(sc) / 1024.0,
-                match sc.output.force_history {
+                match sc.force_history() {
                     ForceHistory::Full => " with whole force histories; output.force_history: true (the impacts only) or false saves most of it",
                     ForceHistory::Impact => " with impact force histories; output.force_history: false saves them",
                     ForceHistory::Off => "",
@@ -316,7 +316,7 @@ pub fn output_estimate(sc: &Scenario) -> OutputEstimate {
         };
         files.push(csv("rollers.csv", samples * rollers * row));
     }
-    let history = match sc.output.force_history {
+    let history = match sc.force_history() {
         ForceHistory::Full => FULL_HISTORY_SAMPLES,
         ForceHistory::Impact => IMPACT_HISTORY_SAMPLES,
         ForceHistory::Off => 0.0,

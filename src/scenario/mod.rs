@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 pub use generators::{DiameterSpec, FileApple, FileSpec, GeneratorSpec, JitterSpec, SourceSpec};
-pub use output::{ForceHistory, Precision, Sampling};
+pub use output::{ForceHistory, HistoryChoice, Precision, Sampling};
 pub use stepping::{Accuracy, Fidelity, TimeStep};
 pub use surfaces::{ContactModel, RotationSpec, SurfaceSpec};
 pub use validate::validate;
@@ -249,6 +249,12 @@ impl Scenario {
         output::sampling(self)
     }
 
+    /// The force histories the run keeps: `output.force_history`, or the default that follows
+    /// the run's apples ([`output::force_history`]).
+    pub fn force_history(&self) -> ForceHistory {
+        output::force_history(self).kept
+    }
+
     /// Reads the apple lists of `file` generators, resolving their paths against `base_dir` (the
     /// scenario's folder, as for mesh surfaces). [`load`] does this; a scenario parsed with
     /// [`from_json`] needs it before [`validate`] and running when it has a `file` generator.
@@ -322,10 +328,11 @@ pub struct OutputSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sample_interval_s: Option<f64>,
     /// Which part of each contact's force history is kept (for plots and the pulse fit): the
-    /// impact pulse (default, `true`), the whole contact (`"full"`, capped per contact) or none
-    /// (`false`).
-    #[serde(default)]
-    pub force_history: ForceHistory,
+    /// impact pulse (`true`), the whole contact (`"full"`, capped per contact) or none
+    /// (`false`). Absent, it follows the run's apples ([`output::force_history`]: the impact
+    /// pulses of a run of at most 50 apples, none of a larger one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force_history: Option<ForceHistory>,
     /// Significant digits of the numbers in the CSV files (default 9) or `"full"`.
     #[serde(default, skip_serializing_if = "Precision::is_default")]
     pub precision: Precision,

@@ -216,6 +216,55 @@ pub fn sampling(sc: &Scenario) -> Sampling {
     }
 }
 
+/// The planned apples up to which a run keeps its impacts' force histories by default
+/// ([`force_history`]). A judgement, not a measured limit: a run of a few dozen apples is read
+/// contact by contact (its force curves, the eq. 13 pulse fits); a larger one (a bin fill of
+/// thousands of contacts) through its peaks and the damage, and its histories cost it most of
+/// its writing: the 150-apple bin fill's `forces.csv` is 14 MB and its histories and fits add
+/// about half again to its wall time (docs/performance.md, issue 31).
+pub const DEFAULT_HISTORY_APPLES: f64 = 50.0;
+
+/// Which force histories a run keeps and where that comes from (`summary.json` `force_history`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HistoryChoice {
+    /// What is kept: `"impact"`, `"full"` or `false`.
+    pub kept: ForceHistory,
+    /// `scenario` (given as `output.force_history`) or `default`.
+    pub set_by: &'static str,
+    /// Why.
+    pub why: String,
+}
+
+/// The force histories of `sc`: `output.force_history` when given; otherwise the impact pulses
+/// of a run of at most [`DEFAULT_HISTORY_APPLES`] planned apples, none of a larger one.
+pub fn force_history(sc: &Scenario) -> HistoryChoice {
+    if let Some(kept) = sc.output.force_history {
+        return HistoryChoice {
+            kept,
+            set_by: "scenario",
+            why: "output.force_history".into(),
+        };
+    }
+    let apples = super::budget::planned_apples(sc);
+    if apples <= DEFAULT_HISTORY_APPLES {
+        HistoryChoice {
+            kept: ForceHistory::Impact,
+            set_by: "default",
+            why: format!(
+                "default for {apples} apples: the impact pulses (a run of at most {DEFAULT_HISTORY_APPLES} apples keeps them; output.force_history: false for none)"
+            ),
+        }
+    } else {
+        HistoryChoice {
+            kept: ForceHistory::Off,
+            set_by: "default",
+            why: format!(
+                "default for {apples} apples: none (a run of more than {DEFAULT_HISTORY_APPLES} apples is read through its peaks and damage; output.force_history: true keeps the impact pulses)"
+            ),
+        }
+    }
+}
+
 /// Samples of a run of `duration_s` at `interval_s`: one at every whole interval from 0, and the
 /// end state (at most one more).
 pub fn samples(duration_s: f64, interval_s: f64) -> f64 {
@@ -260,6 +309,20 @@ mod tests {
     }
 
     #[test]
+    fn force_histories_by_default_up_to_50_apples() {
+        let h = force_history(&scenario(18.0, 50, ""));
+        assert_eq!((h.kept, h.set_by), (ForceHistory::Impact, "default"));
+        assert!(h.why.contains("50 apples"), "{}", h.why);
+        let h = force_history(&scenario(18.0, 51, ""));
+        assert_eq!((h.kept, h.set_by), (ForceHistory::Off, "default"));
+        assert!(h.why.contains("output.force_history: true"), "{}", h.why);
+        let h = force_history(&scenario(18.0, 150, r#""force_history": true"#));
+        assert_eq!((h.kept, h.set_by), (ForceHistory::Impact, "scenario"));
+        let h = force_history(&scenario(1.0, 1, r#""force_history": false"#));
+        assert_eq!((h.kept, h.set_by), (ForceHistory::Off, "scenario"));
+    }
+
+    #[test]
     fn precision_and_force_history_read_as_documented() {
         let o = |s: &str| {
             crate::scenario::parse_one::<crate::scenario::OutputSpec>(s, "t")
@@ -286,18 +349,18 @@ mod tests {
                 "{e}"
             );
         }
-        assert_eq!(o("{}").unwrap().force_history, ForceHistory::Impact);
+        assert_eq!(o("{}").unwrap().force_history, None);
         assert_eq!(
             o(r#"{"force_history": true}"#).unwrap().force_history,
-            ForceHistory::Impact
+            Some(ForceHistory::Impact)
         );
         assert_eq!(
             o(r#"{"force_history": "full"}"#).unwrap().force_history,
-            ForceHistory::Full
+            Some(ForceHistory::Full)
         );
         assert_eq!(
             o(r#"{"force_history": false}"#).unwrap().force_history,
-            ForceHistory::Off
+            Some(ForceHistory::Off)
         );
         let e = o(r#"{"force_history": "all"}"#).unwrap_err();
         assert!(e.contains("force_history") && e.contains("\"full\""), "{e}");

@@ -320,8 +320,9 @@ impl Tracker {
                 let when = match track.prev {
                     // Present from the start: not an arrival.
                     None if !matches!(world.roster.apples()[k].origin, Origin::Fed { .. }) => None,
-                    // Fed in inside the bin: it arrived when it appeared.
-                    None => Some(t),
+                    // Fed in inside the bin: it arrived when it was fed (the step it appeared
+                    // at, not the sample that first saw it: the output's sampling does not move it).
+                    None => Some(world.fed_entry(k).map_or(t, |f| f.time_s)),
                     // Crossed the walls' top between the last sample and this one (the walls
                     // where the bin was at each sample: a lowered bin's rim moves down).
                     Some((t0, p0)) => {

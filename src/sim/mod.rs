@@ -245,6 +245,12 @@ pub fn base_metrics(
     m
 }
 
+/// What a step that has output samples inside it starts from ([`Simulation::interpolated_states`]).
+struct StepStart {
+    apples: Vec<AppleState>,
+    rollers: Vec<crate::world::free_roller::RollerSample>,
+}
+
 /// A running simulation.
 pub struct Simulation {
     world: World,
@@ -470,14 +476,31 @@ impl Simulation {
         }
     }
 
-    /// The time left to the next instant a step must land on: the next output sample, or the
-    /// end.
+    /// The time left to the one instant a step must land on: the end. Steps do not land on the
+    /// output samples: a sample between two steps is interpolated ([`Self::interpolated_states`]),
+    /// so that the output's sampling never changes the run (issue 31: landing on every sample
+    /// shortened a step each time and, the pour being chaotic, moved every figure).
     fn land_in_s(&self) -> f64 {
-        (self.next_sample as f64 * self.sample_interval_s).min(self.duration_s) - self.time_s
+        self.duration_s - self.time_s
+    }
+
+    /// The time of the next output sample.
+    fn next_sample_s(&self) -> f64 {
+        self.next_sample as f64 * self.sample_interval_s
+    }
+
+    /// Whether an output sample falls strictly inside the step from `t0` to `t1` (an adaptive
+    /// run; a sample on a step's end is taken at that step, as the first and the last are).
+    fn sample_inside(&self, t0: f64, t1: f64) -> bool {
+        let ts = self.next_sample_s();
+        matches!(self.plan.policy, timestep::Policy::Adaptive { .. })
+            && ts > t0
+            && ts < t1 - 1e-9 * self.sample_interval_s
+            && ts < self.duration_s
     }
 
     /// What the coming step is asked to be: the fixed step, or for an adaptive run at most the
-    /// largest step and twice the last one, landing exactly on the next sample and the end
+    /// largest step and twice the last one, landing exactly on the end
     /// ([`StepRequest::adaptive`]). After the last step (`closing`), the request that closes the
     /// contacts at the final poses: a step as long as the last.
     fn request(&self, closing: bool) -> StepRequest {
@@ -552,15 +575,20 @@ impl Simulation {
         let dt = self
             .force_pass(&self.request(false))
             .map_err(|e| self.guard(e))?;
-        if self.sample_due() {
+        let due = self.sample_due();
+        if due {
             self.emit_sample(sink)?;
             self.next_sample += 1;
             self.check_energy()?;
-            self.track();
-        } else if self.step % 1000 == 0 {
+            self.track(self.time_s);
+        }
+        // Samples inside this step are interpolated after it, from the states at its start.
+        let inside = self.sample_inside(t, t + dt);
+        if !due && (inside || self.step % 1000 == 0) {
             self.refresh_states();
             self.check_energy()?;
         }
+        let start = inside.then(|| self.start_of_step());
         let w = &mut self.world;
         w.advance(dt);
         if let Some(&bh) = w.physics.quarantine().bodies().first() {
@@ -593,11 +621,8 @@ impl Simulation {
             timestep::Policy::Fixed(d) => self.step as f64 * d,
             timestep::Policy::Adaptive { .. } => {
                 let t = self.time_s + dt;
-                // Snap onto sample times and the end (no drift of the sampling grid).
-                let ns = self.next_sample as f64 * self.sample_interval_s;
-                if (t - ns).abs() < 1e-9 * self.sample_interval_s {
-                    ns
-                } else if (t - self.duration_s).abs() < 1e-9 * self.duration_s {
+                // Snap onto the end.
+                if (t - self.duration_s).abs() < 1e-9 * self.duration_s {
                     self.duration_s
                 } else {
                     t
@@ -605,25 +630,74 @@ impl Simulation {
             }
         };
         self.world.set_time(self.time_s);
+        if let Some(start) = start {
+            while self.sample_inside(t, self.time_s) {
+                let ts = self.next_sample_s();
+                self.interpolated_states(&start, (ts - t) / dt);
+                self.emit_states(ts, sink)?;
+                self.next_sample += 1;
+                self.track(ts);
+            }
+        }
         Ok(())
+    }
+
+    /// The states at the start of a step that has output samples inside it: the apples' (their
+    /// contact forces and slip those acting over the step) and the free rollers' angles.
+    fn start_of_step(&mut self) -> StepStart {
+        if self.world.has_free_rollers() {
+            self.world.sample_free_rollers(&mut self.rollers);
+        }
+        StepStart {
+            apples: self.states.clone(),
+            rollers: self.rollers.clone(),
+        }
+    }
+
+    /// The states at a fraction `f` of the step just taken, as the integrator moved them: each
+    /// position on the straight line from the step's start to its end (symplectic Euler moves a
+    /// body at its new velocity over the whole step), the velocities those of the step (at its
+    /// end), the contact forces and slip those computed at its start, which acted over it; a free
+    /// roller's angle likewise, at its new rate.
+    fn interpolated_states(&mut self, start: &StepStart, f: f64) {
+        self.refresh_states();
+        for (s, s0) in self.states.iter_mut().zip(&start.apples) {
+            s.position = s0.position + (s.position - s0.position) * f;
+            s.contact_force = s0.contact_force;
+            s.slip_speed = s0.slip_speed;
+        }
+        if self.world.has_free_rollers() {
+            self.world.sample_free_rollers(&mut self.rollers);
+            for (r, r0) in self.rollers.iter_mut().zip(&start.rollers) {
+                r.angle_rad = r0.angle_rad + (r.angle_rad - r0.angle_rad) * f;
+            }
+        }
     }
 
     /// One output sample: the apples' states, then (in a scene that has them) the free-turning
     /// rollers' spins at the same time, copied from the world that owns them.
     fn emit_sample(&mut self, sink: &mut dyn SampleSink) -> std::io::Result<()> {
         self.refresh_states();
-        sink.sample(self.time_s, &self.states)?;
         if self.world.has_free_rollers() {
             self.world.sample_free_rollers(&mut self.rollers);
-            sink.sample_rollers(self.time_s, &self.rollers)?;
+        }
+        self.emit_states(self.time_s, sink)
+    }
+
+    /// Writes the states held (apples, and free rollers in a scene that has them) as the
+    /// sample at `t`.
+    fn emit_states(&mut self, t: f64, sink: &mut dyn SampleSink) -> std::io::Result<()> {
+        sink.sample(t, &self.states)?;
+        if self.world.has_free_rollers() {
+            sink.sample_rollers(t, &self.rollers)?;
         }
         Ok(())
     }
 
     /// Looks at the apples just sampled: bin entries, and apples that left the scene, which are
     /// taken out of the run ([`fate`]).
-    fn track(&mut self) {
-        for k in self.tracker.observe(self.time_s, &self.states, &self.world) {
+    fn track(&mut self, t: f64) {
+        for k in self.tracker.observe(t, &self.states, &self.world) {
             let at = self.states[k].position;
             self.world.take_out(k, at);
         }
@@ -716,7 +790,7 @@ impl Simulation {
             .map_err(|e| self.guard(e))?;
         self.emit_sample(sink)?;
         self.check_energy()?;
-        self.track();
+        self.track(self.time_s);
         let wall = start.elapsed().as_secs_f64();
         Ok(self.finish(wall))
     }

@@ -980,7 +980,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
             }
         ));
     } else {
-        notes.push(if sc.output.force_history.is_kept() {
+        notes.push(if sc.force_history().is_kept() {
             "no forces.csv: contacts show their peak figures, not force curves".to_string()
         } else {
             "force histories were not kept (output.force_history: false): contacts show their peak figures, not force curves".to_string()

@@ -267,12 +267,12 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         max_displacement_m: 0.5 * ip.prediction_distance(),
     });
     let config = LayerConfig {
-        force_history_cap: if sc.output.force_history.is_kept() {
+        force_history_cap: if sc.force_history().is_kept() {
             FORCE_HISTORY_CAP
         } else {
             0
         },
-        force_history_span: match sc.output.force_history {
+        force_history_span: match sc.force_history() {
             crate::scenario::ForceHistory::Full => crate::record::events::HistorySpan::Whole,
             _ => crate::record::events::HistorySpan::Impact,
         },
