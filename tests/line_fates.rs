@@ -355,7 +355,7 @@ fn end_message_in_human_units_with_the_step_range_and_no_bar_on_a_pipe() {
         first.starts_with(&format!("{steps} adaptive steps of ")),
         "{first}"
     );
-    // "49 adaptive steps of 2.4e-4 to 1e-3 s (0.03 s simulated) in ...": both ends, to 4
+    // "46 adaptive steps of 2.521e-4 to 9.893e-4 s (0.03 s simulated) in ...": both ends, to 4
     // significant digits, written alike.
     let (lo, hi) = first[format!("{steps} adaptive steps of ").len()..]
         .split_once(" s (")
@@ -369,7 +369,7 @@ fn end_message_in_human_units_with_the_step_range_and_no_bar_on_a_pipe() {
         "{lo} {hi} vs {range:?}"
     );
     assert!(first.contains(" s (0.03 s simulated) in "), "{first}");
-    assert!(first.contains(" to 1e-3 s ("), "{first}");
+    assert!(first.contains(" of 2.521e-4 to 9.893e-4 s ("), "{first}");
 }
 
 /// README, Outputs: every field of `apples[].fate` (each kind), `fates`, `throughput`, `sources`

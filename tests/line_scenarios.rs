@@ -72,19 +72,22 @@ fn fit(points: &[(f64, f64)], t_at: f64) -> (f64, f64) {
 
 /// docs/lines.md's approach table: each apple's speed at t0 + t1 + k V/(mu_r g), k = 0, 0.25,
 /// 0.5, 0.75, 1, 1.25 (the sample nearest each time; golden values at their printed digits).
+/// Re-pinned when adaptive steps stopped landing on the output samples (issue 31: a sample inside
+/// a step carries that step's velocity); before: 0.1274, 0.2677, 0.3395 (feed-1), 0.1338, 0.3418
+/// (feed-2), 0.1281, 0.2701, 0.3418 (feed-3), 0.1309, 0.3418, 0.3999 (feed-4).
 const TABLE: [[f64; 6]; 4] = [
-    [0.1274, 0.1982, 0.2677, 0.3395, 0.4001, 0.4000],
-    [0.1338, 0.2006, 0.2722, 0.3418, 0.3999, 0.4000],
-    [0.1281, 0.1984, 0.2701, 0.3418, 0.3998, 0.4000],
-    [0.1309, 0.2006, 0.2722, 0.3418, 0.3999, 0.4000],
+    [0.1273, 0.1981, 0.2676, 0.3393, 0.4001, 0.4000],
+    [0.1350, 0.2004, 0.2721, 0.3438, 0.3998, 0.4000],
+    [0.1278, 0.1982, 0.2699, 0.3416, 0.3998, 0.4000],
+    [0.1301, 0.2003, 0.2720, 0.3436, 0.4001, 0.4000],
 ];
 
 /// Issue 19's acceptance: each apple fed onto the belt rides at the belt speed, within 2 %, from
 /// t0 + t1 + V/(mu_r g) on (t0 its touch), and is below that before (checked up to
 /// t0 + t1 + 0.9 V/(mu_r g)); the approach is the closed form's: rolling phase accelerating at
-/// 5/7 mu_r g (docs/lines.md: +0.27 to +0.29 %, the lever R - u c1/(c1 + c2), which predicts the
-/// same: each checked), starting from 2V/7 raised by the landing's shorter lever arm and the
-/// rolling resistance during the slip (docs/lines.md: 10-12 %).
+/// 5/7 mu_r g (docs/lines.md: +0.27 to +0.29 %, the lever R - u c1/(c1 + c2), which predicts
+/// +0.27 to +0.28 %: each checked), starting from 2V/7 raised by the landing's shorter lever arm
+/// and the rolling resistance during the slip (docs/lines.md: 10-12 %).
 #[test]
 fn belt_carries_apples_at_belt_speed() {
     let (r, series) = belt_run(None);
@@ -157,9 +160,9 @@ fn belt_carries_apples_at_belt_speed() {
             2.0 * V / 7.0,
             100.0 * (v_start / (2.0 * V / 7.0) - 1.0)
         );
-        // docs/lines.md: +0.27 to +0.29 % from 5/7 mu_r g (checked above it and within twice
-        // 0.29 %, inside the issue's 1 %); the model's lever predicts +0.27 to +0.28 %: against
-        // the lever form within 0.0073 % (checked at twice that).
+        // docs/lines.md: +0.27 to +0.29 % from 5/7 mu_r g (checked above it and within 0.58 %,
+        // twice the 0.29 % first measured, inside the issue's 1 %); the model's lever predicts
+        // +0.27 to +0.28 %: against the lever form within 0.0043 % (checked at twice that).
         let lever = lever_acceleration(a.radius_m, a.mass_kg);
         println!(
             "  the lever R - u c1/(c1 + c2) predicts {:+.3} %; measured against it {:+.4} %",
@@ -180,7 +183,7 @@ fn belt_carries_apples_at_belt_speed() {
             "rolling phase against the lever",
             acc,
             lever,
-            2.0 * 0.0073e-2,
+            2.0 * 0.0043e-2,
             "closed form",
         );
         let above = v_start / (2.0 * V / 7.0) - 1.0;
@@ -230,16 +233,16 @@ fn belt_carries_apples_at_belt_speed() {
             t1 + t_r
         );
         assert!(t_v <= ride && t_v >= ride - 0.1, "{}: V at {t_v} s", a.name);
-        // docs/lines.md: V (0.1 %) 1.348-1.358 s after touch, the 2 % band entered at
-        // 1.278-1.288 s (each range to one unit of its last digit).
+        // docs/lines.md: V (0.1 %) 1.347-1.358 s after touch, the 2 % band entered at
+        // 1.277-1.288 s (each range to one unit of its last digit).
         assert!(
-            (1.347..=1.359).contains(&(t_v - t0)),
+            (1.346..=1.359).contains(&(t_v - t0)),
             "{}: V at {} s after touch",
             a.name,
             t_v - t0
         );
         assert!(
-            t_band < t_v && (1.277..=1.289).contains(&(t_band - t0)),
+            t_band < t_v && (1.276..=1.289).contains(&(t_band - t0)),
             "{}: band at {t_band} s",
             a.name
         );
@@ -261,18 +264,19 @@ fn belt_carries_apples_at_belt_speed() {
         println!(
             "  travelled {d:.3} m by the ride time (closed form {cf_dist:.3} m, lag {lag:.3} m)"
         );
-        // Beyond the closed form (the early start), by 4.3-5.4 %: checked above it, within twice.
+        // Beyond the closed form (the early start), by 4.2-6.2 %: checked above it, within 10.8 %
+        // (twice the 5.4 % first measured).
         assert!(
             d > cf_dist && d / cf_dist - 1.0 <= 2.0 * 0.054,
             "{}: {d} m",
             a.name
         );
         assert!(
-            (0.3655..=0.3705).contains(&d),
-            "{}: {d} m, docs/lines.md 0.366-0.370",
+            (0.3655..=0.3735).contains(&d),
+            "{}: {d} m, docs/lines.md 0.366-0.373",
             a.name
         );
-        // docs/lines.md: the feed impacts on the belt peak at 15.2-19.0 N.
+        // docs/lines.md: the feed impacts on the belt peak at 15.1-19.3 N.
         let peaks: Vec<f64> = r
             .events
             .iter()
@@ -280,11 +284,11 @@ fn belt_carries_apples_at_belt_speed() {
             .map(|e| e.peak_force_n)
             .collect();
         assert!(
-            peaks.len() == 1 && (15.15..=19.05).contains(&peaks[0]),
+            peaks.len() == 1 && (15.05..=19.35).contains(&peaks[0]),
             "{}: {peaks:?}",
             a.name
         );
-        // Every apple ends riding: its speed within 0.1 % of V (docs/lines.md: 0.041 % at worst).
+        // Every apple ends riding: its speed within 0.1 % of V (docs/lines.md: 0.042 % at worst).
         let (_, v_end) = *s.last().unwrap();
         assert!(
             (v_end - V).abs() <= 1e-3 * V,
@@ -296,12 +300,12 @@ fn belt_carries_apples_at_belt_speed() {
         "largest deviation from V after the ride time: {:.4} %",
         100.0 * worst_after
     );
-    // docs/lines.md: 0.041 % (checked at twice).
+    // docs/lines.md: 0.042 % (checked at 0.082 %, twice the 0.041 % first measured).
     assert!(worst_after <= 8.2e-4, "{worst_after}");
 }
 
 /// The contrast: with `"rolling": "none"` the same apples ride at 2V/7 for ever (docs/lines.md:
-/// 0.11602-0.11625 m/s to the end, +1.5 to +1.7 %, the landing's shorter lever arm: every sample
+/// 0.11601-0.11622 m/s to the end, +1.5 to +1.7 %, the landing's shorter lever arm: every sample
 /// from 0.2 s after the touch above 2V/7 and within 3 %, inside twice 1.7 %; the last to the
 /// printed digits).
 #[test]
@@ -327,7 +331,7 @@ fn without_rolling_resistance_apples_lag_at_two_sevenths() {
         assert!(n > 50);
         let (t_end, st) = *series.of(i).last().unwrap();
         assert!(
-            (0.116015..=0.116255).contains(&speed(st.velocity)),
+            (0.116005..=0.116225).contains(&speed(st.velocity)),
             "{}: ends at {}",
             a.name,
             speed(st.velocity)
@@ -363,7 +367,8 @@ fn leave(events: &[ContactEvent], i: u32, surface: &str) -> f64 {
 /// The fast-to-slow transfer (docs/lines.md): each apple rides the fast belt at V1 (2 %) from
 /// t0 + t1 + V1/(mu_r g) until it leaves it; it lands on the slow belt rolling forward relative
 /// to it (5/7 of the speed difference in the closed form), is slowed at 5/7 mu_r g (docs/lines.md:
-/// +0.27 to +0.28 %, the lever; checked above it within twice 0.28 %, and against the lever form)
+/// +0.26 to +0.27 %, the lever; checked above it within 0.56 %, twice the 0.28 % first measured,
+/// and against the lever form)
 /// and rides at V2 (2 %) from t_land + (V1 - V2)/(mu_r g) on, faster than that before.
 #[test]
 fn transfer_slows_apples_to_the_slow_belt() {
@@ -436,9 +441,9 @@ fn transfer_slows_apples_to_the_slow_belt() {
             100.0 * (-dec / a_cf - 1.0),
             100.0 * worst_slow
         );
-        // docs/lines.md: +0.27 to +0.28 % (checked with its sign at twice 0.28 %, inside the
-        // issue's 1 %), as the lever R - u c1/(c1 + c2) predicts (within 0.018 %, checked at
-        // twice that).
+        // docs/lines.md: +0.26 to +0.27 % (checked with its sign within 0.56 %, twice the 0.28 %
+        // first measured, inside the issue's 1 %), as the lever R - u c1/(c1 + c2) predicts
+        // (within 0.018 %, checked at twice that).
         assert!(
             -dec > a_cf && -dec / a_cf - 1.0 <= 2.0 * 0.28e-2,
             "{}: slowed at {}",
@@ -454,17 +459,19 @@ fn transfer_slows_apples_to_the_slow_belt() {
             "closed form",
         );
         // docs/lines.md: rolls on at 0.267-0.268 m/s relative to the slow belt; within
-        // 0.011-0.014 % of V1 on the fast belt, 0.045 % of V2 on the slow one (checked at twice).
+        // 0.004-0.013 % of V1 on the fast belt, 0.032 % of V2 on the slow one (checked at twice).
         assert!(
             (0.2665..=0.2685).contains(&(v_land - V_SLOW)),
             "{}: {v_land}",
             a.name
         );
         assert!(
-            worst_fast <= 2.8e-4 && worst_slow <= 9e-4,
+            worst_fast <= 2.6e-4 && worst_slow <= 6.4e-4,
             "{worst_fast} {worst_slow}"
         );
-        // docs/lines.md: feed impacts 12.8-18.6 N on the fast belt, landings 52-62 N on the slow.
+        // docs/lines.md: feed impacts 12.7-18.5 N on the fast belt, landings 53.0-62.5 N on the
+        // slow (re-pinned when adaptive steps stopped landing on the output samples, issue 31;
+        // before: 12.8-18.6 N, 52-62 N).
         let peak = |surface: &str| {
             r.events
                 .iter()
@@ -477,7 +484,13 @@ fn transfer_slows_apples_to_the_slow_belt() {
             peak("fast"),
             peak("slow")
         );
-        assert!((12.75..=18.65).contains(&peak("fast")) && (52.0..=62.0).contains(&peak("slow")));
+        assert!(
+            (12.65..=18.55).contains(&peak("fast")) && (52.95..=62.55).contains(&peak("slow")),
+            "{}: fast {}, slow {}",
+            a.name,
+            peak("fast"),
+            peak("slow")
+        );
         // Slow belt used before the apple rides it: V2 dV/(mu_r g) + 5 dV^2/(14 mu_r g)
         // (docs/lines.md: 0.47 m), within 10 % (the slower start of the relative rolling).
         let x = |t: f64| {
@@ -493,8 +506,8 @@ fn transfer_slows_apples_to_the_slow_belt() {
         let cf_dist = V_SLOW * dv / (MU_R * G) + 5.0 * dv * dv / (14.0 * MU_R * G);
         let d = x(ride) - x(t_land);
         println!("  {d:.3} m of slow belt from the landing to the ride time (closed form {cf_dist:.3} m)");
-        // Short of the closed form 0.466 m by 5.4 % (the relative rolling starts 6 % slower):
-        // checked below it, within twice.
+        // Short of the closed form 0.466 m by 5.1-5.3 % (the relative rolling starts 6 % slower):
+        // checked below it, within 10.8 % (twice the 5.4 % first measured).
         assert!(
             d < cf_dist && 1.0 - d / cf_dist <= 2.0 * 0.054,
             "{}: {d} m",
@@ -688,7 +701,9 @@ fn bin_run(edit: impl FnOnce(&mut Scenario)) -> (RunResult, Heap) {
 /// Issue 19's acceptance: the 150 poured apples build a heap with rolling resistance (more than
 /// two diameters high, a slope of 5-15 degrees, not all of them on the floor) and spread into a
 /// single layer without it (every apple on the floor, one diameter high, no slope; some apples
-/// still rolling at the end, as nothing stops them). Fewer than
+/// still rolling at the end, as nothing stops them). The height is held on the mean of the five
+/// pour seeds of docs/lines.md's table (2.24 D; each over 1.5 D): one pour is one draw of a
+/// chaotic heap, and seed 19's is 1.93 D since issue 31 (2.33 D before). Fewer than
 /// half on the floor is out of reach for 150 apples at these angles (docs/lines.md: a cone of
 /// 150 apples has most of them in its bottom layer).
 #[test]
@@ -696,7 +711,17 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
     let (r, h) = bin_run(|_| {});
     assert_eq!(h.apples, 150, "every apple poured");
     assert!(h.max_speed_m_s < 1e-3, "settled: {h:?}");
-    assert!(h.layers > 2.0, "a heap: {h:?}");
+    let mut heights = vec![h.layers];
+    for seed in [1, 2, 3, 4] {
+        let (_, hs) = bin_run(|sc| sc.sources[0].seed = seed);
+        heights.push(hs.layers);
+    }
+    let mean = heights.iter().sum::<f64>() / heights.len() as f64;
+    println!("heights over seeds 19, 1, 2, 3, 4: {heights:.2?} D, mean {mean:.2} D");
+    assert!(
+        mean > 2.0 && heights.iter().all(|&x| x > 1.5),
+        "a heap: {heights:?}"
+    );
     assert!(h.floor_fraction < 0.9, "not a single layer: {h:?}");
     assert!((5.0..=15.0).contains(&h.fit_angle_deg), "slope: {h:?}");
     assert!(
@@ -708,29 +733,33 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
     // docs/lines.md's seed-19 row (golden values at their printed digits: the pile is chaotic).
     // Re-pinned in issue 31: the shipped `jitter_m` 0.03 scattered the spawn height by +-30 mm
     // as well; a number is horizontal only now, so every apple starts 0.3 m up (before: 128 on
-    // the floor, 2.12 D, 8.0 and 8.3 degrees, r95 0.577 m, three at a wall).
+    // the floor, 2.12 D, 8.0 and 8.3 degrees, r95 0.577 m, three at a wall). Re-pinned again when
+    // adaptive steps stopped landing on the output samples (issue 31; before: 118 on the floor,
+    // 2.33 D, 9.8 and 10.3 degrees, r95 0.550 m, none at a wall).
     assert_eq!(
-        h.at_walls, 0,
-        "no apple of the heap's edge at a wall: {h:?}"
+        h.at_walls, 1,
+        "one apple of the heap's edge at a wall: {h:?}"
     );
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 118, "{h:?}");
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 122, "{h:?}");
     assert!(
-        (h.layers - 2.33).abs() <= 0.01 && (h.fit_angle_deg - 9.8).abs() <= 0.1,
+        (h.layers - 1.93).abs() <= 0.01 && (h.fit_angle_deg - 7.4).abs() <= 0.1,
         "{h:?}"
     );
     assert!(
-        (h.apex_edge_angle_deg - 10.3).abs() <= 0.1 && (h.r95_m - 0.550).abs() <= 0.001,
+        (h.apex_edge_angle_deg - 6.9).abs() <= 0.1 && (h.r95_m - 0.582).abs() <= 0.001,
         "{h:?}"
     );
     // docs/lines.md's impact table and bruised apples (golden; re-pinned in issue 31, before:
-    // floor 276 contacts, 279.2 N, 107 above 80 N; apples 2531, 100.4 N, 19; 85 apples over 80 N).
+    // floor 276 contacts, 279.2 N, 107 above 80 N; apples 2531, 100.4 N, 19; 85 apples over 80 N;
+    // and again when adaptive steps stopped landing on the output samples, before: floor 251,
+    // 268.3 N, 100; apples 2788, 106.6 N, 17; 81 apples over 80 N).
     for (surface, n, peak, over) in [
-        ("bin/floor", 251, 268.3, 100),
-        ("apple", 2788, 106.6, 17),
-        ("bin/x_max", 2, 69.2, 0),
-        ("bin/y_min", 3, 39.4, 0),
-        ("bin/y_max", 2, 11.8, 0),
-        ("bin/x_min", 2, 12.5, 0),
+        ("bin/floor", 269, 257.1, 114),
+        ("apple", 2633, 95.8, 20),
+        ("bin/x_max", 2, 63.6, 0),
+        ("bin/x_min", 6, 59.4, 0),
+        ("bin/y_max", 5, 46.8, 0),
+        ("bin/y_min", 3, 41.0, 0),
     ] {
         let got = imp[surface];
         assert!(
@@ -747,7 +776,7 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
         }
     }
     println!("{} apples with a contact above 80 N", over_80.len());
-    assert_eq!(over_80.len(), 81);
+    assert_eq!(over_80.len(), 91);
     // The hardest impacts are the first apples' landings on the bare floor.
     let floor_peak = imp["bin/floor"].1;
     assert!(imp.values().all(|s| s.1 <= floor_peak));
@@ -763,9 +792,10 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
         "spread wider: {flat:?} against {h:?}"
     );
     // docs/lines.md's seed-19 row without rolling resistance (golden; re-pinned in issue 31,
-    // before: -0.5 degrees, r95 0.738 m).
+    // before: -0.5 degrees, r95 0.738 m; and again when adaptive steps stopped landing on the
+    // output samples, before: -0.6 degrees).
     assert!(
-        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.6).abs() <= 0.1,
+        (flat.layers - 1.06).abs() <= 0.01 && (flat.fit_angle_deg + 0.2).abs() <= 0.1,
         "{flat:?}"
     );
     assert!(
@@ -776,10 +806,14 @@ fn poured_apples_heap_with_rolling_resistance_and_spread_without() {
 }
 
 /// docs/lines.md: the shipped bin filler sets `"twisting": "coulomb"`; with the default
-/// (`none`, as LIGGGHTS and EDEM) the same pour still builds a heap, a lower one: apples spinning
-/// about the vertical on the floor never stop, and some pivot off the heap's flank. Issue 19 asks
-/// for defaults that make a bin heap; this is that default (golden at the printed digits, seed 19;
-/// re-pinned in issue 31, horizontal jitter: before 1.85 D, 7.4 and 6.0 degrees, 129 on the floor).
+/// (`none`, as LIGGGHTS and EDEM) the same pour still builds a heap (apples spinning about the
+/// vertical on the floor never stop). Seed 19 heaps higher and steeper than with `coulomb`
+/// (2.40 D against 1.93 D), with more apples on the floor (127 against 122); before the re-pin
+/// below it heaped lower: one seed each, within the seeds' scatter. Issue 19 asks for defaults
+/// that make a bin heap; this is that default (golden at the printed digits, seed 19; re-pinned
+/// in issue 31, horizontal jitter: before 1.85 D, 7.4 and 6.0 degrees, 129 on the floor; and
+/// again when adaptive steps stopped landing on the output samples: before 1.96 D, 7.2 and 6.4
+/// degrees, 128 on the floor).
 #[test]
 fn with_the_default_twisting_the_pour_still_heaps() {
     let (_, h) = bin_run(|sc| sc.contact.twisting = Twisting::None);
@@ -788,10 +822,10 @@ fn with_the_default_twisting_the_pour_still_heaps() {
     assert!(h.layers > 1.5, "a heap: {h:?}");
     assert!(h.floor_fraction < 0.9, "not a single layer: {h:?}");
     assert!(h.fit_angle_deg > 3.0, "sloped: {h:?}");
-    assert!((h.layers - 1.96).abs() <= 0.01, "{h:?}");
-    assert!((h.fit_angle_deg - 7.2).abs() <= 0.1, "{h:?}");
-    assert!((h.apex_edge_angle_deg - 6.4).abs() <= 0.1, "{h:?}");
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 128, "{h:?}");
+    assert!((h.layers - 2.40).abs() <= 0.01, "{h:?}");
+    assert!((h.fit_angle_deg - 10.8).abs() <= 0.1, "{h:?}");
+    assert!((h.apex_edge_angle_deg - 11.1).abs() <= 0.1, "{h:?}");
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 127, "{h:?}");
 }
 
 /// docs/lines.md: poured from 0.45 m at 1 m/s (landing at 3 m/s) instead of 0.3 m at 0.5 m/s,
@@ -817,17 +851,16 @@ fn a_higher_pour_spreads_wider_and_flatter() {
         "lower, wider, flatter: {h:?} against {shipped:?}"
     );
     assert!(h.at_walls > 0, "rolled to the walls: {h:?}");
-    // docs/lines.md (golden, seed 19): 149 of 150 on the floor, 1.60 diameters, 0.3 degrees
-    // (3.8 apex to edge), r95 0.679 m, ten at the walls. Re-pinned in issue 31 (horizontal
-    // jitter; before: 138 on the floor, 1.96 D, 6.2 degrees, r95 0.672 m, four at the walls).
-    assert_eq!((h.floor_fraction * 150.0).round() as usize, 149, "{h:?}");
-    assert!((h.layers - 1.60).abs() <= 0.01, "{h:?}");
-    assert!((h.fit_angle_deg - 0.3).abs() <= 0.1, "{h:?}");
-    assert!((h.apex_edge_angle_deg - 3.8).abs() <= 0.1, "{h:?}");
-    assert!(
-        (h.r95_m - 0.679).abs() <= 0.001 && h.at_walls == 10,
-        "{h:?}"
-    );
+    // docs/lines.md (golden, seed 19): 148 of 150 on the floor, 1.81 diameters, 1.9 degrees
+    // (5.1 apex to edge), r95 0.681 m, five at the walls. Re-pinned in issue 31 (horizontal
+    // jitter; before: 138 on the floor, 1.96 D, 6.2 degrees, r95 0.672 m, four at the walls),
+    // and again when adaptive steps stopped landing on the output samples (before: 149 on the
+    // floor, 1.60 D, 0.3 and 3.8 degrees, r95 0.679 m, ten at the walls).
+    assert_eq!((h.floor_fraction * 150.0).round() as usize, 148, "{h:?}");
+    assert!((h.layers - 1.81).abs() <= 0.01, "{h:?}");
+    assert!((h.fit_angle_deg - 1.9).abs() <= 0.1, "{h:?}");
+    assert!((h.apex_edge_angle_deg - 5.1).abs() <= 0.1, "{h:?}");
+    assert!((h.r95_m - 0.681).abs() <= 0.001 && h.at_walls == 5, "{h:?}");
 }
 
 /// The heap's figures over five pour seeds, with and without rolling resistance (docs/lines.md's
@@ -837,24 +870,26 @@ fn a_higher_pour_spreads_wider_and_flatter() {
 fn heap_over_seeds() {
     // mu_r, apples poured, the figures.
     #[allow(clippy::type_complexity)]
+    // At mu_r 0.1 the heap reaches the source: 7 apples are never fed.
     const STRONGER: [(f64, usize, [f64; 5]); 2] = [
-        (0.06, 150, [0.647, 3.20, 21.0, 20.3, 0.446]),
-        (0.1, 150, [0.553, 3.49, 22.1, 23.4, 0.431]),
+        (0.06, 150, [0.673, 2.63, 15.9, 14.6, 0.470]),
+        (0.1, 143, [0.545, 3.68, 21.8, 25.3, 0.425]),
     ];
     // The table's rows (golden, printed digits): floor fraction, height / D, fit angle,
     // apex-edge angle, r95. Re-pinned in issue 31: a number `jitter_m` no longer scatters the
-    // spawn height (docs/lines.md gives the table before).
+    // spawn height, and again when adaptive steps stopped landing on the output samples
+    // (docs/lines.md gives seed 19's figures and the ranges before each).
     let table: [(u64, bool, [f64; 5]); 10] = [
-        (19, true, [0.787, 2.33, 9.8, 10.3, 0.550]),
-        (19, false, [1.000, 1.06, -0.6, 0.4, 0.742]),
-        (1, true, [0.793, 1.96, 6.6, 7.3, 0.562]),
-        (1, false, [1.000, 1.06, -0.1, 0.4, 0.742]),
-        (2, true, [0.827, 2.31, 9.0, 9.2, 0.605]),
-        (2, false, [1.000, 1.06, -0.3, 0.4, 0.737]),
-        (3, true, [0.800, 2.58, 11.4, 11.5, 0.583]),
-        (3, false, [1.000, 1.06, -0.3, 0.4, 0.737]),
-        (4, true, [0.847, 2.36, 9.9, 9.4, 0.612]),
-        (4, false, [1.000, 1.06, 0.1, 0.4, 0.741]),
+        (19, true, [0.813, 1.93, 7.4, 6.9, 0.582]),
+        (19, false, [1.000, 1.06, -0.2, 0.4, 0.742]),
+        (1, true, [0.827, 2.11, 8.8, 8.1, 0.586]),
+        (1, false, [1.000, 1.06, -0.3, 0.4, 0.739]),
+        (2, true, [0.820, 2.59, 9.4, 11.0, 0.615]),
+        (2, false, [1.000, 1.06, 0.0, 0.4, 0.731]),
+        (3, true, [0.853, 2.25, 6.8, 8.6, 0.618]),
+        (3, false, [1.000, 1.06, -0.5, 0.4, 0.739]),
+        (4, true, [0.820, 2.34, 8.6, 10.6, 0.536]),
+        (4, false, [1.000, 1.06, -0.2, 0.4, 0.741]),
     ];
     let figures = |h: &Heap| {
         [
@@ -977,10 +1012,11 @@ fn closed_form_figures_of_the_doc() {
 /// Issue 22's bin filler (scenarios/lines/bin_filler.json): the same pour into a bin that starts
 /// 0.2 m higher, 0.1 m under the pour, and is lowered as it fills (keyframed translation) takes
 /// the hardest floor impacts out of the fixed bin's (docs/lines.md, "A bin filler"). Golden
-/// values of the shipped runs (the piles are chaotic): largest apple-floor peak force 132.7 N
-/// against 268.3 N, floor contacts above 80 N 31 against 100. Re-pinned in issue 31 (a number
-/// `jitter_m` is horizontal only: the pour no longer starts up to 30 mm higher; before: 165.0 N
-/// against 279.2 N, 39 against 107).
+/// values of the shipped runs (the piles are chaotic): largest apple-floor peak force 166.2 N
+/// against 257.1 N, floor contacts above 80 N 22 of 177 against 114 of 269. Re-pinned in issue
+/// 31 (a number `jitter_m` is horizontal only: the pour no longer starts up to 30 mm higher;
+/// before: 165.0 N against 279.2 N, 39 against 107), and again when adaptive steps stopped
+/// landing on the output samples (before: 132.7 N against 268.3 N, 31 of 175 against 100 of 251).
 #[test]
 fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
     let fixed = shipped("scenarios/lines/bin_filling.json");
@@ -1041,8 +1077,9 @@ fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
             100.0 * (v / v_cf - 1.0),
             100.0 * (p / p_cf - 1.0)
         );
-        // docs/lines.md 3b: the landing speed within 0.002 % (free fall is exact up to the
-        // step's O(dt) position error, checked at twice that) and the peak within the 2 % that
+        // docs/lines.md 3b: the landing speed within 0.004 % (measured -0.00004 % and -0.0036 %;
+        // free fall is exact up to the step's O(dt) position error: checked at 0.004 %, twice
+        // the 0.002 % first measured) and the peak within the 2 % that
         // docs/accuracy.md gives `adaptive` at `balanced` (the sampled peak's error has either
         // sign: it depends on where the steps fall in the 20 of them per contact).
         assert!((t - t_cf).abs() <= 1e-4, "{what}: touch {t} against {t_cf}");
@@ -1062,23 +1099,26 @@ fn a_bin_filler_lowering_the_bin_softens_the_floor_impacts() {
     // The lowered bin's first landing is the softer by the drop it saves (0.26 m against 0.06 m
     // above the bare floor).
     assert!(first_filler.5 < 0.5 * first_fixed.5);
-    assert_eq!((n_fixed, n_filler), (251, 175), "floor contacts");
+    assert_eq!((n_fixed, n_filler), (269, 177), "floor contacts");
     assert!(max_filler < max_fixed && over_filler < over_fixed);
     assert!(
-        (max_fixed - 268.3).abs() <= 0.1 && over_fixed == 100,
+        (max_fixed - 257.1).abs() <= 0.1 && over_fixed == 114,
         "{max_fixed} {over_fixed}"
     );
     assert!(
-        (max_filler - 132.7).abs() <= 0.1 && over_filler == 31,
+        (max_filler - 166.2).abs() <= 0.1 && over_filler == 22,
         "{max_filler} {over_filler}"
     );
 }
 
-/// A bin fill's figures from its run's files: the largest fall of an apple from its entry to its
-/// first contact (and whose), the largest apple-floor peak force, the floor contacts above 80 N
-/// and in all, the apples that waited for their spot and their waits together (s).
+/// A bin fill's figures from its run's files: the apples fed in and those of them still moving
+/// at the end, the largest fall of an apple from its entry to its first contact (and whose), the
+/// largest apple-floor peak force, the floor contacts above 80 N and in all, the apples that
+/// waited for their spot (those never fed included) and their waits together (s).
 #[derive(Debug)]
 struct Fill {
+    fed: usize,
+    moving: usize,
     max_fall_m: f64,
     max_fall_apple: String,
     floor_peak_n: f64,
@@ -1091,7 +1131,10 @@ struct Fill {
 /// Runs a shipped bin fill into a scratch folder and reads its figures back from the files: each
 /// apple's entry (summary.json `apples[].fed`: time, centre, velocity) and its first contact
 /// (contacts.csv, the earliest `t_start_s` where it is `a` or `b`); in between it flies free, so
-/// its centre falls -(v_z tau - g tau^2 / 2) in tau. Every apple is poured and ends in the bin.
+/// its centre falls -(v_z tau - g tau^2 / 2) in tau. Every apple fed in ends in the bin, at rest
+/// (fate `in_bin`) or still settling (fate `moving`, inside the bin: counted); the source's others
+/// are still waiting for their spot at the end (summary.json `fates` `never_fed`, the source's
+/// `still_waiting`).
 fn fill_from_files(rel: &str) -> Fill {
     let sc = shipped(rel);
     let out = std::env::temp_dir().join(format!(
@@ -1124,8 +1167,16 @@ fn fill_from_files(rel: &str) -> Fill {
         }
     }
     let apples = summary["apples"].as_array().unwrap();
-    assert_eq!(apples.len(), 150, "{rel}: every apple poured");
+    let source = &summary["sources"][0];
+    let never_fed = summary["fates"]["never_fed"].as_u64().unwrap() as usize;
+    assert_eq!(apples.len() + never_fed, 150, "{rel}: 150 apples planned");
+    assert_eq!(
+        source["still_waiting"].as_u64().unwrap() as usize,
+        never_fed,
+        "{rel}: the apples never fed were waiting for their spot"
+    );
     let mut worst = (0.0f64, String::new());
+    let mut moving = 0;
     for a in apples {
         let name = a["name"].as_str().unwrap();
         let fed = &a["fed"];
@@ -1136,11 +1187,17 @@ fn fill_from_files(rel: &str) -> Fill {
         if fall > worst.0 {
             worst = (fall, name.to_string());
         }
-        assert_eq!(a["fate"]["kind"], "in_bin", "{rel}: {name}");
+        let fate = &a["fate"];
+        if fate["kind"] == "moving" && fate["in_bin"] == "bin" {
+            moving += 1;
+        } else {
+            assert_eq!(fate["kind"], "in_bin", "{rel}: {name}");
+        }
     }
-    let source = &summary["sources"][0];
     let _ = std::fs::remove_dir_all(&out);
     let f = Fill {
+        fed: apples.len(),
+        moving,
         max_fall_m: worst.0,
         max_fall_apple: worst.1,
         floor_peak_n,
@@ -1171,7 +1228,12 @@ fn fill_from_files(rel: &str) -> Fill {
 /// part of the margin (nothing moves).
 ///
 /// docs/lines.md, "A fill head lowered with the bin", compares the three fills (golden values of
-/// the shipped runs at their printed digits: the piles are chaotic).
+/// the shipped runs at their printed digits: the piles are chaotic). The lowered head's heap
+/// reaches it at the end: its 148th apple comes to rest 46 mm under the spawn point, so the last
+/// two are never fed; and the fixed head over the lowered bin feeds its last apple at 16.7 s, so
+/// at 18 s 15 of its apples are still settling in the bin (regression pins like the others;
+/// re-pinned when adaptive steps stopped landing on the output samples, issue 31: before, all
+/// 150 were fed and every apple was at rest at the end; the lowered head's 54 waited, 34.5 s).
 #[test]
 fn a_fill_head_lowered_with_the_bin_caps_every_fall() {
     let head = fill_from_files("scenarios/lines/bin_filler_head.json");
@@ -1192,14 +1254,17 @@ fn a_fill_head_lowered_with_the_bin_caps_every_fall() {
         "{fixed_bin:?}"
     );
     let fixed_head = fill_from_files("scenarios/lines/bin_filler.json");
-    // Golden values (docs/lines.md's table).
-    for (f, fall, peak, over, n, waited, wait) in [
-        (&head, 0.2018, 218.6, 86, 229, 54, 34.5),
-        (&fixed_head, 0.1237, 132.7, 31, 175, 149, 280.3),
-        (&fixed_bin, 0.2650, 268.3, 100, 251, 12, 0.8),
+    // Golden values (docs/lines.md's table; before the re-pin: head 150 fed, 0.2018 m, 218.6 N,
+    // 86 of 229, 54 waited, 34.5 s; fixed head 0.1237 m, 132.7 N, 31 of 175, 149, 280.3 s; fixed
+    // bin 0.2650 m, 268.3 N, 100 of 251, 12, 0.8 s).
+    for (f, (fed, moving), fall, peak, over, n, waited, wait) in [
+        (&head, (148, 0), 0.2018, 217.9, 74, 206, 72, 49.3),
+        (&fixed_head, (150, 15), 0.1261, 166.2, 22, 177, 149, 284.1),
+        (&fixed_bin, (150, 0), 0.2648, 257.1, 114, 269, 5, 0.1),
     ] {
         assert!(
-            (f.max_fall_m - fall).abs() <= 1e-4
+            (f.fed, f.moving) == (fed, moving)
+                && (f.max_fall_m - fall).abs() <= 1e-4
                 && (f.floor_peak_n - peak).abs() <= 0.1
                 && (f.floor_over_80, f.floor_contacts, f.waited) == (over, n, waited)
                 && (f.wait_s - wait).abs() <= 0.1,

@@ -158,7 +158,7 @@ fn run_rung(sc: &Scenario, rung: &Rung, base_dir: &Path) -> Result<RunResult, St
     s.time_step_s = rung.time_step;
     s.accuracy = Some(rung.accuracy);
     s.output.force_history = Some(crate::scenario::ForceHistory::Off);
-    // No time series is kept: do not let the output interval cap the step (it still lands on it).
+    // No time series is kept: do not let the output interval cap the step.
     s.output.sample_interval_s = Some(s.sample_interval_s().max(s.duration_s / 20.0));
     let sim = Simulation::new(&s, base_dir).map_err(|e| e.to_string())?;
     sim.run(&mut NoSamples, &mut |_| {})

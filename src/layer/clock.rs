@@ -21,7 +21,7 @@ pub struct StepRequest {
     pub max_dt_s: f64,
     /// The step taken last (s); `None` before the first.
     pub last_dt_s: Option<f64>,
-    /// Time left to an instant the step must land on exactly (an output sample, the end), if
+    /// Time left to an instant the step must land on exactly (the end of the run), if
     /// any: the chosen step is shortened to divide it evenly, never leaving a sliver.
     pub land_in_s: Option<f64>,
 }

@@ -654,15 +654,20 @@ impl Simulation {
         }
     }
 
-    /// The states at a fraction `f` of the step just taken, as the integrator moved them: each
-    /// position on the straight line from the step's start to its end (symplectic Euler moves a
-    /// body at its new velocity over the whole step), the velocities those of the step (at its
-    /// end), the contact forces and slip those computed at its start, which acted over it; a free
-    /// roller's angle likewise, at its new rate.
+    /// The states at a fraction `f` of the step just taken: each position on the straight line
+    /// from the step's start to its end (symplectic Euler moves a body at its new velocity over
+    /// the whole step); the velocities likewise between the step's start and end, so that a
+    /// sample inside a step reads as one on a step would (each body's velocity of the half step
+    /// before, as bodies.csv has always given it) and a fit to sampled velocities is not jittered
+    /// by where the samples fall in their steps; the contact forces and slip those computed at
+    /// the step's start, which acted over it; a free roller's angle and rate likewise.
     fn interpolated_states(&mut self, start: &StepStart, f: f64) {
         self.refresh_states();
+        let lerp = |a: crate::math::Vec3, b: crate::math::Vec3| a + (b - a) * f;
         for (s, s0) in self.states.iter_mut().zip(&start.apples) {
-            s.position = s0.position + (s.position - s0.position) * f;
+            s.position = lerp(s0.position, s.position);
+            s.velocity = lerp(s0.velocity, s.velocity);
+            s.angular_velocity = lerp(s0.angular_velocity, s.angular_velocity);
             s.contact_force = s0.contact_force;
             s.slip_speed = s0.slip_speed;
         }
@@ -670,6 +675,9 @@ impl Simulation {
             self.world.sample_free_rollers(&mut self.rollers);
             for (r, r0) in self.rollers.iter_mut().zip(&start.rollers) {
                 r.angle_rad = r0.angle_rad + (r.angle_rad - r0.angle_rad) * f;
+                r.spin_rad_s = r0.spin_rad_s + (r.spin_rad_s - r0.spin_rad_s) * f;
+                r.surface_speed_m_s =
+                    r0.surface_speed_m_s + (r.surface_speed_m_s - r0.surface_speed_m_s) * f;
             }
         }
     }
