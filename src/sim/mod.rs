@@ -484,9 +484,13 @@ impl Simulation {
         self.duration_s - self.time_s
     }
 
-    /// The time of the next output sample.
+    /// The time of the next output sample, k times the interval rounded to 12 significant
+    /// digits: the decimal time a user reads (10.6 s, not 10.600000000000001), the same double
+    /// whichever interval reaches it, so that runs sampled at 0.1 s and at 0.02 s interpolate the
+    /// same state at 10.6 s, to the bit.
     fn next_sample_s(&self) -> f64 {
-        self.next_sample as f64 * self.sample_interval_s
+        let t = self.next_sample as f64 * self.sample_interval_s;
+        format!("{t:.11e}").parse().unwrap_or(t)
     }
 
     /// Whether an output sample falls strictly inside the step from `t0` to `t1` (an adaptive
@@ -553,7 +557,7 @@ impl Simulation {
                 self.step % stride == 0
             }
             timestep::Policy::Adaptive { .. } => {
-                let next_sample_t = self.next_sample as f64 * self.sample_interval_s;
+                let next_sample_t = self.next_sample_s();
                 self.time_s >= next_sample_t - 1e-9 * self.sample_interval_s
             }
         }
