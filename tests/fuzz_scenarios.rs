@@ -317,7 +317,7 @@ fn nodes(v: &Value) -> Vec<(Vec<Seg>, Value)> {
 impl Case {
     /// Whether this case must be refused: its kind's rule, except a huge component of a
     /// direction (`axis`, `pitch_direction`), which is normalised by design (README: "any length
-    /// > 0; normalised"): [0, 1, 1e308] is the direction z, accepted, and its run must still be
+    /// \> 0; normalised"): [0, 1, 1e308] is the direction z, accepted, and its run must still be
     /// finite.
     fn must_refuse(&self) -> bool {
         let direction = self.expect.as_deref().is_some_and(|e| {

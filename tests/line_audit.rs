@@ -82,7 +82,7 @@ fn a_drop_reports_one_plus_e_v0_and_peak_g_of_the_peak_force() {
         "impact peak {peak} N against P_max {p_max} N: {:+.5} %",
         100.0 * off
     );
-    assert!(off < 0.0 && off >= -2.0 * 0.004e-2, "{off}");
+    assert!((-2.0 * 0.004e-2..0.0).contains(&off), "{off}");
     assert_ref(
         "peak g",
         num(c, "a_peak_g"),

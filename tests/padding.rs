@@ -134,7 +134,7 @@ fn a_hard_drop_on_a_thin_pad_bottoms_out_with_a_warning() {
     // 81.19 N (to the digit) under 0.9 of bare.
     let off = thin / bare - 1.0;
     println!("thin pad against bare steel: {:+.4} %", 100.0 * off);
-    assert!(off < 0.0 && off >= -2.0 * 0.003e-2, "{off}");
+    assert!((-2.0 * 0.003e-2..0.0).contains(&off), "{off}");
     assert!((thin - 100.032).abs() <= 0.001 && (bare - 100.035).abs() <= 0.001);
     assert!(
         (thick - 81.19).abs() <= 0.01 && thick < 0.9 * bare,

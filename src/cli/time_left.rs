@@ -101,7 +101,7 @@ mod tests {
         let mut t = TimeLeft::default();
         for &(c, f) in &trace {
             let est = t.observe(c / total * 100.0, f).map(|x| x * total / 100.0);
-            if f >= 0.5 && f < 0.99 {
+            if (0.5..0.99).contains(&f) {
                 let truth = total - c;
                 recent.push((est.unwrap() - truth).abs() / truth);
                 average.push((c * (1.0 - f) / f - truth).abs() / truth);
