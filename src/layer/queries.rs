@@ -115,33 +115,27 @@ impl ContactLayer {
 
     /// The contacts still open, as events with no end (sorted by apple, then other party).
     pub fn open_events(&self) -> Vec<ContactEvent> {
-        let mut out: Vec<ContactEvent> = self
-            .contacts
-            .iter()
-            .filter_map(|c| {
-                let o = c.record.as_ref()?;
-                Some(o.snapshot(self.registry.names(c.i, c.other)))
-            })
-            .collect();
-        out.sort_by(|x, y| {
-            (x.a_index, x.b_party.order(), x.t_start_s.to_bits()).cmp(&(
-                y.a_index,
-                y.b_party.order(),
-                y.t_start_s.to_bits(),
-            ))
-        });
-        out
+        self.open_events_where(|_| true)
     }
 
     /// The contacts still open whose impact is over, as events (their impact final; see
     /// [`Self::open_events`] for every open contact, an impact in progress reported as far as it
     /// went). In the order of [`Self::open_events`].
     pub fn open_events_after_impact(&self) -> Vec<ContactEvent> {
+        self.open_events_where(|o| o.impact_over())
+    }
+
+    /// The open contacts whose record passes `keep`, as events, sorted by apple, then other
+    /// party, then start.
+    fn open_events_where(
+        &self,
+        keep: impl Fn(&crate::record::events::OpenContact) -> bool,
+    ) -> Vec<ContactEvent> {
         let mut out: Vec<ContactEvent> = self
             .contacts
             .iter()
             .filter_map(|c| {
-                let o = c.record.as_ref().filter(|o| o.impact_over())?;
+                let o = c.record.as_ref().filter(|o| keep(o))?;
                 Some(o.snapshot(self.registry.names(c.i, c.other)))
             })
             .collect();

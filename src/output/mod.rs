@@ -682,15 +682,19 @@ pub const APPLE_CONTACTS_HEADER: [&str; 22] = [
 /// The name of the per apple per contact file.
 pub const APPLE_CONTACTS_CSV: &str = "apple_contacts.csv";
 
-/// Writes `apple_contacts.csv`.
-pub fn write_apple_contacts(path: &Path, a: &Analysis, nf: NumberFormat) -> std::io::Result<()> {
-    let mut w = AtomicCsv::create(path, &APPLE_CONTACTS_HEADER)?;
-    let grade: std::collections::BTreeMap<&str, &str> = a
-        .bruise
+/// Each apple's grade by its name (the `apple_grade` column of the damage files).
+fn grades_by_apple(a: &Analysis) -> std::collections::BTreeMap<&str, &str> {
+    a.bruise
         .apples
         .iter()
         .map(|x| (&*x.apple, x.grade.as_str()))
-        .collect();
+        .collect()
+}
+
+/// Writes `apple_contacts.csv`.
+pub fn write_apple_contacts(path: &Path, a: &Analysis, nf: NumberFormat) -> std::io::Result<()> {
+    let mut w = AtomicCsv::create(path, &APPLE_CONTACTS_HEADER)?;
+    let grade = grades_by_apple(a);
     for c in &a.bruise.contacts {
         let p = c.contact_point_m;
         w.write_record([
@@ -749,12 +753,7 @@ pub const BRUISES_CSV: &str = "bruises.csv";
 /// Writes `bruises.csv`.
 pub fn write_bruises(path: &Path, a: &Analysis, nf: NumberFormat) -> std::io::Result<()> {
     let mut w = AtomicCsv::create(path, &BRUISES_HEADER)?;
-    let grade: std::collections::BTreeMap<&str, &str> = a
-        .bruise
-        .apples
-        .iter()
-        .map(|x| (&*x.apple, x.grade.as_str()))
-        .collect();
+    let grade = grades_by_apple(a);
     for s in &a.bruise.sites {
         w.write_record([
             s.apple.to_string(),
