@@ -17,6 +17,7 @@ pub mod normal;
 pub mod padding;
 pub mod rolling;
 pub mod share;
+pub mod spheroid;
 pub mod theory;
 pub mod twisting;
 

@@ -101,6 +101,7 @@ pub use outputs::{SlipSample, StepStats};
 pub use registry::{AppleId, MaterialId, SurfaceId};
 pub use surface::{SurfaceHit, SurfaceShape};
 
+use crate::contact::spheroid::Spheroid;
 use crate::contact::Material;
 use crate::record::events::{ContactEvent, Names, OpenContact, Party};
 use clock::StepClock;
@@ -219,6 +220,26 @@ impl ContactLayer {
         let id = self
             .registry
             .add_apple_body(bodies, body, radius_m, material, name)?;
+        self.apple_added(id);
+        Ok(id)
+    }
+
+    /// Registers a dynamic rigid body without a collider as a spheroidal apple: equatorial
+    /// radius `shape.a`, polar half-height `shape.c` along the body's own z axis, centred on its
+    /// centre of mass (docs/shape.md). Give the body the spheroid's principal inertia
+    /// ([`Spheroid::principal_inertia`]) and enable its gyroscopic forces (a spheroid's are not
+    /// zero). A sphere (a = c) is the same as [`add_apple_body`](Self::add_apple_body).
+    pub fn add_spheroid_body(
+        &mut self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+        shape: Spheroid,
+        material: MaterialId,
+        name: &str,
+    ) -> Result<AppleId, LayerError> {
+        let id = self
+            .registry
+            .add_spheroid_body(bodies, body, shape, material, name)?;
         self.apple_added(id);
         Ok(id)
     }

@@ -7,6 +7,7 @@ use super::config::{Coefficients, LayerConfig, SurfaceOptions};
 use super::error::LayerError;
 use super::hooks::{ContactHooks, Role};
 use super::surface::SurfaceShape;
+use crate::contact::spheroid::Spheroid;
 use crate::contact::{self, Material, PairLaw};
 use crate::math::Vec3;
 use crate::record::events::{Names, Party};
@@ -44,8 +45,10 @@ pub(super) struct AppleEntry {
     pub mass: f64,
     /// 1/m + r^2/I: inverse mass of the surface point in a tangential direction.
     pub inv_tangential_mass: f64,
-    /// Moment of inertia about the centre (kg m^2).
+    /// Moment of inertia about the centre (kg m^2); a spheroid's about an equatorial axis.
     pub inertia: f64,
+    /// A spheroidal apple's shape (`radius` is then its bounding radius); `None`: a sphere.
+    pub shape: Option<Spheroid>,
 }
 
 /// A surface as the layer knows it.
@@ -212,6 +215,7 @@ impl Registry {
             mass,
             inv_tangential_mass: 1.0 / mass + radius * radius / inertia,
             inertia,
+            shape: None,
         });
         self.hooks.set(collider, Role::Apple, id.0);
         Ok(id)
@@ -257,7 +261,32 @@ impl Registry {
             mass,
             inv_tangential_mass: 1.0 / mass + radius_m * radius_m / inertia,
             inertia,
+            shape: None,
         }))
+    }
+
+    /// Registers a dynamic rigid body without a collider as a spheroidal apple (see
+    /// [`super::ContactLayer::add_spheroid_body`]). A sphere (a = c) is registered as
+    /// [`Self::add_apple_body`] does.
+    pub fn add_spheroid_body(
+        &mut self,
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+        shape: Spheroid,
+        material: MaterialId,
+        name: &str,
+    ) -> Result<AppleId, LayerError> {
+        if !(shape.a > 0.0 && shape.c > 0.0 && shape.a.is_finite() && shape.c.is_finite()) {
+            return Err(LayerError::NoMass(name.to_string()));
+        }
+        let id = self.add_apple_body(bodies, body, shape.bounding_radius(), material, name)?;
+        if !shape.is_sphere() {
+            let e = &mut self.apples[id.0 as usize];
+            // The inertia about an equatorial axis (the body's own x principal moment); the
+            // surface point's tangential inverse mass with the largest lever.
+            e.shape = Some(shape);
+        }
+        Ok(id)
     }
 
     fn push_apple(&mut self, entry: AppleEntry) -> AppleId {
