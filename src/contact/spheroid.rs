@@ -340,20 +340,23 @@ pub fn pair(
         let wn = w.dot(n);
         let (e1, e2) = tangent_basis(n);
         let g = (w.dot(e1), w.dot(e2));
-        let done = iterations >= MAX_ITERATIONS || (g.0.abs().max(g.1.abs()) <= 1e-15 * (1.0 + wn.abs()));
+        let done =
+            iterations >= MAX_ITERATIONS || (g.0.abs().max(g.1.abs()) <= 1e-15 * (1.0 + wn.abs()));
         if !done {
             let hess = p1
                 .radii(e1, e2)
                 .add(p2.radii(e1, e2))
                 .add(Tangent2::iso(wn));
-            let step = hess
-                .solve(g)
-                .filter(|s| s.0.is_finite() && s.1.is_finite());
+            let step = hess.solve(g).filter(|s| s.0.is_finite() && s.1.is_finite());
             if let Some((a, b)) = step {
                 let delta = e1 * a + e2 * b;
                 // Never turn by more than 0.5 rad in one step (a far start).
                 let len = delta.length();
-                let delta = if len > 0.5 { delta * (0.5 / len) } else { delta };
+                let delta = if len > 0.5 {
+                    delta * (0.5 / len)
+                } else {
+                    delta
+                };
                 let next = (n + delta).normalize();
                 iterations += 1;
                 let moved = (next - n).length();
@@ -433,7 +436,11 @@ mod tests {
                 .length()
                 / (2.0 * h);
             let p = s.point_with_normal(&id, l(phi));
-            assert!(close(p.r_meridian_m, ds, 1e-8), "{phi}: {} {ds}", p.r_meridian_m);
+            assert!(
+                close(p.r_meridian_m, ds, 1e-8),
+                "{phi}: {} {ds}",
+                p.r_meridian_m
+            );
             // The parallel's: distance along the normal to the axis.
             let x = p.offset.x;
             assert!(close(p.r_parallel_m, x / phi.sin(), 1e-12));
@@ -478,7 +485,11 @@ mod tests {
         assert!(g.iterations < 10, "{} iterations", g.iterations);
         // Both points have normal +-n, and the segment between them is along n.
         let w = (x1 + g.arm1) - g.arm2;
-        assert!(w.cross(g.normal).length() < 1e-14, "{:e}", w.cross(g.normal).length());
+        assert!(
+            w.cross(g.normal).length() < 1e-14,
+            "{:e}",
+            w.cross(g.normal).length()
+        );
         // The overlap is the minimum of u(n): nearby normals give more.
         let u = |n: Vec3| {
             s1.point_with_normal(&r1, -n).support_m + s2.point_with_normal(&r2, n).support_m

@@ -58,6 +58,27 @@ pub struct Contact {
     /// On a padded surface: the furthest limit of the pad law this contact has passed (each
     /// warned once).
     pub pad_limit: Option<crate::contact::padding::PadLimit>,
+    /// The geometry of a contact with a spheroidal apple (`None`: two spheres, or a sphere and a
+    /// surface, whose geometry follows from the radius and `curvature2`). Detection sets it
+    /// with the normal, at every step: it turns with the apple.
+    pub shaped: Option<Shaped>,
+}
+
+/// The geometry of a contact with a spheroidal apple at the current poses (see
+/// [`crate::contact::spheroid`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shaped {
+    /// Apple `i`'s surface point deepest into the other body, from its centre (m, world).
+    pub arm: Vec3,
+    /// The other body's lever: its surface point's distance from its centre (m; an apple's).
+    pub lever2_m: f64,
+    /// The elliptic law's stiffness radius R_k (m); NaN when the contact conforms.
+    pub r_star_m: f64,
+    /// The elliptic law's area radius R_a (m).
+    pub area_radius_m: f64,
+    /// The smallest principal radius of curvature of the bodies at the contact (m): the overlap
+    /// guard's radius.
+    pub r_min_m: f64,
 }
 
 impl Contact {
@@ -93,6 +114,7 @@ impl Contact {
             prev_rate: f64::NAN,
             law: 0,
             inv_r_min: 0.0,
+            shaped: None,
         }
     }
 }

@@ -13,7 +13,7 @@
 use super::adaptive::{damping_step, limit_in_contact, stick_half_period, time_to_touch};
 use super::clock::{StepClock, StepLimit};
 use super::config::LayerConfig;
-use super::contacts::{Contact, ContactStore};
+use super::contacts::{Contact, ContactStore, Shaped};
 use super::frame::Frame;
 use super::grid::{NeighborList, Pair, NONE};
 use super::outputs::{Outputs, StepStats};
@@ -65,6 +65,7 @@ pub(super) struct Detection {
     /// not listed yet).
     pair_scan: Option<Vec<u32>>,
     scratch: Vec<SurfaceHit>,
+    shaped_scratch: Vec<surface::ShapedHit>,
     chain: Vec<u32>,
     /// Apples taken out of the run ([`Detection::retire`]): they touch nothing any more.
     retired: Vec<bool>,
@@ -83,6 +84,7 @@ impl Detection {
             epoch: 1,
             pair_scan: None,
             scratch: Vec::new(),
+            shaped_scratch: Vec::new(),
             chain: Vec::new(),
             retired: Vec::new(),
             surface_speed_m_s: 0.0,
@@ -243,7 +245,21 @@ impl Detection {
                 // The common case: apart, nothing open, nothing to plan.
                 continue;
             }
-            let (n, u) = geometry::sphere_sphere(d, r2, rs);
+            // A spheroid in the pair: the common normal, from the open contact's normal (the
+            // last step's) or the line of centres.
+            let shaped = if apples[i].shape.is_some() || apples[j].shape.is_some() {
+                let n0 = match p.contact {
+                    NONE => d / r2.sqrt().max(1e-300),
+                    slot => cx.contacts.get(slot).normal,
+                };
+                Some(shaped_pair(registry, frame, i, j, n0))
+            } else {
+                None
+            };
+            let (n, u) = match &shaped {
+                Some((g, _)) => (g.normal, g.overlap_m),
+                None => geometry::sphere_sphere(d, r2, rs),
+            };
             if ai != aj {
                 // One sleeper: wake it if this contact starts, ends, or its overlap drifts.
                 let sleeper = if ai { j } else { i };
@@ -266,7 +282,10 @@ impl Detection {
                 let law =
                     registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
                 let (ri, rj) = (frame.radius[i], frame.radius[j]);
-                let r_star = ri * rj / (ri + rj);
+                let r_star = match &shaped {
+                    Some((_, sh)) if sh.r_star_m.is_finite() => sh.r_star_m,
+                    _ => ri * rj / (ri + rj),
+                };
                 let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
                 let m_n = theory::reduced_mass(apples[i].mass, apples[j].mass);
                 if u <= 0.0 {
@@ -318,7 +337,14 @@ impl Detection {
                 let c = cx.contacts.get_mut(slot);
                 c.normal = n;
                 c.overlap_m = u;
-                c.curvature2 = 1.0 / frame.radius[j];
+                match shaped {
+                    Some((_, sh)) => {
+                        // The key of the law's constants: they follow R_k as the apples turn.
+                        c.curvature2 = 1.0 / sh.r_star_m;
+                        c.shaped = Some(sh);
+                    }
+                    None => c.curvature2 = 1.0 / frame.radius[j],
+                }
                 c.last_u = u;
                 frame.count[i] += 1;
                 frame.count[j] += 1;
@@ -358,6 +384,7 @@ impl Detection {
         let mut touching = 0;
         let mut chain = std::mem::take(&mut self.chain);
         let mut hits = std::mem::take(&mut self.scratch);
+        let mut shaped_hits = std::mem::take(&mut self.shaped_scratch);
         // A sleeper's surface contacts are frozen: only the awake apples' candidates.
         for w in 0..cx.sleep.awake().len() {
             let k = cx.sleep.awake()[w] as usize;
@@ -372,19 +399,33 @@ impl Detection {
                     k = cx.contacts.get(k).next;
                 }
                 hits.clear();
+                shaped_hits.clear();
                 let surf = &registry.surfaces[s];
                 let now = &self.surf_now[s];
+                let shape = registry.apples[a].shape;
                 if now.exists {
                     if let Some(co) = colliders.get(surf.collider) {
                         let margin = 2.0 * cx.frame.vel[a].length() * ahead + 1e-9;
-                        surface::surface_hits(
-                            &surf.shape,
-                            co,
-                            cx.frame.pos[a],
-                            cx.frame.radius[a],
-                            margin,
-                            &mut hits,
-                        );
+                        match &shape {
+                            Some(sph) => surface::spheroid_hits(
+                                &surf.shape,
+                                co,
+                                cx.frame.pos[a],
+                                &cx.frame.rot[a],
+                                sph,
+                                margin,
+                                &mut hits,
+                                &mut shaped_hits,
+                            ),
+                            None => surface::surface_hits(
+                                &surf.shape,
+                                co,
+                                cx.frame.pos[a],
+                                cx.frame.radius[a],
+                                margin,
+                                &mut hits,
+                            ),
+                        }
                     }
                 }
                 if hits.is_empty() && chain.is_empty() {
@@ -392,7 +433,8 @@ impl Detection {
                 }
                 let law =
                     registry.laws()[registry.law_index(registry.apples[a].material, surf.material)];
-                for hit in &hits {
+                for (h, hit) in hits.iter().enumerate() {
+                    let extra = shaped_hits.get(h).copied();
                     // Match the hit to the open contact with the closest normal (one per smooth
                     // region), among those not matched yet.
                     let mut best: Option<(u32, f64)> = None;
@@ -406,15 +448,20 @@ impl Detection {
                             best = Some((k, cos));
                         }
                     }
-                    let r_star = contact::normal::effective_radius(
-                        1.0 / cx.frame.radius[a],
-                        hit.curvature_1_m,
-                    );
+                    let (r_star, arm) = match extra {
+                        Some(e) => (Some(e.r_star_m).filter(|r| r.is_finite()), e.arm),
+                        None => (
+                            contact::normal::effective_radius(
+                                1.0 / cx.frame.radius[a],
+                                hit.curvature_1_m,
+                            ),
+                            -hit.normal * cx.frame.radius[a],
+                        ),
+                    };
                     // The surface's material point under the apple (a turning roller's or a
                     // swinging part's velocity differs from the one at the apple's centre).
-                    let v_s = self.surf_now[s].velocity_at(
-                        cx.frame.pos[a] - hit.normal * (cx.frame.radius[a] - hit.overlap_m),
-                    );
+                    let v_s = self.surf_now[s]
+                        .velocity_at(cx.frame.pos[a] + arm + hit.normal * hit.overlap_m);
                     if let (Some(c), Some(r_star)) = (control, r_star) {
                         let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
                         let m_n = registry.apples[a].mass;
@@ -493,7 +540,19 @@ impl Detection {
                         let c = cx.contacts.get_mut(slot);
                         c.normal = hit.normal;
                         c.overlap_m = hit.overlap_m;
-                        c.curvature2 = hit.curvature_1_m;
+                        match (extra, &shape) {
+                            (Some(e), Some(sph)) => {
+                                c.curvature2 = 1.0 / e.r_star_m;
+                                c.shaped = Some(Shaped {
+                                    arm: e.arm,
+                                    lever2_m: f64::NAN,
+                                    r_star_m: e.r_star_m,
+                                    area_radius_m: e.area_radius_m,
+                                    r_min_m: sph.a.min(sph.c),
+                                });
+                            }
+                            _ => c.curvature2 = hit.curvature_1_m,
+                        }
                         cx.frame.count[a] += 1;
                         touching += 1;
                     } else {
@@ -528,6 +587,7 @@ impl Detection {
         }
         self.chain = chain;
         self.scratch = hits;
+        self.shaped_scratch = shaped_hits;
         cx.out.stats.contacts = cx.out.stats.apple_apple_contacts + touching;
     }
 
@@ -664,8 +724,16 @@ fn close_apple_pair(cx: &mut Parts, p: Pair, time_s: f64) {
     let f = &cx.frame;
     let d = f.pos[i] - f.pos[j];
     let dist = d.length();
-    let u = f.radius[i] + f.radius[j] - dist;
-    let n = if dist > 0.0 { d / dist } else { Vec3::Z };
+    let (n, u) = if cx.registry.apples[i].shape.is_some() || cx.registry.apples[j].shape.is_some() {
+        let n0 = cx.contacts.get(p.contact).normal;
+        let (g, _) = shaped_pair(cx.registry, f, i, j, n0);
+        (g.normal, g.overlap_m)
+    } else {
+        (
+            if dist > 0.0 { d / dist } else { Vec3::Z },
+            f.radius[i] + f.radius[j] - dist,
+        )
+    };
     let sep = (f.vel[i] - f.vel[j]).dot(n);
     if let Some(open) = cx.contacts.remove(p.contact) {
         let names = cx.registry.names(p.i, Party::Apple(p.j));
@@ -706,4 +774,41 @@ fn history_damping_step(
     let k_t = contact::friction::mindlin_stiffness(law.g_star_pa, (r_star * u).sqrt());
     let gamma_t = -2.0 * contact::damping::SQRT_FIVE_SIXTHS * law.beta * (k_t * m_n).sqrt();
     damping_step(gamma_t, m_t)
+}
+
+/// The geometry of apples `i` and `j` when one of them is a spheroid (a sphere is the spheroid
+/// a = c of its radius), from the starting normal `n0` (from j to i).
+fn shaped_pair(
+    registry: &Registry,
+    frame: &Frame,
+    i: usize,
+    j: usize,
+    n0: Vec3,
+) -> (contact::spheroid::PairGeometry, Shaped) {
+    use contact::spheroid::{self, Spheroid};
+    let shape = |k: usize| {
+        registry.apples[k]
+            .shape
+            .unwrap_or(Spheroid::new(frame.radius[k], frame.radius[k]))
+    };
+    let (si, sj) = (shape(i), shape(j));
+    let g = spheroid::pair(
+        frame.pos[i],
+        &frame.rot[i],
+        &si,
+        frame.pos[j],
+        &frame.rot[j],
+        &sj,
+        n0,
+    );
+    let (r_star_m, area_radius_m) =
+        spheroid::hertz_radii(&g.curvature).unwrap_or((f64::NAN, f64::NAN));
+    let sh = Shaped {
+        arm: g.arm1,
+        lever2_m: g.arm2.length(),
+        r_star_m,
+        area_radius_m,
+        r_min_m: si.a.min(si.c).min(sj.a.min(sj.c)),
+    };
+    (g, sh)
 }

@@ -89,7 +89,10 @@ impl Ctx<'_> {
         }
         let law = &self.registry.laws()[c.law as usize];
         let k = c.consts;
-        let point = contact::geometry::contact_point(pi, ri, n, u, law.share1);
+        let point = match &c.shaped {
+            Some(sh) => pi + sh.arm + n * (u * law.share1),
+            None => contact::geometry::contact_point(pi, ri, n, u, law.share1),
+        };
         let v1 = self.frame.vel[i] + self.frame.angvel[i].cross(point - pi);
         // The other body's surface point (belt included), how many contacts share the rate
         // bounds, and the smaller radius.
@@ -318,15 +321,21 @@ impl Ctx<'_> {
         let ai = &self.registry.apples[i];
         let ri = self.frame.radius[i];
         let mut pad = None;
+        // A spheroid's levers: its contact point's distance from its centre.
+        let (lever1, lever2) = match &c.shaped {
+            Some(sh) => (sh.arm.length(), sh.lever2_m),
+            None => (ri, f64::NAN),
+        };
         let (m2, inv_t2, inv_n2, r_min, inv_i2, inv_spin2) = match c.other {
             Party::Apple(j) => {
                 let aj = &self.registry.apples[j as usize];
+                let l2 = if lever2.is_nan() { aj.radius } else { lever2 };
                 (
                     aj.material,
                     aj.inv_tangential_mass,
                     1.0 / aj.mass,
                     ri.min(self.frame.radius[j as usize]),
-                    1.0 / (aj.inertia + aj.mass * aj.radius * aj.radius),
+                    1.0 / (aj.inertia + aj.mass * l2 * l2),
                     1.0 / aj.inertia,
                 )
             }
@@ -346,7 +355,11 @@ impl Ctx<'_> {
                 )
             }
         };
-        let Some(r_star) = contact::normal::effective_radius(1.0 / ri, c.curvature2) else {
+        let r_star = match &c.shaped {
+            Some(sh) => Some(sh.r_star_m).filter(|r| r.is_finite()),
+            None => contact::normal::effective_radius(1.0 / ri, c.curvature2),
+        };
+        let Some(r_star) = r_star else {
             return Err(Box::new(LayerError::Conforming {
                 apple: ai.name.to_string(),
                 surface: self.name_of(c.other),
@@ -366,9 +379,13 @@ impl Ctx<'_> {
             1.0 / (ai.inv_tangential_mass + inv_t2),
         );
         // Moments about the contact point, I + m R^2 (LIGGGHTS epsd).
-        c.consts.rolling_inertia_kg_m2 = 1.0 / (1.0 / (ai.inertia + ai.mass * ri * ri) + inv_i2);
+        c.consts.rolling_inertia_kg_m2 =
+            1.0 / (1.0 / (ai.inertia + ai.mass * lever1 * lever1) + inv_i2);
         c.consts.spin_inertia_kg_m2 = 1.0 / (1.0 / ai.inertia + inv_spin2);
-        if let Party::Surface(s) = c.other {
+        if let Some(sh) = &c.shaped {
+            // The true ellipse's area, pi a b = pi R_a u.
+            c.consts.area_scale = (sh.area_radius_m / r_star).sqrt();
+        } else if let Party::Surface(s) = c.other {
             // A roller's side (the only surface hit with a positive curvature on a cylinder):
             // the true area of the ellipse, pi a b = pi R_a u, for the recorded area and pressure.
             let rr = self.surf_now[s as usize].cylinder_radius_m;
@@ -395,7 +412,7 @@ impl Ctx<'_> {
             )
         });
         c.consts_curvature = c.curvature2;
-        c.inv_r_min = 1.0 / r_min;
+        c.inv_r_min = 1.0 / c.shaped.map_or(r_min, |sh| sh.r_min_m);
         Ok(())
     }
 

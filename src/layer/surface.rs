@@ -6,8 +6,10 @@
 //! from rapier's manifolds, which describe the previous pose (rapier-notes.md, "one-step lag"). Planes, spheres, boxes and troughs are analytic; triangle meshes are queried
 //! triangle by triangle through their BVH; any other convex shape goes through parry's `contact`.
 
+use crate::contact::spheroid::{self, Spheroid, Tangent2};
 use crate::math::Vec3;
 use rapier3d_f64::geometry::Collider;
+use rapier3d_f64::math::Rotation;
 use rapier3d_f64::parry::bounding_volume::Aabb;
 use rapier3d_f64::parry::math::Pose;
 use rapier3d_f64::parry::query;
@@ -58,6 +60,20 @@ pub fn surface_hits(
     centre: Vec3,
     radius: f64,
     margin: f64,
+    out: &mut Vec<SurfaceHit>,
+) {
+    surface_hits_raw(shape, collider, centre, radius, margin, true, out)
+}
+
+/// [`surface_hits`], with `fill_cylinder` false leaving a cylinder's side hits with a NaN
+/// curvature (a spheroid's contact computes its own, [`spheroid_hits`]).
+fn surface_hits_raw(
+    shape: &SurfaceShape,
+    collider: &Collider,
+    centre: Vec3,
+    radius: f64,
+    margin: f64,
+    fill_cylinder: bool,
     out: &mut Vec<SurfaceHit>,
 ) {
     let pose = collider.position();
@@ -112,7 +128,7 @@ pub fn surface_hits(
             } else if let Some(cy) = s.as_cylinder() {
                 let mut h = cylinder_hit(pose, cy.half_height, cy.radius, centre, radius);
                 if h.overlap_m > -margin {
-                    if h.curvature_1_m.is_nan() {
+                    if h.curvature_1_m.is_nan() && fill_cylinder {
                         // On the side (computed only for hits kept: it solves for the ellipse).
                         h.curvature_1_m = crate::contact::elliptic::cylinder_equivalent_curvature(
                             radius, cy.radius,
@@ -306,6 +322,122 @@ pub fn mesh_hits(
             normal: nw,
             overlap_m: u,
             curvature_1_m: 0.0,
+        });
+    }
+}
+
+/// What a spheroid's contact with a surface adds to its [`SurfaceHit`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShapedHit {
+    /// The apple's surface point deepest into the surface, from its centre (m, world): the
+    /// contact point before the deformation's share is added.
+    pub arm: Vec3,
+    /// The elliptic law's stiffness radius R_k (m); NaN when the contact conforms (Hertz does
+    /// not apply).
+    pub r_star_m: f64,
+    /// The elliptic law's area radius R_a (m).
+    pub area_radius_m: f64,
+}
+
+/// The hits of a spheroidal apple (centre, orientation `rot`, shape `sph`) with a surface, with
+/// overlap > -margin, and what each adds ([`ShapedHit`], in `extra`, index for index).
+///
+/// Every surface kind is handled by the sphere code ([`surface_hits`]) through osculating
+/// spheres: for a normal estimate n (surface to apple), the apple's point with outward normal -n
+/// is p = centre + s(-n) ([`Spheroid::point_with_normal`]); a sphere of radius rho (the
+/// spheroid's mean radius of curvature there) tangent to the spheroid at p, centred at
+/// p + rho n, is queried, and its hit's normal is the next estimate. At the fixed point the
+/// surface point nearest the sphere's centre lies on the line through p along n, and the surface
+/// normal there is n: a common normal, with the sphere's overlap the spheroid's depth at p. On a
+/// flat (plane, box face, triangle) one iteration is exact; on a curved surface each iteration
+/// shrinks the normal's error by about |rho - R| / (rho + R_s) (docs/shape.md section 3). The
+/// first estimates are the hits of the bounding sphere (a superset: the spheroid lies inside it).
+///
+/// The relative curvature adds the spheroid's two principal curvatures at p to the surface's:
+/// isotropic (plane, box, triangle: 0; ball: 1/R; trough: -1/R, the cup of the sphere code), or
+/// a cylinder's side: 1/r across its axis, 0 along it.
+#[allow(clippy::too_many_arguments)]
+pub fn spheroid_hits(
+    shape: &SurfaceShape,
+    collider: &Collider,
+    centre: Vec3,
+    rot: &Rotation,
+    sph: &Spheroid,
+    margin: f64,
+    out: &mut Vec<SurfaceHit>,
+    extra: &mut Vec<ShapedHit>,
+) {
+    let mut starts: Vec<SurfaceHit> = Vec::new();
+    surface_hits_raw(
+        shape,
+        collider,
+        centre,
+        sph.bounding_radius(),
+        margin,
+        false,
+        &mut starts,
+    );
+    let first = out.len();
+    let mut probe: Vec<SurfaceHit> = Vec::new();
+    for h0 in starts {
+        let mut n = h0.normal;
+        let mut hit = None;
+        for _ in 0..spheroid::MAX_ITERATIONS {
+            let sp = sph.point_with_normal(rot, -n);
+            let rho = 2.0 / (1.0 / sp.r_meridian_m + 1.0 / sp.r_parallel_m);
+            probe.clear();
+            surface_hits_raw(
+                shape,
+                collider,
+                centre + sp.offset + n * rho,
+                rho,
+                margin + rho,
+                false,
+                &mut probe,
+            );
+            let Some(best) = probe
+                .iter()
+                .copied()
+                .max_by(|a, b| a.normal.dot(n).total_cmp(&b.normal.dot(n)))
+            else {
+                hit = None;
+                break;
+            };
+            let moved = (best.normal - n).length();
+            n = best.normal;
+            hit = Some(best);
+            if moved <= spheroid::NORMAL_TOLERANCE {
+                break;
+            }
+        }
+        let Some(hit) = hit else { continue };
+        if hit.overlap_m <= -margin
+            || out[first..]
+                .iter()
+                .any(|h| h.normal.dot(hit.normal) > MESH_MERGE_COS)
+        {
+            continue;
+        }
+        let sp = sph.point_with_normal(rot, -hit.normal);
+        let (e1, e2) = spheroid::tangent_basis(hit.normal);
+        let surface = if hit.curvature_1_m.is_nan() {
+            // A cylinder's side (rapier's cylinders have their axis along local y).
+            let r_cyl = collider
+                .shape()
+                .as_cylinder()
+                .map_or(f64::INFINITY, |c| c.radius);
+            let axis = collider.position().rotation * Vec3::Y;
+            Tangent2::principal(0.0, axis, 1.0 / r_cyl, e1, e2)
+        } else {
+            Tangent2::iso(hit.curvature_1_m)
+        };
+        let (r_star_m, area_radius_m) = spheroid::hertz_radii(&sp.curvature(e1, e2).add(surface))
+            .unwrap_or((f64::NAN, f64::NAN));
+        out.push(hit);
+        extra.push(ShapedHit {
+            arm: sp.offset,
+            r_star_m,
+            area_radius_m,
         });
     }
 }
