@@ -9,7 +9,8 @@
 //!   equator), R'' = c^2/a (along the meridian), R_k from the elliptic law (Johnson 4.2, by the
 //!   exact solve `contact::elliptic::elliptic_hertz`). P_max scales as R_k^(1/5) at equal m, v:
 //!   the pole-to-cheek ratio is (R_pole / R_k,cheek)^(1/5).
-//! - Rest under gravity: k u^(3/2) = m g.
+//! - Rest under gravity: k u^(3/2) = m g, or with eq. 12 at rest (1 + ke)/2 k u^(3/2) = m g
+//!   (docs/physics.md 11.2).
 //! - Rocking without slip about a resting pose with curvature radius rho at the contact and the
 //!   centre at height h above it: omega^2 = m g (rho - h) / (I + m h^2) (small angles; the
 //!   instantaneous axis is the contact line, the centre rises by (rho - h) theta^2 / 2).
@@ -229,4 +230,218 @@ fn pole_to_cheek_peak_force_ratio() {
     println!("ratio {} closed {closed}", pp / pc);
     assert!(rel(pp / pc, closed) < 0.005, "{} vs {closed}", pp / pc);
     assert!(closed > 1.03 && closed < 1.06, "about 4 % apart: {closed}");
+}
+
+fn damped() -> LayerConfig {
+    let mut c = LayerConfig::default();
+    c.sleep.enabled = false;
+    c.gravity = Vector::new(0.0, 0.0, -9.81);
+    c
+}
+
+/// Settles the apple at rest on `rot`'s lowest point and returns (overlap, closed form).
+fn rest(shape: Spheroid, rot: Rotation, r_k: f64) -> (f64, f64) {
+    let low = shape.point_with_normal(&rot, -Vector::Z).support_m;
+    let mut s = scene(
+        shape,
+        rot,
+        Vector::new(0.0, 0.0, low),
+        Vector::ZERO,
+        Vector::ZERO,
+        9.81,
+        1e-5,
+        damped(),
+        0.3,
+        0.5,
+    );
+    s.run(0.5);
+    let u = low - s.rb().translation().z;
+    let k = 4.0 / 3.0 * e_star() * r_k.sqrt();
+    // Eq. 12 (ke 0.5) carries (1 + ke)/2 of Hertz at rest (docs/physics.md 11.2).
+    let closed = (s.mass * 9.81 / (0.75 * k)).powf(2.0 / 3.0);
+    // Still upright: the axis where it started.
+    let axis = *s.rb().rotation() * Vector::Z;
+    assert!((axis - rot * Vector::Z).length() < 1e-6, "turned: {axis:?}");
+    (u, closed)
+}
+
+/// Rest on the pole: circular Hertz with R = a^2/c carries m g.
+#[test]
+fn rest_on_the_pole() {
+    let (u, closed) = rest(Spheroid::new(A, C), pole_down(), A * A / C);
+    println!("pole rest u {u} closed {closed}");
+    assert!(rel(u, closed) < 0.005, "{u} vs {closed}");
+}
+
+/// Rest on the cheek of an elongated apple (80 mm wide, 88 mm tall: stable on its side): the
+/// elliptic law with R' = c^2/a along the meridian, R'' = a along the equator.
+#[test]
+fn rest_on_the_cheek() {
+    let shape = Spheroid::new(A, 0.044);
+    let h = elliptic_hertz(0.044 * 0.044 / A, A);
+    let (u, closed) = rest(shape, cheek_down(), h.stiffness_radius_m);
+    println!("cheek rest u {u} closed {closed}");
+    assert!(rel(u, closed) < 0.005, "{u} vs {closed}");
+}
+
+/// Times of the upward zero crossings of `x(t)` sampled every `dt`.
+fn upward_crossings(xs: &[f64], dt: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    for k in 1..xs.len() {
+        if xs[k - 1] < 0.0 && xs[k] >= 0.0 {
+            out.push(dt * ((k - 1) as f64 + xs[k - 1] / (xs[k - 1] - xs[k])));
+        }
+    }
+    out
+}
+
+/// An oblate apple rocking on its pole, tilted 0.02 rad and released: the small-oscillation
+/// period 2 pi sqrt((I + m h^2) / (m g (rho - h))) with rho = a^2/c, h = c, I = m (a^2 + c^2)/5,
+/// within 1 %. Elastic contact, friction 0.8 (no slip).
+#[test]
+fn rocking_period_on_the_pole() {
+    let shape = Spheroid::new(A, C);
+    let tilt = 0.02;
+    let rot = Rotation::from_rotation_y(tilt);
+    let low = shape.point_with_normal(&rot, -Vector::Z).support_m;
+    let dt = 1e-5;
+    let mut config = elastic();
+    config.gravity = Vector::new(0.0, 0.0, -9.81);
+    let mut s = scene(
+        shape,
+        rot,
+        Vector::new(0.0, 0.0, low - 1.5e-4),
+        Vector::ZERO,
+        Vector::ZERO,
+        9.81,
+        dt,
+        config,
+        0.8,
+        1.0,
+    );
+    let mut xs = Vec::new();
+    let n = (4.0 / dt) as usize;
+    for k in 0..n {
+        s.step(k as f64 * dt);
+        xs.push((*s.rb().rotation() * Vector::Z).x);
+    }
+    let ups = upward_crossings(&xs, dt);
+    assert!(ups.len() >= 4, "{} crossings", ups.len());
+    let period = (ups[ups.len() - 1] - ups[0]) / (ups.len() - 1) as f64;
+    let m = s.mass;
+    let (ieq, _) = shape.principal_inertia(m);
+    let (rho, h) = (A * A / C, C);
+    let closed = 2.0 * std::f64::consts::PI * ((ieq + m * h * h) / (m * 9.81 * (rho - h))).sqrt();
+    println!(
+        "rocking period {period} closed {closed} ({} periods)",
+        ups.len() - 1
+    );
+    assert!(rel(period, closed) < 0.01, "{period} vs {closed}");
+}
+
+/// An elongated apple (80 x 88 mm) on its side, launched sliding at 1 m/s across its axis
+/// without spin: it rolls straight about its own axis at v0 / (1 + I / (m l^2)) with
+/// I = 2/5 m a^2 about the axis and the lever l = a - u from the centre to the contact point on
+/// the flat (u its resting overlap): the sphere's 5/7 when u -> 0 (0.7116 here against 0.7143).
+/// Its axis keeps its direction, and it rolls: w l = v.
+#[test]
+fn rolling_about_the_axis_goes_straight_at_five_sevenths() {
+    let shape = Spheroid::new(A, 0.044);
+    let rot = cheek_down(); // apple axis along -y
+    let low = shape.point_with_normal(&rot, -Vector::Z).support_m;
+    let mut s = scene(
+        shape,
+        rot,
+        Vector::new(0.0, 0.0, low - 2.0e-4),
+        Vector::new(1.0, 0.0, 0.0),
+        Vector::ZERO,
+        9.81,
+        1e-5,
+        damped(),
+        0.3,
+        0.5,
+    );
+    s.run(0.4);
+    let v = s.rb().linvel();
+    let w = s.rb().angvel();
+    let axis = *s.rb().rotation() * Vector::Z;
+    println!("rolling v {v:?} w {w:?} axis {axis:?}");
+    let u = low - s.rb().translation().z;
+    let lever = A - u;
+    let closed = 1.0 / (1.0 + 0.4 * (A / lever).powi(2));
+    println!("closed {closed} (5/7 = {}), u {u}", 5.0 / 7.0);
+    assert!(rel(v.x, closed) < 1e-3, "v {} vs {closed}", v.x);
+    assert!(v.y.abs() < 1e-6, "straight: v_y {}", v.y);
+    assert!((axis + Vector::Y).length() < 1e-6, "axis turned: {axis:?}");
+    assert!(
+        rel(w.y * lever, v.x) < 1e-3,
+        "w_y l {} v {}",
+        w.y * lever,
+        v.x
+    );
+}
+
+/// Total energy of the apple: kinetic (translation and rotation about its principal axes),
+/// gravity's and the contact's elastic energy.
+fn energy(s: &Scene) -> f64 {
+    let rb = s.rb();
+    let m = s.mass;
+    let shape = Spheroid::new(A, 0.044);
+    let (ieq, iax) = shape.principal_inertia(m);
+    let wb = rb.rotation().inverse() * rb.angvel();
+    let rot_ke = 0.5 * (ieq * (wb.x * wb.x + wb.y * wb.y) + iax * wb.z * wb.z);
+    0.5 * m * rb.linvel().length_squared()
+        + rot_ke
+        + m * 9.81 * rb.translation().z
+        + s.layer.stats().elastic_energy_j
+}
+
+/// Launched rolling about a tilted axis (not its own) on a frictionless flat, the elongated
+/// apple wobbles: its centre rises and falls as it turns. Without a loss model the energy is
+/// conserved within issue 2's stated 0.1 % (the elastic runs' tolerance); measured: the largest
+/// deviation over 1 s at dt 1e-5 s is 1.24e-4 of the launch kinetic energy (docs/shape.md),
+/// held here at twice that. The velocities are rapier's staggered ones, uncorrected: the
+/// deviation is the O(dt) phase error of symplectic Euler, not a drift.
+#[test]
+fn a_wobbling_spheroid_conserves_energy() {
+    let shape = Spheroid::new(A, 0.044);
+    let rot = Rotation::from_rotation_x(1.2);
+    let low = shape.point_with_normal(&rot, -Vector::Z).support_m;
+    let mut config = elastic();
+    config.gravity = Vector::new(0.0, 0.0, -9.81);
+    let mut s = scene(
+        shape,
+        rot,
+        Vector::new(0.0, 0.0, low - 2.0e-4),
+        Vector::new(0.3, 0.0, 0.0),
+        Vector::new(0.0, 20.0, 3.0),
+        9.81,
+        1e-5,
+        config,
+        0.0,
+        1.0,
+    );
+    s.step(0.0);
+    let e0 = energy(&s);
+    let ke0 = 0.5 * s.mass * 0.09 + 0.5 * 400.0 * 0.2 * s.mass * (A * A + 0.044 * 0.044);
+    let (mut zmin, mut zmax) = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut worst: f64 = 0.0;
+    for k in 1..100_000 {
+        s.step(k as f64 * 1e-5);
+        let z = s.rb().translation().z;
+        zmin = zmin.min(z);
+        zmax = zmax.max(z);
+        worst = worst.max((energy(&s) - e0).abs());
+    }
+    println!(
+        "wobble: z {zmin}..{zmax}, worst energy deviation {worst:e} J of {ke0} J ({:e})",
+        worst / ke0
+    );
+    assert!(zmax - zmin > 1e-3, "it wobbles: z range {}", zmax - zmin);
+    assert!(worst < 1e-3 * e0, "beyond 0.1 %: {worst:e} of {e0}");
+    assert!(
+        worst < 2.5e-4 * ke0,
+        "deviation {:e} of the kinetic energy",
+        worst / ke0
+    );
 }
