@@ -445,3 +445,106 @@ fn a_wobbling_spheroid_conserves_energy() {
         worst / ke0
     );
 }
+
+/// Two 80 x 72 mm apples meeting head-on at 1 m/s (no gravity, elastic), turned by `r1`, `r2`
+/// and approaching along x: (peak force, contact time, mass of one).
+fn head_on(r1: Rotation, r2: Rotation) -> (f64, f64, f64) {
+    let shape = Spheroid::new(A, C);
+    let dt = 1e-5;
+    let mut world = PhysicsWorld::new();
+    world.gravity = Vector::ZERO;
+    world.integration_parameters.num_solver_iterations = 1;
+    world.integration_parameters.max_ccd_substeps = 0;
+    world.integration_parameters.dt = dt;
+    let mass = DENSITY * shape.volume_m3();
+    let (ieq, iax) = shape.principal_inertia(mass);
+    let mut layer = ContactLayer::new(elastic());
+    let fruit = layer.add_material("apple", apple());
+    layer.set_default_coefficients(0.3, 1.0, 100.0);
+    for (k, (rot, x, v)) in [(r1, -1.0, 0.5), (r2, 1.0, -0.5)].into_iter().enumerate() {
+        let reach = shape.point_with_normal(&rot, Vector::X * x).support_m;
+        let body = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .pose(Pose::from_parts(
+                    Vector::new(x * (reach + 1e-5), 0.0, 0.0),
+                    rot,
+                ))
+                .linvel(Vector::new(v, 0.0, 0.0))
+                .additional_mass_properties(MassProperties::new(
+                    Vector::ZERO,
+                    mass,
+                    Vector::new(ieq, ieq, iax),
+                ))
+                .gyroscopic_forces_enabled(true)
+                .can_sleep(false),
+        );
+        layer
+            .add_spheroid_body(&world.bodies, body, shape, fruit, &format!("a{k}"))
+            .unwrap();
+    }
+    for k in 0..3000 {
+        layer
+            .apply_forces(
+                &mut world.bodies,
+                &world.colliders,
+                &world.islands,
+                k as f64 * dt,
+                dt,
+            )
+            .unwrap();
+        world.step_with_events(layer.hooks(), &());
+    }
+    let ev = layer.finished_events();
+    assert_eq!(ev.len(), 1, "one impact");
+    (ev[0].peak_force_n, ev[0].duration_s.unwrap(), mass)
+}
+
+fn e_star_apples() -> f64 {
+    let a = apple();
+    let na = a.poisson_ratio;
+    0.5 * a.youngs_modulus_pa / (1.0 - na * na)
+}
+
+/// Pole against pole: circular, R* = (a^2/c) / 2. Cheek against cheek with the axes crossed:
+/// the curvatures 1/a and a/c^2 add crosswise to a circle, R* = 1 / (1/a + a/c^2). Cheeks with
+/// the axes parallel: elliptic, R' = a/2, R'' = c^2/(2a). m* = m/2, relative speed 1 m/s.
+#[test]
+fn two_spheroids_head_on() {
+    let pole_x = Rotation::from_rotation_y(std::f64::consts::FRAC_PI_2); // axis along x
+    let axis_z = Rotation::IDENTITY; // cheek towards x, axis along z
+    let axis_y = Rotation::from_rotation_x(std::f64::consts::FRAC_PI_2); // cheek towards x, axis along y
+    let cases = [
+        ("pole-pole", pole_x, pole_x, 0.5 * A * A / C),
+        (
+            "cheek-cheek crossed",
+            axis_z,
+            axis_y,
+            1.0 / (1.0 / A + A / (C * C)),
+        ),
+        (
+            "cheek-cheek parallel",
+            axis_z,
+            axis_z,
+            elliptic_hertz(0.5 * A, 0.5 * C * C / A).stiffness_radius_m,
+        ),
+    ];
+    for (what, r1, r2, r_k) in cases {
+        let (p, t, m) = head_on(r1, r2);
+        let k = 4.0 / 3.0 * e_star_apples() * r_k.sqrt();
+        let th = theory::elastic_impact(0.5 * m, 1.0, k, r_k);
+        println!(
+            "{what}: P {p} ({}), t {t} ({})",
+            th.peak_force_n, th.contact_time_s
+        );
+        assert!(
+            rel(p, th.peak_force_n) < 0.005,
+            "{what}: peak {p} vs {}",
+            th.peak_force_n
+        );
+        assert!(
+            rel(t, th.contact_time_s) < 0.005,
+            "{what}: time {t} vs {}",
+            th.contact_time_s
+        );
+    }
+}

@@ -586,4 +586,128 @@ mod tests {
         assert!((hits[0].overlap_m - 0.001).abs() < 1e-12);
         assert_eq!(hits[0].curvature_1_m, 0.0);
     }
+
+    /// Every surface kind, at contacts on faces, edges, corners and curved sides: the spheroid
+    /// code with a = c gives the sphere code's normal, overlap and effective radius (to 1e-12;
+    /// the operations differ, so not to the bit).
+    #[test]
+    fn a_round_spheroid_is_the_sphere() {
+        use rapier3d_f64::math::Pose;
+        let r = 0.04;
+        let sph = Spheroid::new(r, r);
+        let rot = Rotation::from_scaled_axis(Vec3::new(0.3, -0.5, 0.9));
+        let tilt = Pose::from_parts(
+            Vec3::new(0.01, -0.02, 0.005),
+            Rotation::from_scaled_axis(Vec3::new(0.2, 0.1, -0.4)),
+        );
+        let mesh = ColliderBuilder::trimesh(
+            vec![
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(1.0, -1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.3),
+            ],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let trough = SurfaceShape::Trough {
+            radius_m: 0.1,
+            half_length_m: 0.5,
+            half_angle_rad: 1.2,
+        };
+        let cases: Vec<(&str, SurfaceShape, rapier3d_f64::geometry::Collider, Vec3)> = vec![
+            (
+                "plane",
+                SurfaceShape::FromCollider,
+                ColliderBuilder::new(rapier3d_f64::geometry::SharedShape::halfspace(Vec3::Z))
+                    .position(tilt)
+                    .build(),
+                Vec3::new(0.02, 0.0, 0.04),
+            ),
+            (
+                "ball",
+                SurfaceShape::FromCollider,
+                ColliderBuilder::ball(0.05).build(),
+                Vec3::new(0.03, 0.05, 0.06),
+            ),
+            (
+                "box face",
+                SurfaceShape::FromCollider,
+                ColliderBuilder::cuboid(0.2, 0.2, 0.1)
+                    .position(tilt)
+                    .build(),
+                Vec3::new(0.05, 0.03, 0.138),
+            ),
+            (
+                "box edge",
+                SurfaceShape::FromCollider,
+                ColliderBuilder::cuboid(0.2, 0.2, 0.1).build(),
+                Vec3::new(0.225, 0.0, 0.125),
+            ),
+            (
+                "box corner",
+                SurfaceShape::FromCollider,
+                ColliderBuilder::cuboid(0.2, 0.2, 0.1).build(),
+                Vec3::new(0.22, 0.22, 0.12),
+            ),
+            (
+                "cylinder side",
+                SurfaceShape::FromCollider,
+                ColliderBuilder::cylinder(0.3, 0.03).position(tilt).build(),
+                Vec3::new(0.02, 0.1, 0.075),
+            ),
+            (
+                "cylinder end",
+                SurfaceShape::FromCollider,
+                ColliderBuilder::cylinder(0.3, 0.03).build(),
+                Vec3::new(0.01, 0.339, 0.0),
+            ),
+            (
+                "trough",
+                trough,
+                ColliderBuilder::cuboid(0.5, 0.1, 0.1).build(),
+                Vec3::new(0.1, 0.03, -0.055),
+            ),
+            (
+                "mesh",
+                SurfaceShape::FromCollider,
+                mesh.build(),
+                // 39 mm above the triangle's plane at (0.1, -0.1, 0.135).
+                Vec3::new(0.1, -0.1, 0.135) + Vec3::new(0.0, -0.6, 4.0).normalize() * 0.039,
+            ),
+            (
+                "capsule (parry)",
+                SurfaceShape::FromCollider,
+                ColliderBuilder::capsule_x(0.2, 0.02).build(),
+                Vec3::new(0.05, 0.0, 0.059),
+            ),
+        ];
+        for (what, shape, col, centre) in cases {
+            let (mut a, mut b, mut extra) = (Vec::new(), Vec::new(), Vec::new());
+            surface_hits(&shape, &col, centre, r, 0.01, &mut a);
+            spheroid_hits(&shape, &col, centre, &rot, &sph, 0.01, &mut b, &mut extra);
+            assert_eq!(a.len(), 1, "{what}: {a:?}");
+            assert_eq!(b.len(), 1, "{what}: {b:?}");
+            let (ha, hb) = (a[0], b[0]);
+            assert!(
+                (ha.normal - hb.normal).length() < 1e-12,
+                "{what}: {ha:?} {hb:?}"
+            );
+            assert!(
+                (ha.overlap_m - hb.overlap_m).abs() < 1e-12 * r,
+                "{what}: {ha:?} {hb:?}"
+            );
+            assert!(ha.overlap_m > 0.0, "{what}: {ha:?}");
+            let r_star =
+                crate::contact::normal::effective_radius(1.0 / r, ha.curvature_1_m).unwrap();
+            assert!(
+                (extra[0].r_star_m / r_star - 1.0).abs() < 1e-12,
+                "{what}: {} {r_star}",
+                extra[0].r_star_m
+            );
+            assert!(
+                (extra[0].arm + ha.normal * r).length() < 1e-12 * r,
+                "{what}"
+            );
+        }
+    }
 }
