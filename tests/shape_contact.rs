@@ -548,3 +548,65 @@ fn two_spheroids_head_on() {
         );
     }
 }
+
+/// First time the apple falls asleep and its tilt then, released at rest tilted `theta0` on its
+/// pole, over `duration` s.
+fn first_sleep(theta0: f64, duration: f64) -> (Option<(f64, f64)>, f64) {
+    let shape = Spheroid::new(A, C);
+    let rot = Rotation::from_rotation_y(theta0);
+    let low = shape.point_with_normal(&rot, -Vector::Z).support_m;
+    let mut config = LayerConfig::default();
+    config.gravity = Vector::new(0.0, 0.0, -9.81);
+    let dt = 1e-5;
+    let mut s = scene(
+        shape,
+        rot,
+        Vector::new(0.0, 0.0, low - 2.2e-4),
+        Vector::ZERO,
+        Vector::ZERO,
+        9.81,
+        dt,
+        config,
+        0.5,
+        0.5,
+    );
+    let m = s.mass;
+    let (ieq, _) = shape.principal_inertia(m);
+    let omega2 = m * 9.81 * (A * A / C - C) / (ieq + m * C * C);
+    let theta_max = 0.005 / (A * 0.2 * omega2);
+    for k in 0..(duration / dt) as usize {
+        s.step(k as f64 * dt);
+        if s.layer.sleeping_count() == 1 {
+            let tilt = (s.rb().rotation() * Vector::Z).x.abs();
+            return (Some((k as f64 * dt, tilt)), theta_max);
+        }
+    }
+    (None, theta_max)
+}
+
+/// The sleeping rule and a spheroid off its resting pose. An apple sleeps when it has been
+/// still (|v| and |w| R below v_s = 5 mm/s) for T_s = 0.2 s and its mean load would not change
+/// that within T_s. Rocking on its pole at omega^2 = m g (rho - h) / (I + m h^2) (as
+/// `rocking_period_on_the_pole`; omega = 6.65 rad/s) from theta0, its |w| R peaks at
+/// R omega theta0: below v_s while theta0 < v_s / (R omega) = 0.0188 rad, so stillness alone
+/// would let it sleep anywhere in its swing. The rule's torque part (a spheroid's mean contact
+/// torque about its centre, I alpha < I v_s / (R T_s), alpha = omega^2 theta) lets it sleep only
+/// tilted less than theta_max = v_s / (R T_s omega^2) = 0.0141 rad for the 80 x 72 apple.
+/// - Released from 0.01-0.018 rad it sleeps, tilted less than theta_max.
+/// - Released from 0.02 and 0.025 rad (its rocking, without rolling resistance, hardly decays)
+///   it is never still: it stays awake.
+#[test]
+fn a_tilted_spheroid_sleeps_only_near_its_resting_pose() {
+    for th in [0.01, 0.012, 0.015, 0.018] {
+        let (slept, theta_max) = first_sleep(th, 2.0);
+        println!("theta_max {theta_max}; from {th} rad, first asleep (s, rad): {slept:?}");
+        assert!((theta_max - 0.0141).abs() < 5e-5);
+        let (_, tilt) = slept.expect("it sleeps");
+        assert!(tilt < theta_max, "asleep at tilt {tilt}");
+    }
+    for th in [0.02, 0.025] {
+        let (slept, _) = first_sleep(th, 3.0);
+        println!("from {th} rad: {slept:?}");
+        assert!(slept.is_none(), "asleep while rocking: {slept:?}");
+    }
+}

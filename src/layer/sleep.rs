@@ -29,6 +29,9 @@ pub(super) struct Sleep {
     still_time: Vec<f64>,
     /// Running mean of the net force while still (NaN: starts again).
     mean_force: Vec<Vec3>,
+    /// A spheroid's running mean of the contact torque about its centre while still (NaN:
+    /// starts again; spheres do not use it).
+    mean_torque: Vec<Vec3>,
     /// The contact force a sleeper carried when it fell asleep.
     sleep_force: Vec<Vec3>,
     /// Sleepers to wake before the next detection.
@@ -44,6 +47,7 @@ impl Sleep {
             dirty: true,
             still_time: Vec::new(),
             mean_force: Vec::new(),
+            mean_torque: Vec::new(),
             sleep_force: Vec::new(),
             to_wake: Vec::new(),
         }
@@ -58,6 +62,7 @@ impl Sleep {
     pub fn grow(&mut self, n: usize) {
         self.still_time.resize(n, 0.0);
         self.mean_force.resize(n, Vec3::NAN);
+        self.mean_torque.resize(n, Vec3::NAN);
         self.asleep.resize(n, false);
         self.sleep_force.resize(n, Vec3::ZERO);
     }
@@ -124,6 +129,7 @@ impl Sleep {
                     self.asleep_count -= 1;
                     self.still_time[k] = 0.0;
                     self.mean_force[k] = Vec3::NAN;
+                    self.mean_torque[k] = Vec3::NAN;
                     self.dirty = true;
                 }
             }
@@ -157,6 +163,7 @@ impl Sleep {
             self.asleep_count -= 1;
             self.still_time[k] = 0.0;
             self.mean_force[k] = Vec3::NAN;
+            self.mean_torque[k] = Vec3::NAN;
             self.dirty = true;
             if let Some(rb) = bodies.get_mut(apples[k].body) {
                 rb.wake_up(true);
@@ -202,7 +209,24 @@ impl Sleep {
             };
             self.mean_force[k] = if still { mean } else { Vec3::NAN };
             let limit = cfg.speed_m_s * m / cfg.time_s;
-            let resting = frame.count[k] > 0 && mean.length_squared() < limit * limit;
+            let mut resting = frame.count[k] > 0 && mean.length_squared() < limit * limit;
+            if apples[k].shape.is_some() {
+                // A spheroid tilted off its resting pose is still at the turns of its rocking,
+                // with a torque that would set it turning again: the mean torque must not change
+                // |w| R by the threshold within the stillness time either (a sphere's contacts
+                // leave it no such torque at rest; its rule is unchanged).
+                let last = self.mean_torque[k];
+                let tau = loads.torque[k];
+                let mean_t = if !still || last.x.is_nan() {
+                    tau
+                } else {
+                    last + (tau - last) * share
+                };
+                self.mean_torque[k] = if still { mean_t } else { Vec3::NAN };
+                let a = &apples[k];
+                let limit_t = cfg.speed_m_s * a.inertia / (a.radius * cfg.time_s);
+                resting &= mean_t.length_squared() < limit_t * limit_t;
+            }
             if still && !loads.busy[k] && resting {
                 self.still_time[k] += dt_s;
             } else {
