@@ -186,13 +186,14 @@ fn pole_drop_is_hertz_with_the_pole_radius() {
         "pole: P {p} ({}), t {t} ({})",
         th.peak_force_n, th.contact_time_s
     );
+    // The issue asks 0.5 %; docs/shape.md prints 9e-7 for both, held at twice that.
     assert!(
-        rel(p, th.peak_force_n) < 0.005,
+        rel(p, th.peak_force_n) < 1.9e-6,
         "peak {p} vs {}",
         th.peak_force_n
     );
     assert!(
-        rel(t, th.contact_time_s) < 0.005,
+        rel(t, th.contact_time_s) < 1.9e-6,
         "time {t} vs {}",
         th.contact_time_s
     );
@@ -209,13 +210,14 @@ fn cheek_drop_is_the_elliptic_law() {
         "cheek: P {p} ({}), t {t} ({})",
         th.peak_force_n, th.contact_time_s
     );
+    // The issue asks 0.5 %; docs/shape.md prints 9e-7 for both, held at twice that.
     assert!(
-        rel(p, th.peak_force_n) < 0.005,
+        rel(p, th.peak_force_n) < 1.9e-6,
         "peak {p} vs {}",
         th.peak_force_n
     );
     assert!(
-        rel(t, th.contact_time_s) < 0.005,
+        rel(t, th.contact_time_s) < 1.9e-6,
         "time {t} vs {}",
         th.contact_time_s
     );
@@ -228,7 +230,8 @@ fn pole_to_cheek_peak_force_ratio() {
     let (pc, _, _) = drop(cheek_down(), A);
     let closed = (A * A / C / elliptic_hertz(A, C * C / A).stiffness_radius_m).powf(0.2);
     println!("ratio {} closed {closed}", pp / pc);
-    assert!(rel(pp / pc, closed) < 0.005, "{} vs {closed}", pp / pc);
+    // The issue asks 0.5 %; docs/shape.md prints 1.4e-6, held at twice that.
+    assert!(rel(pp / pc, closed) < 2.8e-6, "{} vs {closed}", pp / pc);
     assert!(closed > 1.03 && closed < 1.06, "about 4 % apart: {closed}");
 }
 
@@ -270,7 +273,8 @@ fn rest(shape: Spheroid, rot: Rotation, r_k: f64) -> (f64, f64) {
 fn rest_on_the_pole() {
     let (u, closed) = rest(Spheroid::new(A, C), pole_down(), A * A / C);
     println!("pole rest u {u} closed {closed}");
-    assert!(rel(u, closed) < 0.005, "{u} vs {closed}");
+    // The issue asks 0.5 %; docs/shape.md prints 4e-12 and 1.4e-12, held at 1e-11.
+    assert!(rel(u, closed) < 1e-11, "{u} vs {closed}");
 }
 
 /// Rest on the cheek of an elongated apple (80 mm wide, 88 mm tall: stable on its side): the
@@ -281,7 +285,8 @@ fn rest_on_the_cheek() {
     let h = elliptic_hertz(0.044 * 0.044 / A, A);
     let (u, closed) = rest(shape, cheek_down(), h.stiffness_radius_m);
     println!("cheek rest u {u} closed {closed}");
-    assert!(rel(u, closed) < 0.005, "{u} vs {closed}");
+    // The issue asks 0.5 %; docs/shape.md prints 4e-12 and 1.4e-12, held at 1e-11.
+    assert!(rel(u, closed) < 1e-11, "{u} vs {closed}");
 }
 
 /// Times of the upward zero crossings of `x(t)` sampled every `dt`.
@@ -336,7 +341,8 @@ fn rocking_period_on_the_pole() {
         "rocking period {period} closed {closed} ({} periods)",
         ups.len() - 1
     );
-    assert!(rel(period, closed) < 0.01, "{period} vs {closed}");
+    // The issue asks 1 %; docs/shape.md prints 0.34 %, held at twice that.
+    assert!(rel(period, closed) < 0.0068, "{period} vs {closed}");
 }
 
 /// An elongated apple (80 x 88 mm) on its side, launched sliding at 1 m/s across its axis
@@ -370,11 +376,12 @@ fn rolling_about_the_axis_goes_straight_at_five_sevenths() {
     let lever = A - u;
     let closed = 1.0 / (1.0 + 0.4 * (A / lever).powi(2));
     println!("closed {closed} (5/7 = {}), u {u}", 5.0 / 7.0);
-    assert!(rel(v.x, closed) < 1e-3, "v {} vs {closed}", v.x);
+    // docs/shape.md prints 3e-6, held at twice that.
+    assert!(rel(v.x, closed) < 6e-6, "v {} vs {closed}", v.x);
     assert!(v.y.abs() < 1e-6, "straight: v_y {}", v.y);
     assert!((axis + Vector::Y).length() < 1e-6, "axis turned: {axis:?}");
     assert!(
-        rel(w.y * lever, v.x) < 1e-3,
+        rel(w.y * lever, v.x) < 6e-6,
         "w_y l {} v {}",
         w.y * lever,
         v.x
@@ -536,13 +543,14 @@ fn two_spheroids_head_on() {
             "{what}: P {p} ({}), t {t} ({})",
             th.peak_force_n, th.contact_time_s
         );
+        // docs/shape.md prints at most 1.3e-6, held at twice that.
         assert!(
-            rel(p, th.peak_force_n) < 0.005,
+            rel(p, th.peak_force_n) < 2.6e-6,
             "{what}: peak {p} vs {}",
             th.peak_force_n
         );
         assert!(
-            rel(t, th.contact_time_s) < 0.005,
+            rel(t, th.contact_time_s) < 2.6e-6,
             "{what}: time {t} vs {}",
             th.contact_time_s
         );
