@@ -23,6 +23,16 @@ impl ContactLayer {
         self.registry.apples[id.0 as usize].radius
     }
 
+    /// The shape of a spheroidal apple (`None`: a sphere of [`Self::apple_radius`]).
+    pub fn apple_shape(&self, id: AppleId) -> Option<crate::contact::spheroid::Spheroid> {
+        self.registry.apples[id.0 as usize].shape
+    }
+
+    /// Whether any apple is a spheroid.
+    pub fn has_spheroids(&self) -> bool {
+        self.registry.apples.iter().any(|a| a.shape.is_some())
+    }
+
     /// Mass of an apple (kg).
     pub fn apple_mass(&self, id: AppleId) -> f64 {
         self.registry.apples[id.0 as usize].mass

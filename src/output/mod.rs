@@ -528,22 +528,41 @@ pub const BODIES_HEADER: [&str; 17] = [
     "mass_kg",
 ];
 
+/// The columns `bodies.csv` adds after [`BODIES_HEADER`] in a run with spheroidal apples
+/// (issue 29): the height along the apple's own z axis and its orientation as a unit quaternion
+/// (w first; its frame to the world's). A sphere's row has its diameter as height and the
+/// identity. Runs of spheres keep the 17 columns, byte for byte.
+pub const BODIES_SHAPE_HEADER: [&str; 5] = ["height_m", "qw", "qx", "qy", "qz"];
+
 /// A sample sink streaming `bodies.csv` to a temporary file, renamed on [`BodiesCsv::commit`].
 pub struct BodiesCsv {
     w: AtomicCsv,
     nf: NumberFormat,
     /// The cells of one row, reused.
     cells: Vec<String>,
+    /// With the shape columns ([`BODIES_SHAPE_HEADER`]).
+    shaped: bool,
 }
 
 impl BodiesCsv {
-    /// Starts `path` (gzipped when its name ends in `.gz`), numbers as `nf` prints them.
-    pub fn create(path: &Path, nf: NumberFormat) -> std::io::Result<Self> {
-        let w = AtomicCsv::create(path, &BODIES_HEADER)?;
+    /// Starts `path` (gzipped when its name ends in `.gz`), numbers as `nf` prints them; with
+    /// the shape columns when `shaped` (a run with spheroids).
+    pub fn create(path: &Path, nf: NumberFormat, shaped: bool) -> std::io::Result<Self> {
+        let header: Vec<&str> = if shaped {
+            BODIES_HEADER
+                .iter()
+                .chain(&BODIES_SHAPE_HEADER)
+                .copied()
+                .collect()
+        } else {
+            BODIES_HEADER.to_vec()
+        };
+        let w = AtomicCsv::create(path, &header)?;
         Ok(Self {
             w,
             nf,
-            cells: vec![String::new(); BODIES_HEADER.len()],
+            cells: vec![String::new(); header.len()],
+            shaped,
         })
     }
 
@@ -579,6 +598,16 @@ impl SampleSink for BodiesCsv {
             nf.push(&mut c[15], a.diameter_m);
             c[16].clear();
             nf.push(&mut c[16], a.mass_kg);
+            if self.shaped {
+                let (h, q) = match &a.shape {
+                    Some(sh) => (sh.height_m, sh.rotation),
+                    None => (a.diameter_m, rapier3d_f64::math::Rotation::IDENTITY),
+                };
+                for (cell, x) in c[17..22].iter_mut().zip([h, q.w, q.x, q.y, q.z]) {
+                    cell.clear();
+                    nf.push(cell, x);
+                }
+            }
             self.w.write_record(c.iter())?;
         }
         Ok(())

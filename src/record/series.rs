@@ -22,10 +22,22 @@ pub struct AppleState {
     /// Slip speed of the contact the apple slides or rolls on (m/s; 0 when airborne), when the
     /// slip/roll detector runs ([`crate::sim::slip_roll`]).
     pub slip_speed: Option<f64>,
-    /// Diameter (m).
+    /// Diameter (m): a spheroid's equatorial one.
     pub diameter_m: f64,
+    /// A spheroid's height along its own z axis (m), and its orientation (issue 29); `None` for
+    /// a sphere.
+    pub shape: Option<ShapeState>,
     /// Mass (kg).
     pub mass_kg: f64,
+}
+
+/// The shape and orientation of a spheroidal apple at a sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShapeState {
+    /// Height along its own z axis (m).
+    pub height_m: f64,
+    /// Orientation: its frame to the world's.
+    pub rotation: rapier3d_f64::math::Rotation,
 }
 
 /// Receives the samples of a run (a CSV writer, an in-memory store, a plot, ...).

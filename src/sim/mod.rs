@@ -14,7 +14,7 @@ pub mod timestep;
 use crate::layer::{AppleId, LayerError, StepRequest};
 use crate::math::arr3;
 use crate::record::events::{ContactEvent, FinishedContact, Party};
-use crate::record::series::{AppleState, SampleSink};
+use crate::record::series::{AppleState, SampleSink, ShapeState};
 use crate::record::transitions::{self, Transition, TransitionSummary};
 use crate::scenario::Scenario;
 use crate::world::{self, BuildError, World};
@@ -434,7 +434,14 @@ impl Simulation {
                 angular_velocity: rb.angvel(),
                 contact_force: layer.apple_contact_force(id),
                 slip_speed: self.detector.as_ref().map(|d| d.current_slip(k)),
-                diameter_m: 2.0 * layer.apple_radius(id),
+                diameter_m: match layer.apple_shape(id) {
+                    Some(sh) => 2.0 * sh.a,
+                    None => 2.0 * layer.apple_radius(id),
+                },
+                shape: layer.apple_shape(id).map(|sh| ShapeState {
+                    height_m: 2.0 * sh.c,
+                    rotation: *rb.rotation(),
+                }),
                 mass_kg: layer.apple_mass(id),
             });
         }
@@ -672,6 +679,9 @@ impl Simulation {
             s.position = lerp(s0.position, s.position);
             s.velocity = lerp(s0.velocity, s.velocity);
             s.angular_velocity = lerp(s0.angular_velocity, s.angular_velocity);
+            if let (Some(sh), Some(sh0)) = (s.shape.as_mut(), s0.shape.as_ref()) {
+                sh.rotation = sh0.rotation.slerp(sh.rotation, f);
+            }
             s.contact_force = s0.contact_force;
             s.slip_speed = s0.slip_speed;
         }
