@@ -66,6 +66,7 @@ pub(super) struct Detection {
     pair_scan: Option<Vec<u32>>,
     scratch: Vec<SurfaceHit>,
     shaped_scratch: Vec<surface::ShapedHit>,
+    spheroid_scratch: surface::SpheroidScratch,
     chain: Vec<u32>,
     /// Apples taken out of the run ([`Detection::retire`]): they touch nothing any more.
     retired: Vec<bool>,
@@ -85,6 +86,7 @@ impl Detection {
             pair_scan: None,
             scratch: Vec::new(),
             shaped_scratch: Vec::new(),
+            spheroid_scratch: surface::SpheroidScratch::default(),
             chain: Vec::new(),
             retired: Vec::new(),
             surface_speed_m_s: 0.0,
@@ -416,6 +418,7 @@ impl Detection {
                                 margin,
                                 &mut hits,
                                 &mut shaped_hits,
+                                &mut self.spheroid_scratch,
                             ),
                             None => surface::surface_hits(
                                 &surf.shape,

@@ -326,6 +326,13 @@ pub fn mesh_hits(
     }
 }
 
+/// Buffers [`spheroid_hits`] reuses from call to call.
+#[derive(Debug, Clone, Default)]
+pub struct SpheroidScratch {
+    starts: Vec<SurfaceHit>,
+    probe: Vec<SurfaceHit>,
+}
+
 /// What a spheroid's contact with a surface adds to its [`SurfaceHit`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShapedHit {
@@ -366,8 +373,10 @@ pub fn spheroid_hits(
     margin: f64,
     out: &mut Vec<SurfaceHit>,
     extra: &mut Vec<ShapedHit>,
+    scratch: &mut SpheroidScratch,
 ) {
-    let mut starts: Vec<SurfaceHit> = Vec::new();
+    let SpheroidScratch { starts, probe } = scratch;
+    starts.clear();
     surface_hits_raw(
         shape,
         collider,
@@ -375,11 +384,10 @@ pub fn spheroid_hits(
         sph.bounding_radius(),
         margin,
         false,
-        &mut starts,
+        starts,
     );
     let first = out.len();
-    let mut probe: Vec<SurfaceHit> = Vec::new();
-    for h0 in starts {
+    for &h0 in starts.iter() {
         let mut n = h0.normal;
         let mut hit = None;
         for _ in 0..spheroid::MAX_ITERATIONS {
@@ -393,7 +401,7 @@ pub fn spheroid_hits(
                 rho,
                 margin + rho,
                 false,
-                &mut probe,
+                probe,
             );
             let Some(best) = probe
                 .iter()
@@ -684,7 +692,17 @@ mod tests {
         for (what, shape, col, centre) in cases {
             let (mut a, mut b, mut extra) = (Vec::new(), Vec::new(), Vec::new());
             surface_hits(&shape, &col, centre, r, 0.01, &mut a);
-            spheroid_hits(&shape, &col, centre, &rot, &sph, 0.01, &mut b, &mut extra);
+            spheroid_hits(
+                &shape,
+                &col,
+                centre,
+                &rot,
+                &sph,
+                0.01,
+                &mut b,
+                &mut extra,
+                &mut SpheroidScratch::default(),
+            );
             assert_eq!(a.len(), 1, "{what}: {a:?}");
             assert_eq!(b.len(), 1, "{what}: {b:?}");
             let (ha, hb) = (a[0], b[0]);
