@@ -22,7 +22,7 @@ pub struct AppleState {
     /// Slip speed of the contact the apple slides or rolls on (m/s; 0 when airborne), when the
     /// slip/roll detector runs ([`crate::sim::slip_roll`]).
     pub slip_speed: Option<f64>,
-    /// Diameter (m).
+    /// Diameter (m): a spheroid's equatorial one.
     pub diameter_m: f64,
     /// Mass (kg).
     pub mass_kg: f64,

@@ -109,7 +109,7 @@ pub enum SimError {
 pub struct AppleFinal {
     /// Name.
     pub name: String,
-    /// Diameter (m).
+    /// Diameter (m): a spheroid's equatorial one.
     pub diameter_m: f64,
     /// Mass (kg).
     pub mass_kg: f64,
@@ -422,6 +422,7 @@ impl Simulation {
 
     fn refresh_states(&mut self) {
         let layer = &self.world.layer;
+        let roster = self.world.roster.apples();
         self.states.clear();
         for (k, &bh) in self.world.apple_bodies.iter().enumerate() {
             let id = AppleId(k as u32);
@@ -434,7 +435,12 @@ impl Simulation {
                 angular_velocity: rb.angvel(),
                 contact_force: layer.apple_contact_force(id),
                 slip_speed: self.detector.as_ref().map(|d| d.current_slip(k)),
-                diameter_m: 2.0 * layer.apple_radius(id),
+                // The roster's (a spheroid's equatorial diameter; the layer keeps its bounding
+                // radius); the same number as the layer's for a sphere.
+                diameter_m: 2.0
+                    * roster
+                        .get(k)
+                        .map_or_else(|| layer.apple_radius(id), |a| a.radius_m),
                 mass_kg: layer.apple_mass(id),
             });
         }
