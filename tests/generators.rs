@@ -251,6 +251,8 @@ fn file_generator_values_are_validated() {
     let apple = |name: &str, d: f64, p: [f64; 3]| FileApple {
         name: name.into(),
         diameter_m: d,
+        height_m: None,
+        rotation: None,
         position_m: p,
     };
     let e = with(vec![apple("a", 0.08, [0.0, 0.0, f64::NAN])]).unwrap_err();

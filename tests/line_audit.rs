@@ -464,6 +464,8 @@ fn the_instrumented_sphere_reads_peak_g_and_velocity_change_of_the_closed_forms(
         name: "is".into(),
         material: "sensor".into(),
         diameter_m: d,
+        height_m: None,
+        rotation: None,
         mass_kg: Some(m),
         position_m: [0.0, 0.0, d / 2.0 + 1e-5],
         velocity_m_s: [0.0, 0.0, -v0],

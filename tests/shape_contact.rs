@@ -49,6 +49,7 @@ struct Scene {
 }
 
 /// A spheroid on a steel half-space z = 0, turned by `rot` (its frame to the world's).
+#[allow(clippy::too_many_arguments)]
 fn scene(
     shape: Spheroid,
     rot: Rotation,
@@ -563,8 +564,10 @@ fn first_sleep(theta0: f64, duration: f64) -> (Option<(f64, f64)>, f64) {
     let shape = Spheroid::new(A, C);
     let rot = Rotation::from_rotation_y(theta0);
     let low = shape.point_with_normal(&rot, -Vector::Z).support_m;
-    let mut config = LayerConfig::default();
-    config.gravity = Vector::new(0.0, 0.0, -9.81);
+    let config = LayerConfig {
+        gravity: Vector::new(0.0, 0.0, -9.81),
+        ..Default::default()
+    };
     let dt = 1e-5;
     let mut s = scene(
         shape,

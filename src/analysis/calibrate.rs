@@ -366,6 +366,8 @@ impl OneImpact {
                 name: "apple".into(),
                 material: self.apple_material.clone(),
                 diameter_m: self.diameter_m,
+                height_m: None,
+                rotation: None,
                 mass_kg: Some(self.mass_kg),
                 position_m: [0.0, 0.0, r],
                 velocity_m_s: [0.0, 0.0, -v0],

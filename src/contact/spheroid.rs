@@ -166,15 +166,6 @@ impl Tangent2 {
         }
     }
 
-    /// The sum of two tensors.
-    pub fn add(self, o: Self) -> Self {
-        Self {
-            xx: self.xx + o.xx,
-            xy: self.xy + o.xy,
-            yy: self.yy + o.yy,
-        }
-    }
-
     /// The eigenvalues, smaller first.
     pub fn eigen(&self) -> (f64, f64) {
         let mean = 0.5 * (self.xx + self.yy);
@@ -193,6 +184,19 @@ impl Tangent2 {
             (self.yy * g.0 - self.xy * g.1) / det,
             (self.xx * g.1 - self.xy * g.0) / det,
         ))
+    }
+}
+
+impl std::ops::Add for Tangent2 {
+    type Output = Self;
+
+    /// The sum of two tensors.
+    fn add(self, o: Self) -> Self {
+        Self {
+            xx: self.xx + o.xx,
+            xy: self.xy + o.xy,
+            yy: self.yy + o.yy,
+        }
     }
 }
 
@@ -343,10 +347,7 @@ pub fn pair(
         let done =
             iterations >= MAX_ITERATIONS || (g.0.abs().max(g.1.abs()) <= 1e-15 * (1.0 + wn.abs()));
         if !done {
-            let hess = p1
-                .radii(e1, e2)
-                .add(p2.radii(e1, e2))
-                .add(Tangent2::iso(wn));
+            let hess = p1.radii(e1, e2) + p2.radii(e1, e2) + Tangent2::iso(wn);
             let step = hess.solve(g).filter(|s| s.0.is_finite() && s.1.is_finite());
             if let Some((a, b)) = step {
                 let delta = e1 * a + e2 * b;
@@ -376,7 +377,7 @@ pub fn pair(
             overlap_m: u,
             arm1: p1.offset,
             arm2: p2.offset,
-            curvature: p1.curvature(e1, e2).add(p2.curvature(e1, e2)),
+            curvature: p1.curvature(e1, e2) + p2.curvature(e1, e2),
             iterations,
         };
     }

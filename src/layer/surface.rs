@@ -439,7 +439,7 @@ pub fn spheroid_hits(
         } else {
             Tangent2::iso(hit.curvature_1_m)
         };
-        let (r_star_m, area_radius_m) = spheroid::hertz_radii(&sp.curvature(e1, e2).add(surface))
+        let (r_star_m, area_radius_m) = spheroid::hertz_radii(&(sp.curvature(e1, e2) + surface))
             .unwrap_or((f64::NAN, f64::NAN));
         out.push(hit);
         extra.push(ShapedHit {

@@ -5,11 +5,13 @@
 //! (ChaCha8 from `rand_chacha`, whose output is fixed across platforms and versions).
 
 use super::ranges::{self, num, num3};
+use super::surfaces::RotationSpec;
 use super::{de, AppleSpec, ScenarioError};
 use crate::math::{human, vec3, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
+use rapier3d_f64::math::Rotation;
 use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
 use serde::de::{Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -132,25 +134,205 @@ impl DiameterSpec {
     pub fn sample(&self, rng: &mut ChaCha8Rng) -> f64 {
         match *self {
             DiameterSpec::Fixed(d) => d,
-            DiameterSpec::Distribution(s) => match s.distribution {
-                SizeLaw::Uniform => s.mean_m + s.spread_m * (2.0 * rng.random::<f64>() - 1.0),
-                SizeLaw::Normal => {
-                    if s.spread_m == 0.0 {
-                        return s.mean_m;
-                    }
-                    // A spread that is not a finite number >= 0 is refused by validation.
-                    let Ok(n) = Normal::new(s.mean_m, s.spread_m) else {
-                        return s.mean_m;
-                    };
-                    loop {
-                        let d: f64 = n.sample(rng);
-                        if (d - s.mean_m).abs() <= 3.0 * s.spread_m {
-                            return d;
-                        }
-                    }
+            DiameterSpec::Distribution(s) => draw(s.mean_m, s.spread_m, s.distribution, rng),
+        }
+    }
+}
+
+/// One draw of `law` about `mean` with `spread`: uniform on mean +- spread, or normal with
+/// standard deviation `spread` redrawn beyond 3 of them.
+fn draw(mean: f64, spread: f64, law: SizeLaw, rng: &mut ChaCha8Rng) -> f64 {
+    match law {
+        SizeLaw::Uniform => mean + spread * (2.0 * rng.random::<f64>() - 1.0),
+        SizeLaw::Normal => {
+            if spread == 0.0 {
+                return mean;
+            }
+            // A spread that is not a finite number >= 0 is refused by validation.
+            let Ok(n) = Normal::new(mean, spread) else {
+                return mean;
+            };
+            loop {
+                let x: f64 = n.sample(rng);
+                if (x - mean).abs() <= 3.0 * spread {
+                    return x;
                 }
+            }
+        }
+    }
+}
+
+/// Height over diameter of generated apples (`aspect`): a fixed number, or a distribution. The
+/// same forms as [`DiameterSpec`], without units: `0.9`, or `{"mean": 0.9, "spread": 0.05,
+/// "distribution": "normal"}`. Each apple with an aspect other than 1 is a spheroid of height
+/// aspect x its diameter, turned at random (uniform over rotations); an aspect of exactly 1 is
+/// a sphere, placed unturned as without `aspect`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum AspectSpec {
+    /// Every apple the same height over diameter.
+    Fixed(f64),
+    /// A spread of aspects.
+    Distribution(AspectDistribution),
+}
+
+/// A distribution of aspects (height over diameter, no unit).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AspectDistribution {
+    /// Mean height over diameter.
+    pub mean: f64,
+    /// Half-width of a uniform distribution, or standard deviation of a normal one.
+    pub spread: f64,
+    /// `uniform` (default: mean +- spread) or `normal` (clipped at +- 3 spread).
+    #[serde(default)]
+    pub distribution: SizeLaw,
+}
+
+impl<'de> Deserialize<'de> for AspectSpec {
+    // By hand rather than `untagged`, which buffers the value and loses the path of a bad field
+    // inside the distribution (`aspect.spread`).
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = AspectSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a height over diameter or {\"mean\", \"spread\", \"distribution\"}")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<AspectSpec, E> {
+                Ok(AspectSpec::Fixed(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<AspectSpec, E> {
+                Ok(AspectSpec::Fixed(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<AspectSpec, E> {
+                Ok(AspectSpec::Fixed(v as f64))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<AspectSpec, A::Error> {
+                AspectDistribution::deserialize(MapAccessDeserializer::new(map))
+                    .map(AspectSpec::Distribution)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl AspectSpec {
+    /// Checks the numbers, naming `field` (`generators[0].aspect`).
+    pub fn validate(&self, field: &str) -> Result<(), ScenarioError> {
+        match *self {
+            AspectSpec::Fixed(x) => ranges::ASPECT.check(field, x),
+            AspectSpec::Distribution(s) => {
+                ranges::ASPECT.check(&format!("{field}.mean"), s.mean)?;
+                ranges::ASPECT_SPREAD.check(&format!("{field}.spread"), s.spread)?;
+                let (lo, hi) = (self.min(), self.max());
+                if ranges::ASPECT.contains(lo) && ranges::ASPECT.contains(hi) {
+                    return Ok(());
+                }
+                Err(ScenarioError::invalid(
+                    format!("{field}.spread"),
+                    format!(
+                        "{} about a mean of {} gives aspects from {} to {}, outside the range of fruit handling ({}): reduce spread",
+                        num(s.spread),
+                        num(s.mean),
+                        num3(lo),
+                        num3(hi),
+                        ranges::ASPECT.describe()
+                    ),
+                ))
+            }
+        }
+    }
+
+    /// Smallest aspect the spec can give.
+    pub fn min(&self) -> f64 {
+        match *self {
+            AspectSpec::Fixed(x) => x,
+            AspectSpec::Distribution(s) => match s.distribution {
+                SizeLaw::Uniform => s.mean - s.spread,
+                SizeLaw::Normal => s.mean - 3.0 * s.spread,
             },
         }
+    }
+
+    /// Largest aspect the spec can give.
+    pub fn max(&self) -> f64 {
+        match *self {
+            AspectSpec::Fixed(x) => x,
+            AspectSpec::Distribution(s) => match s.distribution {
+                SizeLaw::Uniform => s.mean + s.spread,
+                SizeLaw::Normal => s.mean + 3.0 * s.spread,
+            },
+        }
+    }
+
+    /// Whether every apple is a sphere (an aspect of exactly 1): then nothing is drawn.
+    pub fn is_sphere(&self) -> bool {
+        *self == AspectSpec::Fixed(1.0)
+    }
+
+    /// Draws one aspect.
+    pub fn sample(&self, rng: &mut ChaCha8Rng) -> f64 {
+        match *self {
+            AspectSpec::Fixed(x) => x,
+            AspectSpec::Distribution(s) => draw(s.mean, s.spread, s.distribution, rng),
+        }
+    }
+
+    /// The largest bounding diameter of an apple of diameter at most `largest_diameter_m` with
+    /// this aspect, whatever its orientation (m).
+    pub fn bounding_diameter_m(aspect: Option<&AspectSpec>, largest_diameter_m: f64) -> f64 {
+        match aspect {
+            Some(a) if !a.is_sphere() => largest_diameter_m * a.max().max(1.0),
+            _ => largest_diameter_m,
+        }
+    }
+}
+
+/// The ChaCha8 stream of a generator's or source's seed that its shapes are drawn from. Its
+/// sizes, positions and jitter keep stream 0, as before shapes existed: a scenario without
+/// `aspect` gives the apples it always gave, and adding one changes their shapes only.
+pub const SHAPE_STREAM: u64 = 1;
+
+/// The shapes of a generator's or source's apples: an aspect and a uniform random orientation
+/// per apple, from the [`SHAPE_STREAM`] of its seed.
+struct Shapes {
+    aspect: AspectSpec,
+    rng: ChaCha8Rng,
+}
+
+impl Shapes {
+    /// `None` without an aspect, or with an aspect of exactly 1 (spheres, drawn as before).
+    fn new(aspect: Option<&AspectSpec>, seed: u64) -> Option<Self> {
+        let aspect = *aspect.filter(|a| !a.is_sphere())?;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        rng.set_stream(SHAPE_STREAM);
+        Some(Self { aspect, rng })
+    }
+
+    /// The height and orientation of the next apple, of diameter `d`: its aspect first, then
+    /// three draws for its orientation.
+    fn draw(&mut self, d: f64) -> (f64, RotationSpec) {
+        let h = d * self.aspect.sample(&mut self.rng);
+        let u = [0; 3].map(|_| self.rng.random::<f64>());
+        (h, uniform_rotation(u))
+    }
+}
+
+/// The orientation of three uniform draws in [0, 1), uniform over rotations (Shoemake's unit
+/// quaternion, *Graphics Gems III*, "Uniform random rotations"), written as an axis and an
+/// angle in [0, 180] degrees (the quaternion with w >= 0).
+pub fn uniform_rotation(u: [f64; 3]) -> RotationSpec {
+    use std::f64::consts::TAU;
+    let (s1, s2) = ((1.0 - u[0]).sqrt(), u[0].sqrt());
+    let (t1, t2) = (TAU * u[1], TAU * u[2]);
+    let q = Rotation::from_xyzw(s1 * t1.sin(), s1 * t1.cos(), s2 * t2.sin(), s2 * t2.cos());
+    let q = if q.w < 0.0 { -q } else { q };
+    let (axis, angle) = q.to_axis_angle();
+    RotationSpec {
+        axis: Some(axis.to_array()),
+        angle_deg: Some(angle.to_degrees()),
+        euler_xyz_deg: None,
     }
 }
 
@@ -212,6 +394,9 @@ pub struct GridSpec {
     pub material: String,
     /// Diameters.
     pub diameter_m: DiameterSpec,
+    /// Height over diameter ([`AspectSpec`]): spheroids turned at random. Absent: spheres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<AspectSpec>,
     /// Mass of every apple (kg); default from density.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_kg: Option<f64>,
@@ -242,6 +427,9 @@ pub struct RandomFillSpec {
     pub material: String,
     /// Diameters.
     pub diameter_m: DiameterSpec,
+    /// Height over diameter ([`AspectSpec`]): spheroids turned at random. Absent: spheres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<AspectSpec>,
     /// Mass of every apple (kg); default from density.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_kg: Option<f64>,
@@ -259,7 +447,8 @@ pub struct RandomFillSpec {
 }
 
 /// Apples read from a JSON file: an array of `{"name", "diameter_m", "position_m"}` objects (the
-/// `pile.json` of the LIGGGHTS reference run, for instance). The file is read once, when the
+/// `pile.json` of the LIGGGHTS reference run, for instance), each with an optional `height_m`
+/// and `rotation` (a spheroid, as in `apples[]`). The file is read once, when the
 /// scenario is loaded ([`super::Scenario::read_files`]), because the scenario's folder is known
 /// only then; the apples are kept in [`FileSpec::loaded`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -289,8 +478,14 @@ pub struct FileSpec {
 pub struct FileApple {
     /// Name in the file (unique within it).
     pub name: String,
-    /// Diameter (m).
+    /// Diameter (m): the equatorial one of a spheroid.
     pub diameter_m: f64,
+    /// Height along its own z axis (m); absent: a sphere (as [`AppleSpec::height_m`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height_m: Option<f64>,
+    /// Starting orientation (as [`AppleSpec::rotation`]); absent: unturned.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<RotationSpec>,
     /// Centre (m).
     pub position_m: [f64; 3],
 }
@@ -328,7 +523,7 @@ impl FileSpec {
             ScenarioError::invalid(
                 &f,
                 format!(
-                    "'{shown}'{}: {message} (expected an array of {{\"name\", \"diameter_m\", \"position_m\"}})",
+                    "'{shown}'{}: {message} (expected an array of {{\"name\", \"diameter_m\", \"position_m\"}}, each with an optional \"height_m\" and \"rotation\")",
                     if at.is_empty() || at == "." {
                         String::new()
                     } else {
@@ -352,6 +547,9 @@ pub struct SourceSpec {
     pub material: String,
     /// Diameters.
     pub diameter_m: DiameterSpec,
+    /// Height over diameter ([`AspectSpec`]): spheroids turned at random. Absent: spheres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<AspectSpec>,
     /// Mass of every apple (kg); default from density.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_kg: Option<f64>,
@@ -396,6 +594,7 @@ impl SourceSpec {
     /// taken is postponed by the driver until it is free.
     pub fn schedule(&self, gravity_m_s2: [f64; 3]) -> Vec<(f64, AppleSpec)> {
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let mut shapes = Shapes::new(self.aspect.as_ref(), self.seed);
         let g = vec3(gravity_m_s2);
         (0..self.count)
             .map(|k| {
@@ -407,12 +606,15 @@ impl SourceSpec {
                     let u = [0; 3].map(|_| 2.0 * rng.random::<f64>() - 1.0);
                     p += self.jitter_m.offset(u, g);
                 }
+                let (height_m, rotation) = shapes.as_mut().map(|s| s.draw(d)).unzip();
                 (
                     self.start_s + k as f64 / self.rate_per_s,
                     AppleSpec {
                         name: format!("{}-{}", self.name, k + 1),
                         material: self.material.clone(),
                         diameter_m: d,
+                        height_m,
+                        rotation,
                         mass_kg: self.mass_kg,
                         position_m: [p.x, p.y, p.z],
                         velocity_m_s: self.velocity_m_s,
@@ -671,6 +873,7 @@ pub fn expand(
     match g {
         GeneratorSpec::Grid(s) => {
             let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
+            let mut shapes = Shapes::new(s.aspect.as_ref(), s.seed);
             let mut out = Vec::new();
             let o = vec3(s.origin_m);
             let sp = vec3(s.spacing_m);
@@ -684,10 +887,13 @@ pub fn expand(
                             p.x += s.jitter_m * (2.0 * rng.random::<f64>() - 1.0);
                             p.y += s.jitter_m * (2.0 * rng.random::<f64>() - 1.0);
                         }
+                        let (height_m, rotation) = shapes.as_mut().map(|s| s.draw(d)).unzip();
                         out.push(AppleSpec {
                             name: format!("{}-{}", s.name, out.len() + 1),
                             material: s.material.clone(),
                             diameter_m: d,
+                            height_m,
+                            rotation,
                             mass_kg: s.mass_kg,
                             position_m: [p.x, p.y, p.z],
                             velocity_m_s: s.velocity_m_s,
@@ -702,6 +908,7 @@ pub fn expand(
         }
         GeneratorSpec::RandomFill(s) => {
             let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
+            let mut shapes = Shapes::new(s.aspect.as_ref(), s.seed);
             let lo = vec3(s.region_min_m);
             let hi = vec3(s.region_max_m);
             let mut out: Vec<AppleSpec> = Vec::new();
@@ -709,7 +916,12 @@ pub fn expand(
             // random close packing no attempt can succeed: refuse at once, not after
             // 1000 attempts per apple.
             let volume = (hi - lo).max(Vec3::ZERO).element_product();
-            let smallest = s.diameter_m.min_m();
+            // Apples are placed by their bounding balls (a spheroid's turned at random): the
+            // smallest of those.
+            let smallest = match shapes {
+                Some(ref sh) => s.diameter_m.min_m() * sh.aspect.min().max(1.0),
+                None => s.diameter_m.min_m(),
+            };
             if (hi - lo - Vec3::splat(smallest)).min_element() < 0.0 {
                 // The region, not the count: no apple fits in it at all.
                 return Err(ScenarioError::invalid(
@@ -732,23 +944,26 @@ pub fn expand(
             }
             let mut attempts = 0u64;
             let max_attempts = 1000 * s.count as u64 + 10_000;
-            let mut space = FreeSpace::new(
-                placed
-                    .iter()
-                    .map(|a| a.diameter_m)
-                    .fold(s.diameter_m.max_m(), f64::max),
-            );
+            let mut space =
+                FreeSpace::new(placed.iter().map(|a| 2.0 * a.bounding_radius_m()).fold(
+                    AspectSpec::bounding_diameter_m(s.aspect.as_ref(), s.diameter_m.max_m()),
+                    f64::max,
+                ));
             for a in placed {
-                space.insert(vec3(a.position_m), a.diameter_m / 2.0);
+                space.insert(vec3(a.position_m), a.bounding_radius_m());
             }
             while out.len() < s.count as usize {
                 let d = s.diameter_m.sample(&mut rng);
-                let r = d / 2.0;
-                let span = hi - lo - Vec3::splat(d);
+                // A spheroid's shape from its own stream, before its place (which its bounding
+                // ball decides); a sphere's draws are those it always had.
+                let (height_m, rotation) = shapes.as_mut().map(|sh| sh.draw(d)).unzip();
+                let span_d = height_m.map_or(d, |h: f64| d.max(h));
+                let r = span_d / 2.0;
+                let span = hi - lo - Vec3::splat(span_d);
                 if span.min_element() < 0.0 {
                     return Err(ScenarioError::invalid(
                         format!("{field}.region_max_m"),
-                        format!("the region is smaller than an apple of {d} m"),
+                        format!("the region is smaller than an apple of {span_d} m"),
                     ));
                 }
                 let p = lo
@@ -766,6 +981,8 @@ pub fn expand(
                         name: format!("{}-{}", s.name, out.len() + 1),
                         material: s.material.clone(),
                         diameter_m: d,
+                        height_m,
+                        rotation,
                         mass_kg: s.mass_kg,
                         position_m: [p.x, p.y, p.z],
                         velocity_m_s: s.velocity_m_s,
@@ -803,6 +1020,8 @@ pub fn expand(
                     name: format!("{}-{}", s.name, a.name),
                     material: s.material.clone(),
                     diameter_m: a.diameter_m,
+                    height_m: a.height_m,
+                    rotation: a.rotation.clone(),
                     mass_kg: s.mass_kg,
                     position_m: a.position_m,
                     velocity_m_s: s.velocity_m_s,
@@ -812,5 +1031,50 @@ pub fn expand(
                 })
                 .collect())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_rotation_reads_back_as_drawn() {
+        // u = (0, 0, x): the quaternion (0, 1, 0, 0), half a turn about y.
+        let r = uniform_rotation([0.0, 0.0, 0.3]);
+        assert_eq!(r.axis, Some([0.0, 1.0, 0.0]));
+        assert_eq!(r.angle_deg, Some(180.0));
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..1000 {
+            let u = [0; 3].map(|_| rng.random::<f64>());
+            let (s1, s2) = ((1.0 - u[0]).sqrt(), u[0].sqrt());
+            let (t1, t2) = (std::f64::consts::TAU * u[1], std::f64::consts::TAU * u[2]);
+            let q = Rotation::from_xyzw(s1 * t1.sin(), s1 * t1.cos(), s2 * t2.sin(), s2 * t2.cos());
+            let spec = uniform_rotation(u);
+            let angle = spec.angle_deg.unwrap();
+            assert!((0.0..=180.0).contains(&angle), "{angle}");
+            let back = spec.to_rotation("r").unwrap();
+            let d = (back - q).length().min((back + q).length());
+            assert!(d < 1e-14, "{u:?}: {d:e}");
+        }
+    }
+
+    #[test]
+    fn aspect_reads_as_a_number_or_a_distribution() {
+        let f: AspectSpec = serde_json::from_str("0.9").unwrap();
+        assert_eq!(f, AspectSpec::Fixed(0.9));
+        let d: AspectSpec =
+            serde_json::from_str(r#"{"mean": 0.9, "spread": 0.05, "distribution": "normal"}"#)
+                .unwrap();
+        assert_eq!((d.min(), d.max()), (0.9 - 0.15, 0.9 + 0.15));
+        assert!(serde_json::from_str::<AspectSpec>(r#"{"mean_m": 0.9, "spread": 0.05}"#).is_err());
+        assert!(AspectSpec::Fixed(1.0).is_sphere() && !d.is_sphere());
+        // Up to 1.05: the tallest apple is 84 mm high; an oblate one is bounded by its diameter.
+        assert_eq!(AspectSpec::bounding_diameter_m(Some(&d), 0.08), 0.08 * 1.05);
+        let flat = AspectSpec::Fixed(0.8);
+        assert_eq!(AspectSpec::bounding_diameter_m(Some(&flat), 0.08), 0.08);
+        let tall = AspectSpec::Fixed(1.25);
+        assert_eq!(AspectSpec::bounding_diameter_m(Some(&tall), 0.08), 0.1);
+        assert_eq!(AspectSpec::bounding_diameter_m(None, 0.08), 0.08);
     }
 }

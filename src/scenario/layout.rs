@@ -258,25 +258,64 @@ pub fn resolve(sc: &mut Scenario) -> Result<(), ScenarioError> {
         if a.on.is_some() {
             ranges::DIAMETER.check(&format!("{field}.diameter_m"), a.diameter_m)?;
         }
+        if a.on.is_some() && a.is_spheroid() {
+            // A spheroid rests on the point of it lowest along the face's normal: its centre
+            // stands its support distance above the face (exact on a flat face; in a trough, the
+            // same height above its bottom line).
+            super::validate::shape(&field, a.diameter_m, a.height_m)?;
+            let turned = a.orientation(&field)?;
+            let shape = a.spheroid();
+            let support = |up: Vec3| shape.point_with_normal(&turned, -up).support_m;
+            put_on(
+                &sc.surfaces,
+                &a.on.clone(),
+                &mut a.position_m,
+                support,
+                &field,
+            )?;
+            continue;
+        }
         let r = 0.5 * a.diameter_m;
-        put_on(&sc.surfaces, &a.on.clone(), &mut a.position_m, r, &field)?;
+        put_on(
+            &sc.surfaces,
+            &a.on.clone(),
+            &mut a.position_m,
+            |_| r,
+            &field,
+        )?;
     }
     for (k, s) in sc.sources.iter_mut().enumerate() {
         let field = format!("sources[{k}]");
         if s.on.is_some() {
             s.diameter_m.validate(&format!("{field}.diameter_m"))?;
+            if let Some(a) = &s.aspect {
+                a.validate(&format!("{field}.aspect"))?;
+            }
         }
-        let r = 0.5 * s.diameter_m.max_m();
-        put_on(&sc.surfaces, &s.on.clone(), &mut s.position_m, r, &field)?;
+        // Its apples are turned at random: the largest just clears the face however it turns.
+        let r = 0.5
+            * super::generators::AspectSpec::bounding_diameter_m(
+                s.aspect.as_ref(),
+                s.diameter_m.max_m(),
+            );
+        put_on(
+            &sc.surfaces,
+            &s.on.clone(),
+            &mut s.position_m,
+            |_| r,
+            &field,
+        )?;
     }
     Ok(())
 }
 
+/// Puts the centre at `pos` `on` a surface: `radius(up)` above its face, `up` the face's
+/// outward normal (world).
 fn put_on(
     surfaces: &[SurfaceSpec],
     on: &Option<OnSpec>,
     pos: &mut [f64; 3],
-    radius: f64,
+    radius: impl Fn(Vec3) -> f64,
     field: &str,
 ) -> Result<(), ScenarioError> {
     let Some(on) = on else {
@@ -378,6 +417,7 @@ fn put_on(
         })?;
     let start = frame.ports[0].1;
     let side = frame.up.cross(frame.flow);
+    let radius = radius(frame.rotation * frame.up);
     let local =
         start + frame.flow * on.along_m + side * on.side_m + frame.up * (radius + on.clearance_m);
     let want = vec3(origin) + frame.rotation * local;

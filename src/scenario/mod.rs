@@ -20,12 +20,16 @@ pub mod stepping;
 pub mod surfaces;
 pub(crate) mod validate;
 
+use crate::contact::spheroid::Spheroid;
+use rapier3d_f64::math::Rotation;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
-pub use generators::{DiameterSpec, FileApple, FileSpec, GeneratorSpec, JitterSpec, SourceSpec};
+pub use generators::{
+    AspectSpec, DiameterSpec, FileApple, FileSpec, GeneratorSpec, JitterSpec, SourceSpec,
+};
 pub use output::{ForceHistory, HistoryChoice, Precision, Sampling};
 pub use stepping::{Accuracy, Fidelity, TimeStep};
 pub use surfaces::{ContactModel, RotationSpec, SurfaceSpec};
@@ -745,7 +749,8 @@ impl Default for ModelSpec {
     }
 }
 
-/// One apple, a uniform solid sphere.
+/// One apple: a uniform solid sphere, or a uniform spheroid when its height differs from its
+/// diameter (issue 29, docs/shape.md).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AppleSpec {
@@ -753,9 +758,17 @@ pub struct AppleSpec {
     pub name: String,
     /// Material name.
     pub material: String,
-    /// Diameter (m).
+    /// Diameter (m): the equatorial one of a spheroid.
     pub diameter_m: f64,
-    /// Mass (kg); default density x volume.
+    /// Height (m): the extent along the apple's own z axis, stem to calyx. Absent (or equal to
+    /// the diameter): a sphere, on the sphere's exact code path.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height_m: Option<f64>,
+    /// Starting orientation, in the surfaces' forms (axis and angle, or Euler angles): turns the
+    /// apple's own axes, its z axis the stem. Identity when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<RotationSpec>,
+    /// Mass (kg); default density x volume (of the sphere, or of the spheroid).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_kg: Option<f64>,
     /// Centre (m); may be left out for an apple placed `on` a surface.
@@ -775,6 +788,36 @@ pub struct AppleSpec {
     /// `probe_NAME_impacts.csv`). Give the apple the device's size, mass and material.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub probe: Option<crate::record::probe::ProbeSpec>,
+}
+
+impl AppleSpec {
+    /// Height along its own z axis (m): `height_m`, or the diameter (a sphere).
+    pub fn height(&self) -> f64 {
+        self.height_m.unwrap_or(self.diameter_m)
+    }
+
+    /// Whether it is a spheroid: a height given that is not its diameter. Everything else keeps
+    /// the sphere's exact code, so that a sphere scenario's outputs do not change.
+    pub fn is_spheroid(&self) -> bool {
+        self.height_m.is_some_and(|h| h != self.diameter_m)
+    }
+
+    /// Its shape: equatorial radius half the diameter, polar half-height half the height.
+    pub fn spheroid(&self) -> Spheroid {
+        Spheroid::new(0.5 * self.diameter_m, 0.5 * self.height())
+    }
+
+    /// Radius of the smallest ball about its centre that holds it, whatever its orientation (m):
+    /// half the larger of diameter and height.
+    pub fn bounding_radius_m(&self) -> f64 {
+        0.5 * self.diameter_m.max(self.height())
+    }
+
+    /// Its starting orientation (identity when `rotation` is absent); a mistake names
+    /// `{field}.rotation...` (`field` is the apple's path, `apples[3]`).
+    pub fn orientation(&self, field: &str) -> Result<Rotation, ScenarioError> {
+        surfaces::rotation_of(&self.rotation, field)
+    }
 }
 
 /// Parses a scenario from JSON text; `file` names the source in messages. A leading UTF-8

@@ -307,6 +307,26 @@ pub const DIAMETER_SPREAD: Range = closed(
     "m",
     "`diameter_m.spread_m`",
 );
+/// Apple heights (stem to calyx): at most twice the largest diameter ([`ASPECT`]).
+pub const HEIGHT: Range = positive(
+    "apple height",
+    "H",
+    2.0,
+    "m",
+    "`height_m` (apples, file lists)",
+);
+/// Height over diameter of a spheroidal apple: cultivars run about 0.8 to 1.1 (issue 29); past
+/// 2:1 either way a fruit is a disc or a rod, not an apple.
+pub const ASPECT: Range = closed(
+    "apple aspect",
+    "H/D",
+    0.5,
+    2.0,
+    "",
+    "`height_m` / `diameter_m` (apples, file lists), `aspect` (generators, sources; a distribution's whole span), `aspect.mean`",
+);
+/// The spread of an aspect distribution.
+pub const ASPECT_SPREAD: Range = closed("aspect spread", "s", 0.0, 1.5, "", "`aspect.spread`");
 /// Apple masses.
 pub const MASS: Range = closed("apple mass", "m", 1e-5, 1000.0, "kg", "`mass_kg`");
 /// Sizes of surfaces and spacings.
@@ -681,6 +701,9 @@ pub const TABLE: &[Range] = &[
     CLEARANCE,
     DIAMETER,
     DIAMETER_SPREAD,
+    HEIGHT,
+    ASPECT,
+    ASPECT_SPREAD,
     MASS,
     LENGTH,
     PAD_THICKNESS,

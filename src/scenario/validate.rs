@@ -297,6 +297,7 @@ pub fn validate(sc: &Scenario) -> R {
         source(&format!("sources[{k}]"), src, &mats, sc.gravity_m_s2)?;
     }
     prefixes(sc)?;
+    spheroids_with_balls(sc)?;
     apple_count(sc)?;
     bed_counts(sc)?;
     super::budget::check_memory(sc, sc.model.max_memory_mb)?;
@@ -608,8 +609,16 @@ fn apple(
     }
     let m = material_of(&format!("{f}.material"), &a.material, mats)?;
     ranges::DIAMETER.check(&format!("{f}.diameter_m"), a.diameter_m)?;
+    shape(f, a.diameter_m, a.height_m)?;
+    a.orientation(f)?;
     mass(f, &a.material, a.mass_kg, m)?;
-    mass_density(f, a.mass_kg, a.diameter_m, a.diameter_m)?;
+    match a.height_m {
+        Some(h) if a.is_spheroid() => {
+            let aspect = h / a.diameter_m;
+            shaped_mass_density(f, a.mass_kg, a.diameter_m, a.diameter_m, (aspect, aspect))?
+        }
+        _ => mass_density(f, a.mass_kg, a.diameter_m, a.diameter_m)?,
+    }
     ranges::POSITION.check_each(&format!("{f}.position_m"), a.position_m)?;
     ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), a.velocity_m_s)?;
     ranges::ANGULAR_SPEED.check_norm(
@@ -622,6 +631,90 @@ fn apple(
         ranges::PROBE_WINDOW.check(&format!("{f}.probe.window_s"), p.window_s)?;
     }
     Ok(())
+}
+
+/// rapier has no spheroid shape: where rapier itself touches apples (the `rigid` fidelity, or
+/// a surface with `"contact_model": "rigid"`) every apple carries a ball collider, which would
+/// make a spheroid a ball there. Refused, naming the first field that makes a spheroid.
+fn spheroids_with_balls(sc: &Scenario) -> R {
+    let why = if sc.fidelity == super::Fidelity::Rigid {
+        "the rigid fidelity has rapier compute every contact".to_string()
+    } else if let Some((k, s)) = sc
+        .surfaces
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.contact_model() == ContactModel::Rigid)
+    {
+        format!(
+            "surfaces[{k}] ('{}') has \"contact_model\": \"rigid\", so rapier touches every apple",
+            s.name()
+        )
+    } else {
+        return Ok(());
+    };
+    let shaped = |a: &Option<super::AspectSpec>| a.as_ref().is_some_and(|a| !a.is_sphere());
+    let field = sc
+        .apples
+        .iter()
+        .position(AppleSpec::is_spheroid)
+        .map(|k| format!("apples[{k}].height_m"))
+        .or_else(|| {
+            sc.generators.iter().enumerate().find_map(|(k, g)| match g {
+                GeneratorSpec::Grid(s) if shaped(&s.aspect) => {
+                    Some(format!("generators[{k}].aspect"))
+                }
+                GeneratorSpec::RandomFill(s) if shaped(&s.aspect) => {
+                    Some(format!("generators[{k}].aspect"))
+                }
+                GeneratorSpec::File(s)
+                    if s.loaded.as_ref().is_some_and(|l| {
+                        l.0.iter()
+                            .any(|a| a.height_m.is_some_and(|h| h != a.diameter_m))
+                    }) =>
+                {
+                    Some(format!("generators[{k}].file"))
+                }
+                _ => None,
+            })
+        })
+        .or_else(|| {
+            sc.sources
+                .iter()
+                .position(|s| shaped(&s.aspect))
+                .map(|k| format!("sources[{k}].aspect"))
+        });
+    match field {
+        Some(field) => Err(ScenarioError::invalid(
+            field,
+            format!(
+                "a spheroidal apple (height other than its diameter) needs the Hertz contact layer: {why}, and rapier has no spheroid shape (its apples are balls); make these apples spheres, or give every surface the hertz contact_model and a fidelity other than rigid"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The height of the apple at `f` (`apples[3]`), if given, against its diameter `d` (checked
+/// first): a number in [`ranges::HEIGHT`], and height over diameter in [`ranges::ASPECT`]. Both
+/// refusals name `{f}.height_m`.
+pub(crate) fn shape(f: &str, d: f64, height_m: Option<f64>) -> R {
+    let Some(h) = height_m else { return Ok(()) };
+    let field = format!("{f}.height_m");
+    ranges::HEIGHT.check(&field, h)?;
+    let aspect = h / d;
+    if ranges::ASPECT.contains(aspect) {
+        return Ok(());
+    }
+    Err(ScenarioError::invalid(
+        field,
+        format!(
+            "{} m over a diameter_m of {} m is an aspect (height / diameter) of {}, outside the range of fruit handling ({}): an apple is at most twice as tall as wide, or as wide as tall",
+            num(h),
+            num(d),
+            crate::math::human(aspect, 4, 3),
+            ranges::ASPECT.describe()
+        ),
+    ))
 }
 
 /// A probe apple's name makes its files' names ([`crate::record::probe::file_stem`]): two that
@@ -1000,14 +1093,22 @@ fn list(mats: &BTreeMap<&str, Material>) -> String {
 
 /// Two apples may touch but must not start inside each other. `field(j, i)` names the field at
 /// fault when apple `j` starts inside apple `i` (j > i).
+///
+/// Pairs are found by their bounding balls; a pair with a spheroid is then tested exactly, by
+/// the common normal of the two shapes ([`crate::contact::spheroid::pair`]: a normal along
+/// which they do not overlap proves them apart, so a pair it finds apart is apart).
 fn check_apple_overlaps(all: &[AppleSpec], field: impl Fn(usize, usize) -> String) -> R {
     let pos: Vec<Vec3> = all.iter().map(|a| vec3(a.position_m)).collect();
-    let r: Vec<f64> = all.iter().map(|a| a.diameter_m / 2.0).collect();
+    let r: Vec<f64> = all.iter().map(AppleSpec::bounding_radius_m).collect();
     let mut list = NeighborList::new(0.0);
     list.update(&pos, &r, &[], true, |_| {});
     for p in list.pairs() {
         let (i, j) = (p.i as usize, p.j as usize);
         let (i, j) = (i.min(j), i.max(j));
+        if all[i].is_spheroid() || all[j].is_spheroid() {
+            spheroid_overlap(all, i, j, &field)?;
+            continue;
+        }
         let d = (pos[i] - pos[j]).length();
         let u = r[i] + r[j] - d;
         // A touching pair placed with round numbers may overlap by a rounding error.
@@ -1025,6 +1126,56 @@ fn check_apple_overlaps(all: &[AppleSpec], field: impl Fn(usize, usize) -> Strin
                 ),
             ));
         }
+    }
+    Ok(())
+}
+
+/// The exact test of [`check_apple_overlaps`] for a pair with a spheroid (j > i). Rotations
+/// were checked with each apple (an unreadable one is taken as unturned here).
+fn spheroid_overlap(
+    all: &[AppleSpec],
+    i: usize,
+    j: usize,
+    field: &impl Fn(usize, usize) -> String,
+) -> R {
+    use crate::contact::spheroid::pair;
+    let (a, b) = (&all[i], &all[j]);
+    let (xa, xb) = (vec3(a.position_m), vec3(b.position_m));
+    let turned = |s: &AppleSpec| {
+        s.orientation("")
+            .unwrap_or(rapier3d_f64::math::Rotation::IDENTITY)
+    };
+    let n0 = (xb - xa).try_normalize().unwrap_or(Vec3::Z);
+    let g = pair(
+        xb,
+        &turned(b),
+        &b.spheroid(),
+        xa,
+        &turned(a),
+        &a.spheroid(),
+        n0,
+    );
+    // Never met in the tests; the bounding balls' overlap then, to be safe.
+    let u = if g.overlap_m.is_finite() {
+        g.overlap_m
+    } else {
+        a.bounding_radius_m() + b.bounding_radius_m() - (xb - xa).length()
+    };
+    // A touching pair placed with round numbers may overlap by a rounding error.
+    if u > 1e-9 * (a.bounding_radius_m() + b.bounding_radius_m()) {
+        let size = |s: &AppleSpec| format!("{} x {} m", num(s.diameter_m), num(s.height()));
+        return Err(ScenarioError::invalid(
+            field(j, i),
+            format!(
+                "apple '{}' starts {:.4} mm inside apple '{}' (centres {:.4} mm apart, diameter x height {} and {}, as turned): move them apart",
+                b.name,
+                u * 1e3,
+                a.name,
+                (xb - xa).length() * 1e3,
+                size(a),
+                size(b)
+            ),
+        ));
     }
     Ok(())
 }

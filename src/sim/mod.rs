@@ -109,7 +109,7 @@ pub enum SimError {
 pub struct AppleFinal {
     /// Name.
     pub name: String,
-    /// Diameter (m).
+    /// Diameter (m): a spheroid's equatorial one.
     pub diameter_m: f64,
     /// Mass (kg).
     pub mass_kg: f64,

@@ -11,7 +11,8 @@
 //! (docs/performance.md). Apples get a ball collider only when rapier itself must touch them: a
 //! surface with rapier's own contact (`"contact_model": "rigid"`) or the `rigid` fidelity.
 //! Gyroscopic forces are off: for a ball's isotropic inertia the term w x (I w) is zero, and
-//! rapier would spend a sixth of its step computing it.
+//! rapier would spend a sixth of its step computing it. A spheroidal apple (issue 29) has two
+//! moments, so its body has them on ([`World::add_apple`]).
 
 pub mod free_roller;
 pub mod mesh;
@@ -469,19 +470,60 @@ impl World {
         self.physics.integration_parameters.dt = dt;
     }
 
-    /// Inserts an apple (a dynamic ball), registers it with the layer and enters
-    /// it in the roster.
+    /// Inserts an apple (a dynamic body, a ball or a spheroid), registers it with the layer and
+    /// enters it in the roster.
+    ///
+    /// A spheroid (a height other than its diameter, issue 29) is a body with the spheroid's
+    /// principal inertia about its own axes and gyroscopic forces on (w x I w is not zero for
+    /// unequal moments), registered with [`ContactLayer::add_spheroid_body`]; a sphere takes
+    /// the sphere's code unchanged. A `rotation` turns either from the start (a sphere's turn
+    /// moves only what is marked on it: the damage sites of issue 26).
     pub fn add_apple(&mut self, a: &AppleSpec, origin: Origin) -> Result<AppleId, BuildError> {
         let (mid, m) = self.materials[&a.material];
         let entry = roster::entry(a, m.density_kg_m3, origin);
         let (mass, radius) = (entry.mass_kg, entry.radius_m);
-        let body = RigidBodyBuilder::dynamic()
+        let field = origin.field();
+        let mut body = RigidBodyBuilder::dynamic()
             .translation(vec3(a.position_m))
             .linvel(vec3(a.velocity_m_s))
             .angvel(vec3(a.angular_velocity_rad_s))
             .gyroscopic_forces_enabled(false)
             // The layer decides when an apple sleeps (rapier's own rule is too coarse).
             .can_sleep(false);
+        if a.rotation.is_some() {
+            // The whole pose, not `rotation` (a scaled axis that would round the quaternion).
+            body = body.pose(Pose::from_parts(vec3(a.position_m), a.orientation(&field)?));
+        }
+        if a.is_spheroid() {
+            if self.apple_colliders {
+                // Validation refuses this first (`spheroids_with_balls`); a library caller
+                // that skipped it is told here.
+                return Err(ScenarioError::invalid(
+                    format!("{field}.height_m"),
+                    format!(
+                        "apple '{}' is a spheroid, and this scene gives apples rapier's ball colliders (the rigid fidelity or a rigid surface): rapier has no spheroid shape",
+                        a.name
+                    ),
+                )
+                .into());
+            }
+            let shape = a.spheroid();
+            let (ieq, iax) = shape.principal_inertia(mass);
+            let bh = self.physics.bodies.insert(
+                body.gyroscopic_forces_enabled(true)
+                    .additional_mass_properties(MassProperties::new(
+                        Vector::ZERO,
+                        mass,
+                        Vector::new(ieq, ieq, iax),
+                    )),
+            );
+            self.apple_bodies.push(bh);
+            let id = self
+                .layer
+                .add_spheroid_body(&self.physics.bodies, bh, shape, mid, &a.name)?;
+            self.roster.push(entry);
+            return Ok(id);
+        }
         let id =
             if self.apple_colliders {
                 let c = self.layer.coefficients(mid, mid);
@@ -659,9 +701,12 @@ impl World {
     /// sink into deeper than an apple may be placed ([`MAX_INITIAL_SURFACE_OVERLAP_RATIO`]; a
     /// static surface cannot, the spawn points were checked when the world was built, but a
     /// library user may move one).
+    ///
+    /// A spheroid takes its bounding ball here (its orientation is random, and the spawn points
+    /// were checked with the bounding ball of the source's largest apple).
     fn spot_taken_by(&self, a: &AppleSpec) -> Option<String> {
         let p = vec3(a.position_m);
-        let r = a.diameter_m / 2.0;
+        let r = a.bounding_radius_m();
         for (k, &bh) in self.apple_bodies.iter().enumerate() {
             let q = self.physics.bodies[bh].translation();
             let id = AppleId(k as u32);
@@ -882,7 +927,8 @@ fn check_spawn_points(sc: &Scenario, world: &World) -> Result<(), ScenarioError>
         let m = world.source_motion(k);
         let t0 = src.start_s;
         let d = src.diameter_m.max_m();
-        let r = d / 2.0;
+        // Its apples are turned at random: the largest's bounding ball (a sphere's own).
+        let r = 0.5 * scenario::AspectSpec::bounding_diameter_m(src.aspect.as_ref(), d);
         let allowed = MAX_INITIAL_SURFACE_OVERLAP_RATIO * r;
         let spot = |o: Vec3| match m {
             Some(m) => m.carry(t0).transform_point(vec3(src.position_m) + o),
@@ -918,10 +964,17 @@ fn check_spawn_points(sc: &Scenario, world: &World) -> Result<(), ScenarioError>
         let placed = sc
             .surface_fields_of(world.layer.surface_name(s))
             .map_or_else(String::new, |f| format!(" ({f})"));
-        let size = format!(
-            "an apple of its largest diameter, sources[{k}].diameter_m: {} m",
-            short(d)
-        );
+        let size = if 2.0 * r > d {
+            format!(
+                "the bounding ball of its largest apple, however it turns, by sources[{k}].diameter_m and aspect: {} m",
+                short(2.0 * r)
+            )
+        } else {
+            format!(
+                "an apple of its largest diameter, sources[{k}].diameter_m: {} m",
+                short(d)
+            )
+        };
         let moving = m.is_some() || world.part_moves(s.0 as usize);
         let when = if moving {
             format!(" at its first spawn time, t = {} s", short(t0))
@@ -978,7 +1031,7 @@ fn check_spawn_points(sc: &Scenario, world: &World) -> Result<(), ScenarioError>
                 ));
             }
         }
-        let r = a.diameter_m / 2.0;
+        let r = a.bounding_radius_m();
         let allowed = MAX_INITIAL_SURFACE_OVERLAP_RATIO * r;
         let Some((u, s)) = deepest_overlap(world, p, r, t, &mut hits).filter(|w| w.0 > allowed)
         else {
@@ -1044,6 +1097,10 @@ fn check_initial_surface_overlaps(
 ) -> Result<(), ScenarioError> {
     let mut hits = Vec::new();
     for (k, (a, _)) in apples.iter().enumerate() {
+        if a.is_spheroid() {
+            spheroid_surface_overlap(sc, k, a, world, &mut hits)?;
+            continue;
+        }
         let r = a.diameter_m / 2.0;
         for (s, &ch) in world.surface_colliders.iter().enumerate() {
             let Some(co) = world.physics.colliders.get(ch) else {
@@ -1071,6 +1128,62 @@ fn check_initial_surface_overlaps(
                     ),
                 ));
             }
+        }
+    }
+    Ok(())
+}
+
+/// [`check_initial_surface_overlaps`] for spheroid `k`: the surfaces are found by its bounding
+/// ball, which holds it; along each hit's normal n the spheroid reaches its support distance
+/// h(-n) from its centre, and the centre stands (R - u) from the surface, so it overlaps by
+/// h(-n) - (R - u). Exact for flat faces (the nearest point of a plane lies along its normal);
+/// for curved ones (rollers, troughs, meshes' edges) a close estimate, the layer's contact being
+/// exact. Allowed: [`MAX_INITIAL_SURFACE_OVERLAP_RATIO`] of its smaller radius.
+fn spheroid_surface_overlap(
+    sc: &Scenario,
+    k: usize,
+    a: &AppleSpec,
+    world: &World,
+    hits: &mut Vec<crate::layer::surface::SurfaceHit>,
+) -> Result<(), ScenarioError> {
+    let shape = a.spheroid();
+    let field = sc.initial_apple_field(k);
+    // Checked by validation; read again for a library caller that skipped it.
+    let turned = a.orientation(&field)?;
+    let r = shape.bounding_radius();
+    let allowed = MAX_INITIAL_SURFACE_OVERLAP_RATIO * shape.a.min(shape.c);
+    for (s, &ch) in world.surface_colliders.iter().enumerate() {
+        let Some(co) = world.physics.colliders.get(ch) else {
+            continue;
+        };
+        hits.clear();
+        let id = SurfaceId(s as u32);
+        crate::layer::surface::surface_hits(
+            world.layer.surface_shape(id),
+            co,
+            vec3(a.position_m),
+            r,
+            0.0,
+            hits,
+        );
+        let deepest = hits
+            .iter()
+            .map(|h| shape.point_with_normal(&turned, -h.normal).support_m - (r - h.overlap_m))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if deepest > allowed {
+            let part = world.layer.surface_name(id);
+            let placed = sc
+                .surface_fields_of(part)
+                .map_or_else(String::new, |f| format!(" ({f})"));
+            return Err(ScenarioError::invalid(
+                field,
+                format!(
+                    "apple '{}' starts {:.4} mm inside surface '{part}'{placed} (more than {} % of its smaller radius, as turned): place it on or above the surface",
+                    a.name,
+                    deepest * 1e3,
+                    MAX_INITIAL_SURFACE_OVERLAP_RATIO * 100.0
+                ),
+            ));
         }
     }
     Ok(())

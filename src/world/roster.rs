@@ -3,6 +3,7 @@
 //! calibration, the trade-off study and the validation read it instead of going back to the
 //! scenario (whose generators would otherwise be expanded again, and its mass rule written again).
 
+use crate::contact::spheroid::Spheroid;
 use crate::scenario::{AppleSpec, Scenario, ScenarioError};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -31,6 +32,17 @@ pub enum Origin {
     },
 }
 
+impl Origin {
+    /// The scenario field that made the apple: `apples[3]`, `generators[0]`, `sources[1]`.
+    pub fn field(&self) -> String {
+        match *self {
+            Origin::Listed { index } => format!("apples[{index}]"),
+            Origin::Generated { generator } => format!("generators[{generator}]"),
+            Origin::Fed { source, .. } => format!("sources[{source}]"),
+        }
+    }
+}
+
 /// One apple of the roster.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RosterApple {
@@ -38,10 +50,14 @@ pub struct RosterApple {
     pub name: String,
     /// Material name.
     pub material: String,
-    /// Radius (m).
+    /// Radius (m): the equatorial one of a spheroid (half its `diameter_m`).
     pub radius_m: f64,
-    /// Mass (kg): `mass_kg`, or the material's density times the volume of a solid sphere
-    /// ([`apple_mass`]).
+    /// Height along its own z axis (m) of a spheroid (issue 29); `None` for a sphere, whose
+    /// height is its diameter (and whose roster reads as it always did).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub height_m: Option<f64>,
+    /// Mass (kg): `mass_kg`, or the material's density times the volume of the solid sphere or
+    /// spheroid ([`apple_mass`]).
     pub mass_kg: f64,
     /// Where it came from.
     pub origin: Origin,
@@ -49,6 +65,16 @@ pub struct RosterApple {
     /// figure (bruises, grades, the audit).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub probe: bool,
+}
+
+impl RosterApple {
+    /// Its shape: a sphere of its radius, or its spheroid.
+    pub fn spheroid(&self) -> Spheroid {
+        Spheroid::new(
+            self.radius_m,
+            self.height_m.map_or(self.radius_m, |h| 0.5 * h),
+        )
+    }
 }
 
 /// Every apple the world holds, in the layer's order (`AppleId`): the listed ones, the generated
@@ -117,11 +143,19 @@ pub fn sphere_mass(diameter_m: f64, density: f64) -> f64 {
 }
 
 /// The mass of an apple (kg): its `mass_kg`, else its material's density times the volume of a
-/// solid sphere of its diameter (0 when the material has no density: validation refuses that
-/// before a world is built). The one place this rule is written.
+/// solid sphere of its diameter, or of a spheroid (4/3 pi a^2 c) of its diameter and height (0
+/// when the material has no density: validation refuses that before a world is built). With
+/// `mass_kg` given, a spheroid's density is what its volume makes of it. The one place this
+/// rule is written.
 pub fn apple_mass(spec: &AppleSpec, density_kg_m3: Option<f64>) -> f64 {
-    spec.mass_kg
-        .unwrap_or_else(|| sphere_mass(spec.diameter_m, density_kg_m3.unwrap_or(0.0)))
+    spec.mass_kg.unwrap_or_else(|| {
+        let rho = density_kg_m3.unwrap_or(0.0);
+        if spec.is_spheroid() {
+            rho * spec.spheroid().volume_m3()
+        } else {
+            sphere_mass(spec.diameter_m, rho)
+        }
+    })
 }
 
 /// The roster entry of an apple spec whose material has the density `density_kg_m3`.
@@ -130,6 +164,7 @@ pub fn entry(spec: &AppleSpec, density_kg_m3: Option<f64>, origin: Origin) -> Ro
         name: spec.name.clone(),
         material: spec.material.clone(),
         radius_m: spec.diameter_m / 2.0,
+        height_m: spec.height_m.filter(|_| spec.is_spheroid()),
         mass_kg: apple_mass(spec, density_kg_m3),
         origin,
         probe: spec.probe.is_some(),

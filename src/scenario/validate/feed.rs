@@ -8,7 +8,8 @@ pub(super) fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Materi
         GeneratorSpec::Grid(s) => {
             prefix_and_material(f, &s.name, &s.material, s.mass_kg, mats)?;
             s.diameter_m.validate(&format!("{f}.diameter_m"))?;
-            mass_density(f, s.mass_kg, s.diameter_m.min_m(), s.diameter_m.max_m())?;
+            aspect(f, s.aspect.as_ref())?;
+            feed_mass_density(f, s.mass_kg, &s.diameter_m, s.aspect.as_ref())?;
             ranges::POSITION.check_each(&format!("{f}.origin_m"), s.origin_m)?;
             ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), s.velocity_m_s)?;
             ranges::LENGTH.check_each(&format!("{f}.spacing_m"), s.spacing_m)?;
@@ -17,18 +18,26 @@ pub(super) fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Materi
         GeneratorSpec::RandomFill(s) => {
             prefix_and_material(f, &s.name, &s.material, s.mass_kg, mats)?;
             s.diameter_m.validate(&format!("{f}.diameter_m"))?;
-            mass_density(f, s.mass_kg, s.diameter_m.min_m(), s.diameter_m.max_m())?;
+            aspect(f, s.aspect.as_ref())?;
+            feed_mass_density(f, s.mass_kg, &s.diameter_m, s.aspect.as_ref())?;
             ranges::POSITION.check_each(&format!("{f}.region_min_m"), s.region_min_m)?;
             ranges::POSITION.check_each(&format!("{f}.region_max_m"), s.region_max_m)?;
             // The region's own field, not the count that could not be placed in it.
             for i in 0..3 {
                 let (lo, hi) = (s.region_min_m[i], s.region_max_m[i]);
-                let d = s.diameter_m.min_m();
+                // Spheroids are placed turned at random: by their bounding balls.
+                let (d, what) = match &s.aspect {
+                    Some(a) if !a.is_sphere() && a.min() > 1.0 => (
+                        s.diameter_m.min_m() * a.min(),
+                        "the smallest diameter times the smallest aspect",
+                    ),
+                    _ => (s.diameter_m.min_m(), "the smallest diameter"),
+                };
                 if hi - lo < d {
                     return Err(ScenarioError::invalid(
                         format!("{f}.region_max_m[{i}]"),
                         format!(
-                            "{} m is {} region_min_m[{i}] = {} m: the region must hold whole apples, at least {} m (the smallest diameter) across",
+                            "{} m is {} region_min_m[{i}] = {} m: the region must hold whole apples, at least {} m ({what}) across",
                             num(hi),
                             if hi <= lo { "not above" } else { "too close to" },
                             num(lo),
@@ -48,6 +57,12 @@ pub(super) fn generator(f: &str, g: &GeneratorSpec, mats: &BTreeMap<&str, Materi
                 let lo = d.clone().fold(f64::INFINITY, f64::min);
                 let hi = d.fold(0.0, f64::max);
                 mass_density(f, s.mass_kg, lo, hi)?;
+                // Spheroids: each its own volume (the extremes of diameter and aspect need not
+                // meet in one apple).
+                for a in list.0.iter().filter(|a| a.height_m.is_some()) {
+                    let x = a.height_m.unwrap_or(a.diameter_m) / a.diameter_m;
+                    shaped_mass_density(f, s.mass_kg, a.diameter_m, a.diameter_m, (x, x))?;
+                }
             }
         }
     }
@@ -64,12 +79,8 @@ pub(super) fn source(
 ) -> R {
     prefix_and_material(f, &src.name, &src.material, src.mass_kg, mats)?;
     src.diameter_m.validate(&format!("{f}.diameter_m"))?;
-    mass_density(
-        f,
-        src.mass_kg,
-        src.diameter_m.min_m(),
-        src.diameter_m.max_m(),
-    )?;
+    aspect(f, src.aspect.as_ref())?;
+    feed_mass_density(f, src.mass_kg, &src.diameter_m, src.aspect.as_ref())?;
     ranges::POSITION.check_each(&format!("{f}.position_m"), src.position_m)?;
     ranges::SPEED.check_norm(&format!("{f}.velocity_m_s"), src.velocity_m_s)?;
     ranges::RATE.check(&format!("{f}.rate_per_s"), src.rate_per_s)?;
@@ -117,6 +128,60 @@ pub(super) fn mass_density(f: &str, mass: Option<f64>, d_min: f64, d_max: f64) -
         }
     }
     Ok(())
+}
+
+/// [`mass_density`] for spheroids of diameters `d_min`..`d_max` and aspects (height over
+/// diameter) `aspect.0`..`aspect.1`: the volume pi/6 D^3 (H/D), the densest at the smallest
+/// diameter and aspect, the lightest at the largest.
+pub(super) fn shaped_mass_density(
+    f: &str,
+    mass: Option<f64>,
+    d_min: f64,
+    d_max: f64,
+    aspect: (f64, f64),
+) -> R {
+    let Some(m) = mass else { return Ok(()) };
+    for (d, x) in [(d_min, aspect.0), (d_max, aspect.1)] {
+        let rho = m / (std::f64::consts::PI / 6.0 * d * d * d * x);
+        if !ranges::DENSITY.contains(rho) {
+            return Err(ScenarioError::invalid(
+                format!("{f}.mass_kg"),
+                format!(
+                    "{} kg in an apple of {} m by {} m (diameter by height) is a density of {} kg/m^3, outside the range of fruit handling ({})",
+                    num(m),
+                    num(d),
+                    ranges::num3(d * x),
+                    ranges::num3(rho),
+                    ranges::DENSITY.describe()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The mass check of a generator's or source's apples: by their diameters alone without an
+/// aspect (or with an aspect of 1), else with the aspect's span too.
+fn feed_mass_density(
+    f: &str,
+    mass: Option<f64>,
+    d: &crate::scenario::DiameterSpec,
+    aspect: Option<&crate::scenario::AspectSpec>,
+) -> R {
+    match aspect {
+        Some(a) if !a.is_sphere() => {
+            shaped_mass_density(f, mass, d.min_m(), d.max_m(), (a.min(), a.max()))
+        }
+        _ => mass_density(f, mass, d.min_m(), d.max_m()),
+    }
+}
+
+/// A generator's or source's `aspect`, checked when given.
+fn aspect(f: &str, a: Option<&crate::scenario::AspectSpec>) -> R {
+    match a {
+        Some(a) => a.validate(&format!("{f}.aspect")),
+        None => Ok(()),
+    }
 }
 
 pub(super) fn prefixes(sc: &Scenario) -> R {
@@ -228,6 +293,8 @@ pub(super) fn file_apples(f: &str, s: &FileSpec) -> R {
         ranges::DIAMETER
             .check(&format!("{at}.diameter_m"), a.diameter_m)
             .map_err(|e| in_file(e, &a.name))?;
+        shape(&at, a.diameter_m, a.height_m).map_err(|e| in_file(e, &a.name))?;
+        rotation_of(&a.rotation, &at).map_err(|e| in_file(e, &a.name))?;
         ranges::POSITION
             .check_each(&format!("{at}.position_m"), a.position_m)
             .map_err(|e| in_file(e, &a.name))?;
