@@ -134,7 +134,7 @@ pub fn into_dir(
         .as_ref()
         .map(|_| output::vtk::SceneSurfaces::capture(sim.world()));
     let bodies_path = csv.path(out_dir, "bodies.csv");
-    let mut bodies = output::BodiesCsv::create(&bodies_path, nf, sim.world().layer.has_spheroids())
+    let mut bodies = output::BodiesCsv::create(&bodies_path, nf, sim.world().has_spheroids())
         .map_err(io_at(&bodies_path))?;
     let rollers_path = csv.path(out_dir, output::ROLLERS_CSV);
     let mut rollers = match sim.world().has_free_rollers() {

@@ -80,6 +80,19 @@ impl Spheroid {
         self.a.max(self.c)
     }
 
+    /// The largest principal radius of curvature on its surface (m): a^2/c at the pole of an
+    /// oblate apple, c^2/a along the meridian of an elongated one's cheek, R for a sphere. The
+    /// stiffest contact it can make has an R_k no larger (step planning uses it).
+    pub fn stiffest_radius(&self) -> f64 {
+        (self.a * self.a / self.c).max(self.c * self.c / self.a)
+    }
+
+    /// [`Self::stiffest_radius`] over the equatorial radius, for an aspect c/a: the most of
+    /// 1/aspect and aspect^2.
+    pub fn stiffest_radius_ratio(aspect: f64) -> f64 {
+        (1.0 / aspect).max(aspect * aspect)
+    }
+
     /// Volume 4/3 pi a^2 c (m^3).
     pub fn volume_m3(&self) -> f64 {
         4.0 / 3.0 * PI * self.a * self.a * self.c

@@ -138,7 +138,12 @@ pub fn stiffest_contact(sc: &Scenario, world: &World) -> Option<StiffestContact>
     let apple_count =
         world.roster.len() + sc.sources.iter().map(|s| s.count as usize).sum::<usize>();
     for a in world.roster.apples() {
-        consider(&a.material, a.radius_m, a.mass_kg);
+        // A spheroid's stiffest contact: its largest radius of curvature (docs/shape.md).
+        let r = match a.height_m {
+            Some(_) => a.spheroid().stiffest_radius(),
+            None => a.radius_m,
+        };
+        consider(&a.material, r, a.mass_kg);
     }
     for s in &sc.sources {
         let d = match s.diameter_m {
@@ -150,7 +155,25 @@ pub fn stiffest_contact(sc: &Scenario, world: &World) -> Option<StiffestContact>
         let m = s
             .mass_kg
             .unwrap_or_else(|| sphere_mass(d, density.unwrap_or(0.0)));
-        consider(&s.material, d / 2.0, m);
+        // Spheroids fed with an aspect: the stiffest radius of curvature the aspects can give,
+        // and the lightest of them (a flatter apple of the same diameter is lighter by its
+        // aspect, and a lighter apple's contact is shorter).
+        let (r, m) = match &s.aspect {
+            Some(x) if !x.is_sphere() => {
+                let ratio = [x.min(), x.max()]
+                    .into_iter()
+                    .map(crate::contact::spheroid::Spheroid::stiffest_radius_ratio)
+                    .fold(1.0, f64::max);
+                let lighter = if s.mass_kg.is_none() {
+                    x.min().min(1.0)
+                } else {
+                    1.0
+                };
+                (ratio * d / 2.0, m * lighter)
+            }
+            _ => (d / 2.0, m),
+        };
+        consider(&s.material, r, m);
     }
     let surface_mats: Vec<String> = (0..world.layer.surface_count())
         .map(|s| {

@@ -463,6 +463,11 @@ impl World {
         self.moving_speed_m_s
     }
 
+    /// Whether the run has spheroidal apples: in the world now, or among the feeds to come.
+    pub fn has_spheroids(&self) -> bool {
+        self.layer.has_spheroids() || self.pending.iter().any(|f| f.apple.is_spheroid())
+    }
+
     /// Runs rapier's collision detection without moving anything (a step of length zero).
     pub fn refresh_pairs(&mut self) {
         let dt = self.physics.integration_parameters.dt;
