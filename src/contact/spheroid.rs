@@ -31,7 +31,7 @@
 
 use super::elliptic;
 use crate::math::Vec3;
-use rapier3d_f64::math::Rotation;
+use rapier3d_f64::math::{Matrix, Rotation};
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -110,12 +110,19 @@ impl Spheroid {
     /// The surface point whose outward normal is the world direction `l` (unit), for the apple
     /// turned by `rot` (its frame to the world's), with its principal curvatures.
     pub fn point_with_normal(&self, rot: &Rotation, l: Vec3) -> SurfacePoint {
-        let b = rot.inverse() * l;
+        self.point_with_normal_in(&Matrix::from_quat(*rot), l)
+    }
+
+    /// [`Self::point_with_normal`] with the orientation as a rotation matrix (three products of
+    /// a matrix and a vector instead of three of a quaternion: the pair search evaluates points
+    /// several times per contact and step).
+    pub fn point_with_normal_in(&self, m: &Matrix, l: Vec3) -> SurfacePoint {
+        let b = m.transpose() * l;
         let (a2, c2) = (self.a * self.a, self.c * self.c);
         let h = (a2 * (b.x * b.x + b.y * b.y) + c2 * b.z * b.z).sqrt();
         let offset = Vec3::new(a2 * b.x, a2 * b.y, c2 * b.z) / h;
         // The meridian's tangent: the axis less its normal part (any tangent at a pole).
-        let axis = rot * Vec3::Z;
+        let axis = m.z_axis;
         let t = axis - l * axis.dot(l);
         let t_len = t.length();
         let meridian = if t_len > 1e-9 {
@@ -124,7 +131,7 @@ impl Spheroid {
             l.any_orthonormal_vector()
         };
         SurfacePoint {
-            offset: rot * offset,
+            offset: *m * offset,
             support_m: h,
             r_meridian_m: a2 * c2 / (h * h * h),
             r_parallel_m: a2 / h,
@@ -157,7 +164,11 @@ impl Tangent2 {
     pub fn principal(k1: f64, d: Vec3, k2: f64, e1: Vec3, e2: Vec3) -> Self {
         let (c, s) = (d.dot(e1), d.dot(e2));
         let norm2 = c * c + s * s;
-        let (c2, cs, s2) = if norm2 > 0.0 {
+        // A unit tangent (the spheroid's meridian) needs no normalising; a direction off the
+        // plane (a cylinder's axis) is projected.
+        let (c2, cs, s2) = if (norm2 - 1.0).abs() < 1e-12 {
+            (c * c, c * s, s * s)
+        } else if norm2 > 0.0 {
             (c * c / norm2, c * s / norm2, s * s / norm2)
         } else {
             (1.0, 0.0, 0.0)
@@ -326,8 +337,11 @@ pub struct PairGeometry {
     pub iterations: u32,
 }
 
-/// Convergence of [`pair`]: the normal's change in the last iteration (rad).
-pub const NORMAL_TOLERANCE: f64 = 1e-12;
+/// Convergence of [`pair`] (the size of the Newton step, the normal's error) and of
+/// `layer::surface::spheroid_hits` (the normal's change in the last iteration), in rad. The
+/// overlap is stationary in the normal, so its error is of order R delta^2 (4e-20 m); the contact
+/// point's is R delta (4e-11 m).
+pub const NORMAL_TOLERANCE: f64 = 1e-9;
 /// Iterations after which [`pair`] stops (the last estimate is used; never reached in the tests).
 pub const MAX_ITERATIONS: u32 = 32;
 
@@ -347,47 +361,41 @@ pub fn pair(
     s2: &Spheroid,
     n0: Vec3,
 ) -> PairGeometry {
+    let (m1, m2) = (Matrix::from_quat(*r1), Matrix::from_quat(*r2));
     let d = x1 - x2;
     let mut n = n0;
     let mut iterations = 0;
     loop {
-        let p1 = s1.point_with_normal(r1, -n);
-        let p2 = s2.point_with_normal(r2, n);
+        let p1 = s1.point_with_normal_in(&m1, -n);
+        let p2 = s2.point_with_normal_in(&m2, n);
         let w = d + p1.offset - p2.offset;
         let wn = w.dot(n);
         let (e1, e2) = tangent_basis(n);
         let g = (w.dot(e1), w.dot(e2));
-        let done =
-            iterations >= MAX_ITERATIONS || (g.0.abs().max(g.1.abs()) <= 1e-15 * (1.0 + wn.abs()));
-        if !done {
+        let step = if iterations < MAX_ITERATIONS {
             let hess = p1.radii(e1, e2) + p2.radii(e1, e2) + Tangent2::iso(wn);
-            let step = hess.solve(g).filter(|s| s.0.is_finite() && s.1.is_finite());
-            if let Some((a, b)) = step {
-                let delta = e1 * a + e2 * b;
-                // Never turn by more than 0.5 rad in one step (a far start).
-                let len = delta.length();
-                let delta = if len > 0.5 {
-                    delta * (0.5 / len)
-                } else {
-                    delta
-                };
-                let next = (n + delta).normalize();
-                iterations += 1;
-                let moved = (next - n).length();
-                n = next;
-                if moved > NORMAL_TOLERANCE {
-                    continue;
-                }
-                // Converged: evaluate once more at the final normal (below).
-            }
+            hess.solve(g).filter(|s| s.0.is_finite() && s.1.is_finite())
+        } else {
+            None
+        };
+        // Newton's step is the normal's error: below the tolerance, the points at n are the
+        // contact's (the overlap is stationary in n: its error is of order R delta^2).
+        if let Some((a, b)) = step.filter(|s| s.0.abs().max(s.1.abs()) > NORMAL_TOLERANCE) {
+            let delta = e1 * a + e2 * b;
+            // Never turn by more than 0.5 rad in one step (a far start).
+            let len = delta.length();
+            let delta = if len > 0.5 {
+                delta * (0.5 / len)
+            } else {
+                delta
+            };
+            n = (n + delta).normalize();
+            iterations += 1;
+            continue;
         }
-        let p1 = s1.point_with_normal(r1, -n);
-        let p2 = s2.point_with_normal(r2, n);
-        let (e1, e2) = tangent_basis(n);
-        let u = -(d + p1.offset - p2.offset).dot(n);
         return PairGeometry {
             normal: n,
-            overlap_m: u,
+            overlap_m: -wn,
             arm1: p1.offset,
             arm2: p2.offset,
             curvature: p1.curvature(e1, e2) + p2.curvature(e1, e2),

@@ -27,6 +27,9 @@ pub struct Contact {
     pub next: u32,
     /// Unit normal from the other body towards apple `i`, at the current poses.
     pub normal: Vec3,
+    /// The normal of the step before (a spheroid pair's search starts from the two normals'
+    /// linear extrapolation; NaN before it has two).
+    pub prev_normal: Vec3,
     /// Overlap at the current poses (m).
     pub overlap_m: f64,
     /// Curvature of the other body at the contact (1/m).
@@ -89,6 +92,7 @@ impl Contact {
             other,
             next: NONE,
             normal: Vec3::Z,
+            prev_normal: Vec3::NAN,
             overlap_m: 0.0,
             curvature2: 0.0,
             xi: Vec3::ZERO,

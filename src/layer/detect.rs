@@ -252,7 +252,17 @@ impl Detection {
             let shaped = if apples[i].shape.is_some() || apples[j].shape.is_some() {
                 let n0 = match p.contact {
                     NONE => d / r2.sqrt().max(1e-300),
-                    slot => cx.contacts.get(slot).normal,
+                    slot => {
+                        // The last normal, moved on as it moved in the last step (the apples
+                        // turn smoothly: one Newton step less when they roll).
+                        let c = cx.contacts.get(slot);
+                        let ahead = c.normal * 2.0 - c.prev_normal;
+                        if ahead.is_finite() && ahead.length_squared() > 0.25 {
+                            ahead.normalize()
+                        } else {
+                            c.normal
+                        }
+                    }
                 };
                 Some(shaped_pair(registry, frame, i, j, n0))
             } else {
@@ -337,6 +347,11 @@ impl Detection {
                 };
                 cx.contacts.see(slot, epoch);
                 let c = cx.contacts.get_mut(slot);
+                let old_normal = if p.contact == NONE {
+                    Vec3::NAN
+                } else {
+                    c.normal
+                };
                 c.normal = n;
                 c.overlap_m = u;
                 match shaped {
@@ -344,6 +359,7 @@ impl Detection {
                         // The key of the law's constants: they follow R_k as the apples turn.
                         c.curvature2 = 1.0 / sh.r_star_m;
                         c.shaped = Some(sh);
+                        c.prev_normal = old_normal;
                     }
                     None => c.curvature2 = 1.0 / frame.radius[j],
                 }

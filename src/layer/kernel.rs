@@ -85,7 +85,13 @@ impl Ctx<'_> {
         let u = c.overlap_m;
         // NaN (not computed yet) never equals: computed at the first evaluation.
         if c.consts_curvature != c.curvature2 {
-            self.prepare(c)?;
+            match c.shaped {
+                // A spheroid's R_k moves as it turns: only what depends on it, every step.
+                Some(sh) if !c.consts_curvature.is_nan() && c.consts.pad.is_none() => {
+                    self.reshape(c, sh)?
+                }
+                _ => self.prepare(c)?,
+            }
         }
         let law = &self.registry.laws()[c.law as usize];
         let k = c.consts;
@@ -413,6 +419,24 @@ impl Ctx<'_> {
         });
         c.consts_curvature = c.curvature2;
         c.inv_r_min = 1.0 / c.shaped.map_or(r_min, |sh| sh.r_min_m);
+        Ok(())
+    }
+
+    /// A spheroid contact's constants after its R_k changed (the apple turned): stiffness and
+    /// the ellipse's area scale, as [`Self::prepare`] makes them. The rest (the law, the masses,
+    /// the moments about the contact point with the lever of its first step) stays.
+    fn reshape(&self, c: &mut Contact, sh: super::contacts::Shaped) -> Result<(), Box<LayerError>> {
+        if !sh.r_star_m.is_finite() {
+            // Conforming now: prepare refuses it, naming the pair.
+            return self.prepare(c);
+        }
+        let law = &self.registry.laws()[c.law as usize];
+        let sqrt_r_star = sh.r_star_m.sqrt();
+        c.consts.r_star_m = sh.r_star_m;
+        c.consts.sqrt_r_star = sqrt_r_star;
+        c.consts.stiffness = 4.0 / 3.0 * law.e_star_pa * sqrt_r_star;
+        c.consts.area_scale = (sh.area_radius_m / sh.r_star_m).sqrt();
+        c.consts_curvature = c.curvature2;
         Ok(())
     }
 
