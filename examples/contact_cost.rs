@@ -68,8 +68,7 @@ fn build(spheroid: bool, pairs: bool) -> (PhysicsWorld, ContactLayer, Vec<RigidB
             .unwrap();
         bodies.push(b);
     };
-    let contacts;
-    if pairs {
+    let contacts = if pairs {
         // Two apples 0.2 mm into each other along x: pole to pole for the spheroids.
         let reach = 2.0 * shape.c - 2e-4;
         for k in 0..500 {
@@ -82,7 +81,7 @@ fn build(spheroid: bool, pairs: bool) -> (PhysicsWorld, ContactLayer, Vec<RigidB
                 2 * k + 1,
             );
         }
-        contacts = 500;
+        500
     } else {
         let floor = world
             .colliders
@@ -98,8 +97,8 @@ fn build(spheroid: bool, pairs: bool) -> (PhysicsWorld, ContactLayer, Vec<RigidB
             let p = Vector::new((k % 40) as f64 * 0.2, (k / 40) as f64 * 0.2, shape.c - 2e-4);
             add(&mut world, &mut layer, p, k);
         }
-        contacts = 1000;
-    }
+        1000
+    };
     (world, layer, bodies, contacts)
 }
 
