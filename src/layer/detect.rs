@@ -199,6 +199,7 @@ impl Detection {
         let control = cx.config.step_control;
         let gravity = cx.config.gravity;
         let horizon = cx.clock.horizon_s;
+        let dt_back = cx.clock.dt_back;
         let energy_loss = cx.config.parts.energy_loss;
         let friction = cx.config.parts.friction;
         let (registry, frame) = (cx.registry, &mut *cx.frame);
@@ -247,9 +248,34 @@ impl Detection {
                 // The common case: apart, nothing open, nothing to plan.
                 continue;
             }
+            let spheroid = apples[i].shape.is_some() || apples[j].shape.is_some();
+            if spheroid && p.contact == NONE && p.gap_bound_m > 0.0 {
+                // Apart when last tested: the gap closes at most by the relative motion of
+                // the last step (symplectic Euler moved the poses by the velocities now held),
+                // the turns swinging the surfaces by up to |w| R.
+                let reach = ((frame.vel[i] - frame.vel[j]).length()
+                    + frame.angvel[i].length() * frame.radius[i]
+                    + frame.angvel[j].length() * frame.radius[j])
+                    * dt_back;
+                let gap = f64::from(p.gap_bound_m) - reach;
+                // With step control, a pair that may touch within the horizon must be planned.
+                let ahead = match control {
+                    None => 0.0,
+                    Some(_) => {
+                        let speed = (frame.vel[i] - frame.vel[j]).length()
+                            + frame.angvel[i].length() * frame.radius[i]
+                            + frame.angvel[j].length() * frame.radius[j];
+                        (speed + gravity.length() * horizon) * horizon
+                    }
+                };
+                if gap > ahead {
+                    self.grid.pairs_mut()[k].gap_bound_m = gap as f32;
+                    continue;
+                }
+            }
             // A spheroid in the pair: the common normal, from the open contact's normal (the
             // last step's) or the line of centres.
-            let shaped = if apples[i].shape.is_some() || apples[j].shape.is_some() {
+            let shaped = if spheroid {
                 let n0 = match p.contact {
                     NONE => d / r2.sqrt().max(1e-300),
                     slot => {
@@ -272,6 +298,8 @@ impl Detection {
                 Some((g, _)) => (g.normal, g.overlap_m),
                 None => geometry::sphere_sphere(d, r2, rs),
             };
+            // Made when needed (planning, or a contact).
+            let mut contact_geo: Option<Shaped> = None;
             if ai != aj {
                 // One sleeper: wake it if this contact starts, ends, or its overlap drifts.
                 let sleeper = if ai { j } else { i };
@@ -294,8 +322,11 @@ impl Detection {
                 let law =
                     registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
                 let (ri, rj) = (frame.radius[i], frame.radius[j]);
-                let r_star = match &shaped {
-                    Some((_, sh)) if sh.r_star_m.is_finite() => sh.r_star_m,
+                if let (Some((g, r_min)), None) = (&shaped, &contact_geo) {
+                    contact_geo = Some(shaped_contact(g, *r_min));
+                }
+                let r_star = match &contact_geo {
+                    Some(sh) if sh.r_star_m.is_finite() => sh.r_star_m,
                     _ => ri * rj / (ri + rj),
                 };
                 let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
@@ -336,6 +367,14 @@ impl Detection {
                     cx.out.stats.limit(lim.0, lim.1);
                 }
             }
+            if spheroid {
+                // Rounded down to f32 and shrunk: a lower bound.
+                self.grid.pairs_mut()[k].gap_bound_m = if u < 0.0 {
+                    (-u * (1.0 - 1e-6)) as f32
+                } else {
+                    0.0
+                };
+            }
             if u > 0.0 {
                 let slot = match p.contact {
                     NONE => {
@@ -354,8 +393,12 @@ impl Detection {
                 };
                 c.normal = n;
                 c.overlap_m = u;
-                match shaped {
-                    Some((_, sh)) => {
+                let geo = match (&shaped, contact_geo) {
+                    (Some((g, r_min)), None) => Some(shaped_contact(g, *r_min)),
+                    (_, geo) => geo,
+                };
+                match geo {
+                    Some(sh) => {
                         // The key of the law's constants: they follow R_k as the apples turn.
                         c.curvature2 = 1.0 / sh.r_star_m;
                         c.shaped = Some(sh);
@@ -796,14 +839,15 @@ fn history_damping_step(
 }
 
 /// The geometry of apples `i` and `j` when one of them is a spheroid (a sphere is the spheroid
-/// a = c of its radius), from the starting normal `n0` (from j to i).
+/// a = c of its radius), from the starting normal `n0` (from j to i), and the smallest of their
+/// radii a, c (the overlap guard's).
 fn shaped_pair(
     registry: &Registry,
     frame: &Frame,
     i: usize,
     j: usize,
     n0: Vec3,
-) -> (contact::spheroid::PairGeometry, Shaped) {
+) -> (contact::spheroid::PairGeometry, f64) {
     use contact::spheroid::{self, Spheroid};
     let shape = |k: usize| {
         registry.apples[k]
@@ -820,14 +864,19 @@ fn shaped_pair(
         &sj,
         n0,
     );
+    (g, si.a.min(si.c).min(sj.a.min(sj.c)))
+}
+
+/// The law's geometry of a spheroid pair (made only for the pairs that touch or are planned:
+/// the elliptic radii take a logarithm and a table look-up).
+fn shaped_contact(g: &contact::spheroid::PairGeometry, r_min_m: f64) -> Shaped {
     let (r_star_m, area_radius_m) =
-        spheroid::hertz_radii(&g.curvature).unwrap_or((f64::NAN, f64::NAN));
-    let sh = Shaped {
+        contact::spheroid::hertz_radii(&g.curvature).unwrap_or((f64::NAN, f64::NAN));
+    Shaped {
         arm: g.arm1,
         lever2_m: g.arm2.length(),
         r_star_m,
         area_radius_m,
-        r_min_m: si.a.min(si.c).min(sj.a.min(sj.c)),
-    };
-    (g, sh)
+        r_min_m,
+    }
 }

@@ -19,7 +19,7 @@ use crate::math::Vec3;
 pub const NONE: u32 = u32::MAX;
 
 /// A candidate pair of apples, closer than R_i + R_j + skin at the last build.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pair {
     /// First apple (i < j).
     pub i: u32,
@@ -27,6 +27,10 @@ pub struct Pair {
     pub j: u32,
     /// The pair's open contact in the layer's contact store, or [`NONE`].
     pub contact: u32,
+    /// A lower bound of the gap between the two apples when they are apart (m), kept by
+    /// detection for pairs with a spheroid, whose exact test is a search: while the motion since
+    /// it was measured cannot have closed it, the pair is not tested (0: test it).
+    pub gap_bound_m: f32,
 }
 
 /// Verlet list over a uniform cell grid.
@@ -120,7 +124,12 @@ impl NeighborList {
             } else {
                 NONE
             };
-            merged.push(Pair { i, j, contact });
+            merged.push(Pair {
+                i,
+                j,
+                contact,
+                gap_bound_m: 0.0,
+            });
         }
         for p in &old[o..] {
             if p.contact != NONE {
