@@ -332,20 +332,50 @@ impl Detection {
                 let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
                 let m_n = theory::reduced_mass(apples[i].mass, apples[j].mass);
                 if u <= 0.0 {
-                    let closing = (frame.vel[j] - frame.vel[i]).dot(n);
+                    // Spheroids: the velocities of the nearest points (their turns move them).
+                    let closing = match &shaped {
+                        Some((g, _)) => ((frame.vel[j] + frame.angvel[j].cross(g.arm2))
+                            - (frame.vel[i] + frame.angvel[i].cross(g.arm1)))
+                            .dot(n),
+                        None => (frame.vel[j] - frame.vel[i]).dot(n),
+                    };
                     // Relative acceleration of two apples: bounded by g (one supported, one
                     // falling); contact forces are not known yet at this point.
                     let accel = gravity.length();
                     if let Some(t_touch) = time_to_touch(-u, closing, accel, horizon) {
                         // About to touch: resolve the impact (see `StepControl`).
                         let closing = closing + accel * t_touch;
+                        // Spheroids may turn their stiffest points together before they meet:
+                        // plan with their largest radii of curvature.
+                        let (k_n, r_star) = match &shaped {
+                            Some(_) => {
+                                let stiff = |k: usize| {
+                                    apples[k]
+                                        .shape
+                                        .map_or(frame.radius[k], |sh| sh.stiffest_radius())
+                                };
+                                let r = 1.0 / (1.0 / stiff(i) + 1.0 / stiff(j));
+                                if r > r_star {
+                                    (contact::normal::stiffness(law.e_star_pa, r), r)
+                                } else {
+                                    (k_n, r_star)
+                                }
+                            }
+                            None => (k_n, r_star),
+                        };
                         let t_h = theory::elastic_impact(m_n, closing, k_n, r_star).contact_time_s;
                         cx.out
                             .stats
                             .limit(t_touch + t_h / c.steps_per_contact, StepLimit::Approaching);
                     }
                 } else {
-                    let rate = (frame.vel[j] - frame.vel[i]).dot(n);
+                    // Spheroids: the contact points' velocities, as the law's overlap rate.
+                    let rate = match &shaped {
+                        Some((g, _)) => ((frame.vel[j] + frame.angvel[j].cross(g.arm2))
+                            - (frame.vel[i] + frame.angvel[i].cross(g.arm1)))
+                            .dot(n),
+                        None => (frame.vel[j] - frame.vel[i]).dot(n),
+                    };
                     let record = match p.contact {
                         NONE => None,
                         slot => cx.contacts.get_mut(slot).record.as_mut(),
@@ -528,14 +558,42 @@ impl Detection {
                         let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
                         let m_n = registry.apples[a].mass;
                         if hit.overlap_m <= 0.0 {
-                            // About to touch: resolve the impact (see `StepControl`).
-                            let closing = (v_s - cx.frame.vel[a]).dot(hit.normal);
+                            // About to touch: resolve the impact (see `StepControl`). A
+                            // spheroid's turn moves its support point towards the surface too:
+                            // its nearest point's velocity (a sphere's turn does not).
+                            let v_a = match &shape {
+                                Some(_) => cx.frame.vel[a] + cx.frame.angvel[a].cross(arm),
+                                None => cx.frame.vel[a],
+                            };
+                            let closing = (v_s - v_a).dot(hit.normal);
                             // Gravity towards the surface closes the gap within the step too.
                             let accel = (-gravity.dot(hit.normal)).max(0.0);
                             if let Some(t_touch) =
                                 time_to_touch(-hit.overlap_m, closing, accel, horizon)
                             {
                                 let closing = closing + accel * t_touch;
+                                // A spheroid may turn its stiffest point to the surface before
+                                // it lands: plan with its largest radius of curvature.
+                                let (k_n, r_star) = match &shape {
+                                    Some(sph) => {
+                                        let k2 = if hit.curvature_1_m.is_finite() {
+                                            hit.curvature_1_m
+                                        } else {
+                                            0.0
+                                        };
+                                        match contact::normal::effective_radius(
+                                            1.0 / sph.stiffest_radius(),
+                                            k2,
+                                        ) {
+                                            Some(r) if r > r_star => (
+                                                contact::normal::stiffness(law.e_star_pa, r),
+                                                r,
+                                            ),
+                                            _ => (k_n, r_star),
+                                        }
+                                    }
+                                    None => (k_n, r_star),
+                                };
                                 let t_h = theory::elastic_impact(m_n, closing, k_n, r_star)
                                     .contact_time_s;
                                 cx.out.stats.limit(
@@ -544,7 +602,12 @@ impl Detection {
                                 );
                             }
                         } else {
-                            let rate = (v_s - cx.frame.vel[a]).dot(hit.normal);
+                            // A spheroid: its contact point's velocity (the law's rate).
+                            let v_a = match &shape {
+                                Some(_) => cx.frame.vel[a] + cx.frame.angvel[a].cross(arm),
+                                None => cx.frame.vel[a],
+                            };
+                            let rate = (v_s - v_a).dot(hit.normal);
                             let record =
                                 best.and_then(|(k, _)| cx.contacts.get_mut(k).record.as_mut());
                             let ke = if energy_loss { law.ke } else { 1.0 };
