@@ -336,7 +336,7 @@ impl Detection {
                     let closing = match &shaped {
                         Some((g, _)) => ((frame.vel[j] + frame.angvel[j].cross(g.arm2))
                             - (frame.vel[i] + frame.angvel[i].cross(g.arm1)))
-                            .dot(n),
+                        .dot(n),
                         None => (frame.vel[j] - frame.vel[i]).dot(n),
                     };
                     // Relative acceleration of two apples: bounded by g (one supported, one
@@ -373,7 +373,7 @@ impl Detection {
                     let rate = match &shaped {
                         Some((g, _)) => ((frame.vel[j] + frame.angvel[j].cross(g.arm2))
                             - (frame.vel[i] + frame.angvel[i].cross(g.arm1)))
-                            .dot(n),
+                        .dot(n),
                         None => (frame.vel[j] - frame.vel[i]).dot(n),
                     };
                     let record = match p.contact {
@@ -585,10 +585,9 @@ impl Detection {
                                             1.0 / sph.stiffest_radius(),
                                             k2,
                                         ) {
-                                            Some(r) if r > r_star => (
-                                                contact::normal::stiffness(law.e_star_pa, r),
-                                                r,
-                                            ),
+                                            Some(r) if r > r_star => {
+                                                (contact::normal::stiffness(law.e_star_pa, r), r)
+                                            }
                                             _ => (k_n, r_star),
                                         }
                                     }
