@@ -111,6 +111,13 @@ pub struct AppleFinal {
     pub name: String,
     /// Diameter (m): a spheroid's equatorial one.
     pub diameter_m: f64,
+    /// A spheroid's height along its own axis (m); absent for a sphere.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub height_m: Option<f64>,
+    /// A spheroid's orientation at the end, a unit quaternion [w, x, y, z] (its frame to the
+    /// world's); absent for a sphere.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub final_orientation: Option<[f64; 4]>,
     /// Mass (kg).
     pub mass_kg: f64,
     /// Centre at the end (m).
@@ -860,6 +867,11 @@ impl Simulation {
             .map(|(k, (s, fate))| AppleFinal {
                 name: s.name.to_string(),
                 diameter_m: s.diameter_m,
+                height_m: s.shape.map(|sh| sh.height_m),
+                final_orientation: s.shape.map(|sh| {
+                    let q = sh.rotation;
+                    [q.w, q.x, q.y, q.z]
+                }),
                 mass_kg: s.mass_kg,
                 final_position_m: arr3(s.position),
                 final_velocity_m_s: arr3(s.velocity),
