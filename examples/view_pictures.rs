@@ -29,14 +29,15 @@ struct Picture {
 }
 
 /// The runs: folder name, scenario, whether it is the long 200-apple line.
-const RUNS: [(&str, &str, bool); 4] = [
+const RUNS: [(&str, &str, bool); 5] = [
     ("drop", "scenarios/drop_on_steel.json", false),
+    ("spheroids", "docs/viewer/spheroids.json", false),
     ("line", "scenarios/handling_line.json", false),
     ("bin_filler", "scenarios/lines/bin_filler.json", false),
     ("line_200", "scenarios/bench/view_line_200.json", true),
 ];
 
-const PICTURES: [Picture; 8] = [
+const PICTURES: [Picture; 9] = [
     Picture {
         file: "drop_on_steel.png",
         run: "drop",
@@ -80,6 +81,12 @@ const PICTURES: [Picture; 8] = [
         run: "line",
         hash: "#t=4.5&colour=speed&trails=2",
         what: "the handling line at 4.5 s, coloured by speed, with 2 s trails",
+    },
+    Picture {
+        file: "spheroids.png",
+        run: "spheroids",
+        hash: "#t=0.79&colour=force&cam=0.5,-0.78,0.62,0.0,0.02,0",
+        what: "24 spheroidal apples (height over diameter 0.7 to 1.1, turned at random) in a bin",
     },
     Picture {
         file: "view_line_volume.png",

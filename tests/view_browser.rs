@@ -3,7 +3,9 @@
 //! from disk with no console error, its scene holds the run's apples and surface parts, moving
 //! the time slider (a real mouse click on it, the End key) puts the apples where bodies.csv has
 //! them (within the quantisation step), clicking an apple shows its contacts, switching the
-//! colour changes the rendered pixels, and a screenshot is not blank.
+//! colour changes the rendered pixels, and a screenshot is not blank. Spheroidal apples (issue
+//! 29) are drawn as their ellipsoids, turned by bodies.csv's orientations, their silhouettes
+//! those of the closed form.
 //!
 //! Chromium is required, never skipped: without it the test fails and says how to install it
 //! (`tools/test`, the README's test command, installs it when missing). `APPLESIM_CHROMIUM`
@@ -803,4 +805,458 @@ fn a_free_roller_turns_at_its_recorded_angle() {
     assert!(worst_pos <= 2.0 * 1.5e-9, "centre {worst_pos:e} m");
     let errors = s.errors();
     assert!(errors.is_empty(), "the page reported errors: {errors:?}");
+}
+
+/// The spheroid test's scene (issue 29), sampled every 10 ms for 0.3 s: on a steel floor an
+/// oblate apple (80 x 60 mm) turned 90 degrees about x, lying on its cheek (its axis along -y,
+/// its centre a = 40 mm up), an elongated one (60 x 90 mm) turned 30 degrees about x (its axis
+/// (0, -1/2, sqrt(3)/2)) dropped from 0.1 m so that it lands, rocks and turns, and a sphere of
+/// 70 mm resting, all in a row along y.
+fn spheroid_scenario() -> serde_json::Value {
+    serde_json::json!({
+        "duration_s": 0.3,
+        "time_step_s": 1e-5,
+        "gravity_m_s2": [0, 0, -9.81],
+        "output": { "sample_interval_s": 0.01 },
+        "materials": {
+            "apple": { "shear_modulus_pa": 1.1e6, "poisson_ratio": 0.18, "density_kg_m3": 800 },
+            "steel": { "youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.28 }
+        },
+        "contact": { "friction": 0.3, "ke": 0.09, "lambda_s_m": 1000 },
+        "apples": [
+            { "name": "oblate", "material": "apple", "diameter_m": 0.08, "height_m": 0.06,
+              "rotation": { "axis": [1, 0, 0], "angle_deg": 90 }, "position_m": [0, 0, 0.04] },
+            { "name": "long", "material": "apple", "diameter_m": 0.06, "height_m": 0.09,
+              "rotation": { "axis": [1, 0, 0], "angle_deg": 30 }, "position_m": [0, 0.15, 0.1] },
+            { "name": "ball", "material": "apple", "diameter_m": 0.07, "position_m": [0, -0.13, 0.035] }
+        ],
+        "surfaces": [
+            { "name": "floor", "type": "plane", "material": "steel", "point_m": [0, 0, 0], "normal": [0, 0, 1] }
+        ]
+    })
+}
+
+/// An apple's row of bodies.csv as the spheroid test reads it: centre (m), diameter and height
+/// (m), orientation quaternion [x, y, z, w] (bodies.csv prints w first).
+#[derive(Debug, Clone, Copy)]
+struct ShapeRow {
+    centre: [f64; 3],
+    d: f64,
+    h: f64,
+    q: [f64; 4],
+}
+
+/// bodies.csv with its shape columns: per sample time (bits), per apple, its [`ShapeRow`].
+fn shape_rows(run_dir: &Path) -> BTreeMap<u64, BTreeMap<String, ShapeRow>> {
+    let mut r = csv::Reader::from_path(run_dir.join("bodies.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let col = |n: &str| h.iter().position(|x| x == n).unwrap();
+    let c = [
+        "time_s",
+        "x_m",
+        "y_m",
+        "z_m",
+        "diameter_m",
+        "height_m",
+        "qx",
+        "qy",
+        "qz",
+        "qw",
+    ]
+    .map(col);
+    let ca = col("apple");
+    let mut out: BTreeMap<u64, BTreeMap<String, ShapeRow>> = BTreeMap::new();
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        let v = c.map(|k| rec[k].parse::<f64>().unwrap());
+        out.entry(v[0].to_bits()).or_default().insert(
+            rec[ca].to_string(),
+            ShapeRow {
+                centre: [v[1], v[2], v[3]],
+                d: v[4],
+                h: v[5],
+                q: [v[6], v[7], v[8], v[9]],
+            },
+        );
+    }
+    out
+}
+
+/// The unit axis of a spheroid turned by `q` ([x, y, z, w], normalised first): R e_z.
+fn axis_of(q: [f64; 4]) -> [f64; 3] {
+    let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    quat_rotate(q.map(|x| x / n), [0.0, 0.0, 1.0])
+}
+
+/// The angle (rad) between two axes of a spheroid (either sign: a spheroid turned end over end
+/// is the same body).
+fn axis_angle(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let dot = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]).abs();
+    let cross = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2])
+        .sqrt()
+        .atan2(dot)
+}
+
+/// The page's camera as the test projects with it: eye, right, up, forward (world, unit), the
+/// projection's x and y scales (1 / (tan(fov/2) aspect), 1 / tan(fov/2)) and the canvas in device
+/// pixels (left, top, width, height).
+struct PageCamera {
+    eye: [f64; 3],
+    right: [f64; 3],
+    up: [f64; 3],
+    fwd: [f64; 3],
+    px: f64,
+    py: f64,
+    rect: [f64; 4],
+}
+
+fn page_camera(s: &Session) -> PageCamera {
+    let v = s.eval(
+        "(() => { const V = applesimView, c = V.renderer.domElement.getBoundingClientRect(), d = window.devicePixelRatio || 1; \
+           V.camera.updateMatrixWorld(); \
+           return JSON.stringify({ m: V.camera.matrixWorld.elements, p: V.camera.projectionMatrix.elements, \
+             rect: [c.left * d, c.top * d, c.width * d, c.height * d] }); })()",
+    );
+    let m: Vec<f64> = (0..16).map(|k| v["m"][k].as_f64().unwrap()).collect();
+    let p: Vec<f64> = (0..16).map(|k| v["p"][k].as_f64().unwrap()).collect();
+    PageCamera {
+        eye: [m[12], m[13], m[14]],
+        right: [m[0], m[1], m[2]],
+        up: [m[4], m[5], m[6]],
+        fwd: [-m[8], -m[9], -m[10]],
+        px: p[0],
+        py: p[5],
+        rect: [0, 1, 2, 3].map(|k| v["rect"][k].as_f64().unwrap()),
+    }
+}
+
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The closed form of a spheroid's silhouette seen by the page's perspective camera: its
+/// bounding box on the screen (device pixels: left, right, top, bottom). The spheroid of centre
+/// c, semi-axes a (across) and h (along the unit axis k) is the ellipsoid of shape matrix
+/// S = a^2 I + (h^2 - a^2) k k^T, whose support is |n . (x - c)| <= sqrt(n^T S n). A plane
+/// through the eye e on which the screen coordinate X = (s . (x - e)) / (f . (x - e)) is constant
+/// (s the screen's right or up, f the view direction) has normal n = s - X f; the silhouette's
+/// extreme X are those of the two such planes tangent to the ellipsoid:
+/// (s . g - X f . g)^2 = (s - X f)^T S (s - X f), g = c - e, a quadratic in X.
+fn silhouette(cam: &PageCamera, c: [f64; 3], a: f64, h: f64, k: [f64; 3]) -> [f64; 4] {
+    let g = [0, 1, 2].map(|i| c[i] - cam.eye[i]);
+    let sm =
+        |x: [f64; 3], y: [f64; 3]| a * a * dot3(x, y) + (h * h - a * a) * dot3(x, k) * dot3(y, k);
+    let range = |s: [f64; 3]| {
+        let (al, be) = (dot3(s, g), dot3(cam.fwd, g));
+        let qa = be * be - sm(cam.fwd, cam.fwd);
+        let qb = al * be - sm(s, cam.fwd);
+        let qc = al * al - sm(s, s);
+        let root = (qb * qb - qa * qc).sqrt();
+        ((qb - root) / qa, (qb + root) / qa)
+    };
+    let [l, t, w, hh] = cam.rect;
+    let (x0, x1) = range(cam.right);
+    let (y0, y1) = range(cam.up);
+    [
+        l + (cam.px * x0 + 1.0) / 2.0 * w,
+        l + (cam.px * x1 + 1.0) / 2.0 * w,
+        t + (1.0 - cam.py * y1) / 2.0 * hh,
+        t + (1.0 - cam.py * y0) / 2.0 * hh,
+    ]
+}
+
+/// Shows the apples alone (the other objects of the scene, the panels and the scale bar hidden) and returns
+/// the screenshot's pixels and width.
+fn apples_alone(s: &Session) -> (Vec<u8>, u32) {
+    s.eval(
+        "(() => { const V = applesimView; V.scene.children.forEach((o) => { if (o !== V.apples && !o.isLight) o.visible = false; }); \
+           document.querySelectorAll('.panel, #scalebar').forEach((e) => { e.style.visibility = 'hidden'; }); return 'true'; })()",
+    );
+    let (px, w, _) = s.screenshot();
+    (px, w)
+}
+
+/// The drawn silhouettes of `names` against their closed forms ([`silhouette`]) at the page's
+/// current time, whose bodies.csv rows are `rows`: each apple's pixels (those off the background
+/// within 12 px of its closed-form box) span that box within `tol` px on every side, and no
+/// pixel is drawn outside them. Returns the largest edge error (px) and each apple's measured
+/// half-extents across and up the screen (px).
+fn check_silhouettes(
+    s: &Session,
+    rows: &BTreeMap<String, ShapeRow>,
+    names: &[&str],
+    tol: f64,
+) -> (f64, Vec<(f64, f64)>) {
+    let cam = page_camera(s);
+    let boxes: Vec<[f64; 4]> = names
+        .iter()
+        .map(|n| {
+            let r = rows[*n];
+            silhouette(&cam, r.centre, r.d / 2.0, r.h / 2.0, axis_of(r.q))
+        })
+        .collect();
+    let (px, w) = apples_alone(s);
+    let bg = [px[0], px[1], px[2], px[3]];
+    let mut spans = vec![
+        [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY
+        ];
+        names.len()
+    ];
+    let mut stray = 0usize;
+    for (k, p) in px.chunks(4).enumerate() {
+        if !differs(p, &bg) {
+            continue;
+        }
+        let (x, y) = ((k % w as usize) as f64, (k / w as usize) as f64);
+        let owner = boxes.iter().position(|b| {
+            x + 1.0 > b[0] - 12.0 && x < b[1] + 12.0 && y + 1.0 > b[2] - 12.0 && y < b[3] + 12.0
+        });
+        match owner {
+            Some(i) => {
+                // A pixel covers [x, x + 1): the drawn silhouette reaches its far edge.
+                let sp = &mut spans[i];
+                sp[0] = sp[0].min(x);
+                sp[1] = sp[1].max(x + 1.0);
+                sp[2] = sp[2].min(y);
+                sp[3] = sp[3].max(y + 1.0);
+            }
+            None => stray += 1,
+        }
+    }
+    assert_eq!(stray, 0, "pixels drawn outside every apple's silhouette");
+    let mut worst = 0.0f64;
+    let mut halves = Vec::new();
+    for (i, n) in names.iter().enumerate() {
+        for e in 0..4 {
+            let err = (spans[i][e] - boxes[i][e]).abs();
+            worst = worst.max(err);
+            assert!(
+                err <= tol,
+                "{n}: drawn box {:?}, closed form {:?} (edge {e} {err:.2} px off)",
+                spans[i],
+                boxes[i]
+            );
+        }
+        halves.push((
+            (spans[i][1] - spans[i][0]) / 2.0,
+            (spans[i][3] - spans[i][2]) / 2.0,
+        ));
+    }
+    s.eval(
+        "(() => { applesimView.scene.children.forEach((o) => { o.visible = true; }); \
+           document.querySelectorAll('.panel, #scalebar').forEach((e) => { e.style.visibility = ''; }); return 'true'; })()",
+    );
+    (worst, halves)
+}
+
+/// Spheroidal apples (issue 29) are drawn as the ellipsoids of their diameter and height, turned
+/// by their orientation at every frame. The scene of [`spheroid_scenario`] seen from the side
+/// (the camera 0.5 m away along -x, so that the screen's right is -y and its up z):
+/// - at every frame (31) each apple is drawn with its radius D/2, its polar semi-axis H/2 and
+///   its axis R(q) e_z from bodies.csv's quaternion at that frame's time (the page's i16
+///   quaternions: within 1e-4 rad; measured below), and between two frames (t = 0.105 s, from
+///   the link) along the slerp of the two frames' quaternions halfway;
+/// - at t = 0, where the orientations are the scenario's turns (bodies.csv's quaternions are
+///   (cos 45, sin 45, 0, 0) and (cos 15, sin 15, 0, 0) within 1e-9), and at the end, after the
+///   elongated apple has landed and turned, the silhouette of each apple on the screen (the
+///   apples shown alone) spans the closed-form silhouette of its ellipsoid under the page's
+///   perspective camera ([`silhouette`]) within 1 px on every side, nothing drawn outside them:
+///   the oblate apple on its cheek shows about c = 30 mm across and a = 40 mm up (perspective
+///   adds about 0.3 %), the elongated one a tilted outline, the sphere a disc;
+/// - hovering inside the oblate apple's outline along its axis (0.9 of its half-extent there)
+///   names it ("oblate (80 x 60 mm, ..."), outside it (1.15, still inside its 40 mm radius
+///   across) names none: picking follows the drawn shape.
+#[test]
+fn spheroids_are_drawn_as_their_ellipsoids() {
+    let dir = tmp("spheroids");
+    let run_dir = run_scenario(&dir, "spheroids", "run", &spheroid_scenario(), &["--view"]);
+    let rows = shape_rows(&run_dir);
+    let times: Vec<f64> = rows.keys().map(|b| f64::from_bits(*b)).collect();
+    assert_eq!(times.len(), 31);
+    let names = ["oblate", "long", "ball"];
+    let at0 = &rows[&0f64.to_bits()];
+    let (s45, c45) = (0.25 * std::f64::consts::PI).sin_cos();
+    let (s15, c15) = (std::f64::consts::PI / 12.0).sin_cos();
+    for (n, want) in [
+        ("oblate", [s45, 0.0, 0.0, c45]),
+        ("long", [s15, 0.0, 0.0, c15]),
+        ("ball", [0.0, 0.0, 0.0, 1.0]),
+    ] {
+        for k in 0..4 {
+            assert!(
+                (at0[n].q[k] - want[k]).abs() < 1e-9,
+                "{n} starts at {:?}, not {want:?}",
+                at0[n].q
+            );
+        }
+    }
+
+    let s = launch("spheroids");
+    // From the side: the camera 0.5 m along -x from the middle of the row, slightly above.
+    s.open(
+        &run_dir.join("view.html"),
+        "#t=0&cam=-0.5,0.01,0.07,0,0.01,0.05",
+    );
+
+    // Every frame: the drawn shape is bodies.csv's.
+    let drawn = s.eval(
+        "(() => { const V = applesimView, e = document.getElementById('slider'), out = []; \
+           for (let k = 0; k < V.frameTimes.length; k++) { e.value = String(k); e.dispatchEvent(new Event('input')); \
+             const f = [String(V.state.t)]; for (let i = 0; i < V.apples.userData.count; i++) f.push([...V.apples.userData.at(i), ...V.apples.userData.shapeAt(i)]); \
+             out.push(f); } \
+           return JSON.stringify({ names: V.data.apples.map((a) => a.name), frames: out }); })()",
+    );
+    let page_names: Vec<&str> = drawn["names"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap())
+        .collect();
+    assert_eq!(page_names, names);
+    let frames = drawn["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 31);
+    let mut worst_axis = 0.0f64;
+    let check_shape = |row: &ShapeRow, v: &serde_json::Value, axis: [f64; 3], what: &str| {
+        let g = |k: usize| v[k].as_f64().unwrap();
+        let f32_tol = |x: f64| x * f32::EPSILON as f64;
+        assert!(
+            (g(3) - row.d / 2.0).abs() <= f32_tol(row.d),
+            "{what}: radius {}",
+            g(3)
+        );
+        assert!(
+            (g(4) - row.h / 2.0).abs() <= f32_tol(row.h),
+            "{what}: polar {}",
+            g(4)
+        );
+        let err = axis_angle([g(5), g(6), g(7)], axis);
+        assert!(err < 1e-4, "{what}: axis {err:e} rad off");
+        err
+    };
+    for f in frames {
+        let f = f.as_array().unwrap();
+        let t: f64 = f[0].as_str().unwrap().parse().unwrap();
+        let at = &rows[&t.to_bits()];
+        for (i, n) in names.iter().enumerate() {
+            let err = check_shape(
+                &at[*n],
+                &f[i + 1],
+                axis_of(at[*n].q),
+                &format!("{n} at t = {t}"),
+            );
+            worst_axis = worst_axis.max(err);
+        }
+    }
+    // The elongated apple turns over the run (it lands tilted): the check is not of one pose.
+    let turned = axis_angle(
+        axis_of(at0["long"].q),
+        axis_of(rows[&0.3f64.to_bits()]["long"].q),
+    );
+    assert!(turned > 0.1, "the elongated apple turned only {turned} rad");
+
+    // Between two frames, from the link: halfway along the slerp of their quaternions.
+    s.open(
+        &run_dir.join("view.html"),
+        "#t=0.105&cam=-0.5,0.01,0.07,0,0.01,0.05",
+    );
+    let mid = s.eval(
+        "(() => { const V = applesimView, out = [String(V.state.t)]; \
+           for (let i = 0; i < V.apples.userData.count; i++) out.push([...V.apples.userData.at(i), ...V.apples.userData.shapeAt(i)]); \
+           return JSON.stringify(out); })()",
+    );
+    assert_eq!(mid[0], "0.105");
+    let (r0, r1) = (&rows[&0.1f64.to_bits()], &rows[&0.11f64.to_bits()]);
+    for (i, n) in names.iter().enumerate() {
+        let q = slerp(r0[*n].q, r1[*n].q, 0.5);
+        let err = check_shape(
+            &r0[*n],
+            &mid[i + 1],
+            axis_of(q),
+            &format!("{n} at t = 0.105"),
+        );
+        worst_axis = worst_axis.max(err);
+    }
+
+    // The silhouettes at the start and at the end.
+    s.open(
+        &run_dir.join("view.html"),
+        "#t=0&cam=-0.5,0.01,0.07,0,0.01,0.05",
+    );
+    let (w0, halves) = check_silhouettes(&s, at0, &names, 1.0);
+    // Picking follows the outline: along the oblate apple's axis (the screen's x).
+    let cam = page_camera(&s);
+    let r = at0["oblate"];
+    let b = silhouette(&cam, r.centre, r.d / 2.0, r.h / 2.0, axis_of(r.q));
+    let dpr = s
+        .eval("JSON.stringify(window.devicePixelRatio || 1)")
+        .as_f64()
+        .unwrap();
+    let (cx, cy, half) = (
+        (b[0] + b[1]) / 2.0,
+        (b[2] + b[3]) / 2.0,
+        (b[1] - b[0]) / 2.0,
+    );
+    for (f, over) in [(0.9, true), (1.15, false)] {
+        s.tab
+            .move_mouse_to_point(Point {
+                x: (cx + f * half) / dpr,
+                y: cy / dpr,
+            })
+            .unwrap();
+        let tip = s.eval(
+            "JSON.stringify([document.getElementById('tip').style.display, document.getElementById('tip').textContent])",
+        );
+        let named =
+            tip[0] == "block" && tip[1].as_str().unwrap().starts_with("oblate (80 x 60 mm, ");
+        assert_eq!(
+            named, over,
+            "hover at {f} of the oblate apple's half-width: {tip}"
+        );
+        if !over {
+            assert_ne!(tip[0], "block", "hover outside every apple: {tip}");
+        }
+    }
+    s.open(
+        &run_dir.join("view.html"),
+        "#t=0.3&cam=-0.5,0.01,0.07,0,0.01,0.05",
+    );
+    let (w1, halves_end) = check_silhouettes(&s, &rows[&0.3f64.to_bits()], &names, 1.0);
+    eprintln!(
+        "spheroids: axis within {worst_axis:.2e} rad of bodies.csv at every frame and between; \
+         silhouettes within {w0:.2} px (t = 0) and {w1:.2} px (t = 0.3 s) of the closed form; \
+         half-extents across x up (px) at t = 0 {halves:?}, at the end {halves_end:?}; \
+         scale {:.1} px per mm at the oblate apple",
+        cam.px * cam.rect[2] / 2.0 / (r.centre[0] - cam.eye[0]) / 1000.0
+    );
+    let errors = s.errors();
+    assert!(errors.is_empty(), "the page reported errors: {errors:?}");
+}
+
+/// The slerp of unit quaternions [x, y, z, w] (normalised first) at `t`, the shorter way round.
+fn slerp(a: [f64; 4], b: [f64; 4], t: f64) -> [f64; 4] {
+    let n = |q: [f64; 4]| {
+        let l = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        q.map(|x| x / l)
+    };
+    let (a, mut b) = (n(a), n(b));
+    let mut d: f64 = (0..4).map(|k| a[k] * b[k]).sum();
+    if d < 0.0 {
+        b = b.map(|x| -x);
+        d = -d;
+    }
+    let th = d.min(1.0).acos();
+    if th < 1e-12 {
+        return a;
+    }
+    let (wa, wb) = (((1.0 - t) * th).sin() / th.sin(), (t * th).sin() / th.sin());
+    n([0, 1, 2, 3].map(|k| wa * a[k] + wb * b[k]))
 }

@@ -238,6 +238,82 @@ fn a_bodies_csv_cut_at_a_row_boundary() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
+/// A damaged shape column of a run with spheroids (issue 29): an orientation that is no unit
+/// quaternion, a height that is not a number. Each is refused naming bodies.csv and the line;
+/// whole, the run views.
+#[test]
+fn a_damaged_orientation_in_bodies_csv() {
+    let dir = tmp("damaged_shape");
+    let mut sc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("scenarios/drop_on_steel.json").unwrap())
+            .unwrap();
+    sc["apples"][0]["height_m"] = 0.07.into();
+    sc["apples"][0]["rotation"] = serde_json::json!({ "axis": [1, 0, 0], "angle_deg": 30 });
+    sc["output"]["sample_interval_s"] = 1e-3.into();
+    let sc_path = dir.join("spheroid.json");
+    std::fs::write(&sc_path, sc.to_string()).unwrap();
+    let run = dir.join("run");
+    let o = Command::new(exe())
+        .arg("run")
+        .arg(&sc_path)
+        .args(["-q", "--out"])
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let path = run.join("bodies.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        text.starts_with("time_s,apple,")
+            && text
+                .lines()
+                .next()
+                .unwrap()
+                .ends_with(",height_m,qw,qx,qy,qz")
+    );
+    // Line 3 (the second sample): its quaternion (the last four cells) zeroed, then its height.
+    let damage = |f: &dyn Fn(&mut Vec<String>)| {
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        let mut cells: Vec<String> = lines[2].split(',').map(String::from).collect();
+        f(&mut cells);
+        lines[2] = cells.join(",");
+        std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    };
+    damage(&|c| {
+        let n = c.len();
+        c[n - 4..].iter_mut().for_each(|x| *x = "0".into());
+    });
+    let err = view_fails(&run, &dir.join("view.html"));
+    assert!(
+        err.contains(&format!(
+            "{}: line 3: the orientation (qw, qx, qy, qz) has norm 0, not 1: the file is damaged",
+            path.display()
+        )),
+        "{err}"
+    );
+    damage(&|c| {
+        let n = c.len();
+        c[n - 5] = "tall".into();
+    });
+    let err = view_fails(&run, &dir.join("view.html"));
+    assert!(
+        err.contains(&format!(
+            "{}: line 3: height_m = 'tall' is not a finite number",
+            path.display()
+        )),
+        "{err}"
+    );
+    std::fs::write(&path, &text).unwrap();
+    let o = Command::new(exe())
+        .arg("view")
+        .arg(&run)
+        .arg("--out")
+        .arg(dir.join("view.html"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 /// A run of a free-turning roller (the bearing spin-down of tests/rollers.rs, item 1a) in
 /// `dir/run`: it writes rollers.csv.
 fn free_roller_run(dir: &Path) -> PathBuf {

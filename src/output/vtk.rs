@@ -7,7 +7,14 @@
 //!   `bruise` (1 once the apple has a bruise, from the time of the peak force of the hit that
 //!   made it), `apple_id` (index in the run's apple order: listed, generated,
 //!   then fed-in apples; -1 if unknown). Every frame carries its own points, so the number of
-//!   apples may change from frame to frame (sources feed apples in).
+//!   apples may change from frame to frame (sources feed apples in). A run with spheroidal
+//!   apples (`bodies.csv` with the shape columns, issue 29) adds `diameter` and `height` (m),
+//!   `orientation` (the unit quaternion w x y z of `bodies.csv`, the apple's frame to the
+//!   world's), `axis` (the apple's own z axis in the world) and `shape_tensor` (9 components,
+//!   the frame's active tensors): R diag(D, D, H) R^T, whose eigenvalues are the full extents
+//!   along the principal axes, so that ParaView's Tensor Glyph filter with its default sphere
+//!   (radius 0.5, scale factor 1) draws each apple as its oriented spheroid (a sphere of such a
+//!   run as D I). A run of spheres writes none of these, byte for byte as before.
 //! - `vtk/surfaces.vtp`: every fixed surface as triangles, cell array `surface_id` (index of
 //!   the surface part in the layer: a bin's floor and walls are separate parts). Half-spaces
 //!   become a square patch sized to the scene, boxes their box, meshes their triangles, balls a
@@ -384,9 +391,52 @@ struct FrameApple {
     w: [f64; 3],
     f: [f64; 3],
     bruise: u8,
+    /// The shape, in a run with spheroids.
+    shape: Option<FrameShape>,
 }
 
-fn apples_vtp(apples: &[FrameApple]) -> String {
+/// An apple's shape in a frame of a run with spheroids (`bodies.csv`'s shape columns).
+struct FrameShape {
+    /// Equatorial diameter D (m).
+    diameter: f64,
+    /// Height H along its own z axis (m).
+    height: f64,
+    /// Orientation, w x y z, as `bodies.csv` prints it.
+    q: [f64; 4],
+}
+
+impl FrameShape {
+    /// The apple's own z axis in the world: R e_z of the normalised quaternion (`bodies.csv`
+    /// prints it to a few digits, so its norm is 1 only to that precision).
+    fn axis(&self) -> [f64; 3] {
+        let n = self.q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let [w, x, y, z] = self.q.map(|c| c / n);
+        [
+            2.0 * (x * z + w * y),
+            2.0 * (y * z - w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ]
+    }
+
+    /// R diag(D, D, H) R^T = D I + (H - D) k k^T with k the axis, row by row: the tensor that
+    /// a Tensor Glyph of a sphere of radius 0.5 turns into the apple (its eigenvalues D, D, H
+    /// scale the sphere along its eigenvectors, the equator's and the axis).
+    fn tensor(&self) -> [f64; 9] {
+        let k = self.axis();
+        let (d, dh) = (self.diameter, self.height - self.diameter);
+        let mut t = [0.0; 9];
+        for i in 0..3 {
+            for j in 0..3 {
+                t[3 * i + j] = dh * k[i] * k[j] + if i == j { d } else { 0.0 };
+            }
+        }
+        t
+    }
+}
+
+/// One frame of apples; `shaped`: the run has spheroids (the shape arrays are written, an apple
+/// without a shape as a sphere of its radius).
+fn apples_vtp(apples: &[FrameApple], shaped: bool) -> String {
     let n = apples.len();
     let mut s = String::with_capacity(256 + n * 400);
     xml_header(&mut s);
@@ -397,7 +447,11 @@ fn apples_vtp(apples: &[FrameApple]) -> String {
         s,
         "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"{n}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">"
     );
-    s.push_str("      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
+    s.push_str(if shaped {
+        "      <PointData Scalars=\"radius\" Vectors=\"velocity\" Tensors=\"shape_tensor\">\n"
+    } else {
+        "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n"
+    });
     data_array(
         &mut s,
         "Float64",
@@ -435,6 +489,9 @@ fn apples_vtp(apples: &[FrameApple]) -> String {
         1,
         apples.iter().map(|a| a.id),
     );
+    if shaped {
+        shape_arrays(&mut s, apples);
+    }
     s.push_str("      </PointData>\n      <Points>\n");
     data_array(
         &mut s,
@@ -448,6 +505,58 @@ fn apples_vtp(apples: &[FrameApple]) -> String {
     data_array(&mut s, "Int64", Some("offsets"), 1, 1..=n as i64);
     s.push_str("      </Verts>\n    </Piece>\n  </PolyData>\n</VTKFile>\n");
     s
+}
+
+/// The point arrays of the apples' shapes (module docs); an apple without a shape (its radius
+/// unknown, or a file without the shape columns) has NaN there.
+fn shape_arrays(s: &mut String, apples: &[FrameApple]) {
+    let shape = |a: &FrameApple| {
+        a.shape.as_ref().map_or(
+            (
+                f64::NAN,
+                f64::NAN,
+                [f64::NAN; 4],
+                [f64::NAN; 3],
+                [f64::NAN; 9],
+            ),
+            |sh| (sh.diameter, sh.height, sh.q, sh.axis(), sh.tensor()),
+        )
+    };
+    data_array(
+        s,
+        "Float64",
+        Some("diameter"),
+        1,
+        apples.iter().map(|a| shape(a).0),
+    );
+    data_array(
+        s,
+        "Float64",
+        Some("height"),
+        1,
+        apples.iter().map(|a| shape(a).1),
+    );
+    data_array(
+        s,
+        "Float64",
+        Some("orientation"),
+        4,
+        apples.iter().flat_map(|a| shape(a).2),
+    );
+    data_array(
+        s,
+        "Float64",
+        Some("axis"),
+        3,
+        apples.iter().flat_map(|a| shape(a).3),
+    );
+    data_array(
+        s,
+        "Float64",
+        Some("shape_tensor"),
+        9,
+        apples.iter().flat_map(|a| shape(a).4),
+    );
 }
 
 /// Surfaces as triangles, each with its `surface_id` (its index in the layer, also when only
@@ -536,10 +645,36 @@ fn pvd(frames: &[(f64, String)], moving: bool) -> String {
     s
 }
 
-/// Reads `bodies.csv` (or `bodies.csv.gz`) sample by sample: (time, rows) in file order.
+/// Where the shape columns of a run with spheroids are in `bodies.csv`: `diameter_m`, and
+/// `height_m` followed by `qw qx qy qz` ([`super::BODIES_SHAPE_HEADER`]).
+#[derive(Debug, Clone, Copy)]
+struct ShapeCols {
+    diameter: usize,
+    height: usize,
+}
+
+impl ShapeCols {
+    /// The shape columns of `header`, if it has them all.
+    fn of(header: &csv::StringRecord) -> Option<Self> {
+        let at = |name: &str| header.iter().position(|h| h == name);
+        let height = at(super::BODIES_SHAPE_HEADER[0])?;
+        let follow = header
+            .iter()
+            .skip(height)
+            .take(super::BODIES_SHAPE_HEADER.len())
+            .eq(super::BODIES_SHAPE_HEADER.iter().copied());
+        Some(Self {
+            diameter: at("diameter_m")?,
+            height: follow.then_some(height)?,
+        })
+    }
+}
+
+/// Reads `bodies.csv` (or `bodies.csv.gz`) sample by sample: (time, rows, its shape columns
+/// when the run had spheroids) in file order.
 fn for_each_sample(
     path: &Path,
-    mut f: impl FnMut(f64, &[csv::StringRecord]) -> Result<(), VtkError>,
+    mut f: impl FnMut(f64, &[csv::StringRecord], Option<ShapeCols>) -> Result<(), VtkError>,
 ) -> Result<(), VtkError> {
     let bad = |message: String| VtkError::Bodies {
         path: path.to_path_buf(),
@@ -556,6 +691,7 @@ fn for_each_sample(
     {
         return Err(bad(format!("unexpected header {:?}", header)));
     }
+    let shape = ShapeCols::of(&header);
     let mut rows: Vec<csv::StringRecord> = Vec::new();
     let mut t_cur = f64::NAN;
     for rec in rd.records() {
@@ -564,14 +700,14 @@ fn for_each_sample(
             .parse()
             .map_err(|_| bad(format!("bad time_s '{}'", &rec[0])))?;
         if t != t_cur && !rows.is_empty() {
-            f(t_cur, &rows)?;
+            f(t_cur, &rows, shape)?;
             rows.clear();
         }
         t_cur = t;
         rows.push(rec);
     }
     if !rows.is_empty() {
-        f(t_cur, &rows)?;
+        f(t_cur, &rows, shape)?;
     }
     Ok(())
 }
@@ -622,16 +758,20 @@ pub fn write_vtk(
     let mut unknown: Vec<String> = Vec::new();
     let bodies = super::csv_file::locate(dir, "bodies.csv");
     let parse = |r: &csv::StringRecord, i: usize| -> Result<f64, VtkError> {
-        r[i].parse().map_err(|_| VtkError::Bodies {
-            path: bodies.clone(),
-            message: format!(
-                "bad number '{}' in column {}",
-                &r[i],
-                super::BODIES_HEADER[i]
-            ),
-        })
+        let name = super::BODIES_HEADER
+            .iter()
+            .chain(&super::BODIES_SHAPE_HEADER)
+            .nth(i)
+            .copied()
+            .unwrap_or("?");
+        r.get(i)
+            .and_then(|x| x.parse().ok())
+            .ok_or_else(|| VtkError::Bodies {
+                path: bodies.clone(),
+                message: format!("bad number '{}' in column {name}", r.get(i).unwrap_or("")),
+            })
     };
-    for_each_sample(&bodies, |t, rows| {
+    for_each_sample(&bodies, |t, rows, shape_cols| {
         if t + 1e-9 * interval_s < next_due {
             return Ok(());
         }
@@ -651,9 +791,27 @@ pub fn write_vtk(
                     f64::NAN
                 }
             };
+            let shape = match shape_cols {
+                Some(sc) => Some(FrameShape {
+                    diameter: parse(r, sc.diameter)?,
+                    height: parse(r, sc.height)?,
+                    q: [
+                        parse(r, sc.height + 1)?,
+                        parse(r, sc.height + 2)?,
+                        parse(r, sc.height + 3)?,
+                        parse(r, sc.height + 4)?,
+                    ],
+                }),
+                None => None,
+            };
             let p = v3(2)?;
             let c = Vec3::from_array(p);
-            let rr = if radius.is_finite() { radius } else { 0.0 };
+            // A spheroid reaches out to its larger semi-axis.
+            let rr = match &shape {
+                Some(sh) => 0.5 * sh.diameter.max(sh.height),
+                None if radius.is_finite() => radius,
+                None => 0.0,
+            };
             lo = lo.min(c - Vec3::splat(rr));
             hi = hi.max(c + Vec3::splat(rr));
             apples.push(FrameApple {
@@ -664,11 +822,13 @@ pub fn write_vtk(
                 w: v3(8)?,
                 f: v3(11)?,
                 bruise: u8::from(bruise.bruised_by(&r[1], t)),
+                shape,
             });
         }
         let rel = format!("{VTK_DIR}/{APPLES_PREFIX}{:06}.vtp", summary.frames.len());
         let path = dir.join(&rel);
-        atomic::write_file(&path, apples_vtp(&apples).as_bytes()).map_err(io(&path))?;
+        atomic::write_file(&path, apples_vtp(&apples, shape_cols.is_some()).as_bytes())
+            .map_err(io(&path))?;
         summary.frames.push((t, rel));
         Ok(())
     })?;

@@ -20,7 +20,11 @@
 //! The page embeds three.js (vendored in `assets/three/`, MIT) and the hand-written template
 //! `assets/view/view.html`. The run's data goes in as JSON with the bulky arrays base64-encoded:
 //! apple centres as u16 per axis over the box of all sampled centres (step = box size / 65535
-//! per axis, written on the page), speeds as u16 over [0, largest speed], motion states as u8.
+//! per axis, written on the page), speeds as u16 over [0, largest speed], motion states as u8;
+//! in a run with spheroids (`bodies.csv`'s shape columns, issue 29) each apple's height and its
+//! orientation per frame, the unit quaternion's x y z w as i16 over [-1, 1] (step 1/32767: the
+//! drawn turn within 1e-4 rad), which the page draws as ellipsoids. A run of spheres embeds
+//! neither, so its page holds the data it held before.
 //!
 //! Everything is checked before anything is written: a folder that is not a run, a missing file,
 //! a truncated or malformed CSV is a [`ViewError`] naming the file, and no HTML is written
@@ -236,6 +240,12 @@ struct Page {
     /// Per frame, per apple, the contact force on it |f| (bodies.csv `fx_n`..`fz_n`) as u16
     /// little-endian over [0, largest], base64: the apple's history plot.
     forces_b64: String,
+    /// A run with spheroids: per frame, per apple, its orientation (bodies.csv `qw`..`qz`, the
+    /// apple's frame to the world's) as the unit quaternion's x y z w, each i16 little-endian
+    /// of [`ORIENTATION_SCALE`] times it, base64. None for a run of spheres (the page draws
+    /// spheres, as before spheroids).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    orientations_b64: Option<String>,
     /// Step of the u16 forces (N).
     force_step_n: f64,
     /// Where the states come from.
@@ -292,7 +302,11 @@ struct RunInfo {
 #[derive(Debug, Serialize)]
 struct AppleInfo {
     name: String,
+    /// Diameter (m): a spheroid's equatorial one.
     diameter_m: f64,
+    /// Height along its own z axis (m), in a run with spheroids (a sphere's: its diameter).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    height_m: Option<f64>,
     mass_kg: f64,
     /// Its grade at the end, why not the best class, and what first put it below it
     /// (summary.json), when the run graded it.
@@ -314,6 +328,7 @@ impl AppleInfo {
         Self {
             name: name.to_string(),
             diameter_m,
+            height_m: None,
             mass_kg,
             grade: None,
             grade_why: None,
@@ -588,7 +603,14 @@ struct BodyCols {
     slip: usize,
     d: usize,
     m: usize,
+    /// `height_m`, `qw`, `qx`, `qy`, `qz`: a run with spheroids.
+    shape: Option<[usize; 5]>,
 }
+
+/// The embedded orientations' scale: a quaternion component q is stored as the i16 nearest
+/// q times this (each within half a step, 1.5e-5, of the unit quaternion's: the drawn turn
+/// within 6e-5 rad of bodies.csv's).
+const ORIENTATION_SCALE: f64 = 32767.0;
 
 /// Transitions of one apple: (time, from, to), in time order.
 type Track = Vec<(f64, u8, u8)>;
@@ -782,6 +804,14 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
     let mut spd = vec![0u16; nf * n];
     let mut st = vec![motion::ABSENT; nf * n];
     let mut frc = vec![0u16; nf * n];
+    // The identity for apples not in a frame, and for the one frame of a run without samples
+    // (its final orientations are not in summary.json).
+    let mut ori: Option<Vec<i16>> = cols.shape.map(|_| {
+        let mut v = vec![0i16; nf * n * 4];
+        v.chunks_mut(4)
+            .for_each(|q| q[3] = ORIENTATION_SCALE as i16);
+        v
+    });
     let times: Vec<f64> = if sampled {
         frames_idx.iter().map(|&s| scan.times[s]).collect()
     } else {
@@ -861,6 +891,12 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
                 g(cols.f[2], "fz_n")?,
             );
             frc[k] = q16(force.length(), 0.0, force_step);
+            if let (Some(c), Some(o)) = (&cols.shape, ori.as_mut()) {
+                let (_, q) = shape_of(&bodies_path, line, c, &rec)?;
+                for (slot, x) in o[4 * k..4 * k + 4].iter_mut().zip(q) {
+                    *slot = (x * ORIENTATION_SCALE).round() as i16;
+                }
+            }
             let slip = opt_num(&bodies_path, line, "slip_m_s", &rec[cols.slip])?;
             st[k] = if let Some(track) = tracks.as_ref().map(|tr| tr.get(&(i as u32))) {
                 match track {
@@ -913,6 +949,13 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         le.extend_from_slice(&x.to_le_bytes());
     }
     let forces_b64 = b64(&le);
+    let orientations_b64 = ori.map(|o| {
+        le.clear();
+        for x in &o {
+            le.extend_from_slice(&x.to_le_bytes());
+        }
+        b64(&le)
+    });
     let states_b64 = b64(&st);
     // Centres wanted after the last sample: the last one.
     for (i, w) in wanted.iter().enumerate() {
@@ -1000,9 +1043,10 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         true => Some(read_rollers(&rollers_path, &times, &sc)?),
         false => None,
     };
+    // A spheroid reaches out to its larger semi-axis.
     let rmax = apples
         .iter()
-        .map(|a| a.diameter_m / 2.0)
+        .map(|a| a.diameter_m.max(a.height_m.unwrap_or(0.0)) / 2.0)
         .fold(0.0, f64::max);
     let (surfaces, movers, bounded_lo, bounded_hi) = surfaces_of(
         &sc,
@@ -1149,6 +1193,7 @@ fn collect(run_dir: &Path, opts: &ViewOptions) -> Result<Collected, ViewError> {
         speeds_b64,
         states_b64,
         forces_b64,
+        orientations_b64,
         force_step_n: force_step,
         states_source,
         surfaces,

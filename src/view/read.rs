@@ -114,7 +114,45 @@ pub(super) fn body_cols(path: &Path, h: &csv::StringRecord) -> Result<BodyCols, 
         slip: c("slip_m_s")?,
         d: c("diameter_m")?,
         m: c("mass_kg")?,
+        shape: shape_cols(h),
     })
+}
+
+/// The shape columns of a run with spheroids (`height_m`, `qw`, `qx`, `qy`, `qz`, issue 29),
+/// when the header has them all; a run of spheres has none.
+fn shape_cols(h: &csv::StringRecord) -> Option<[usize; 5]> {
+    let at = |n: &str| h.iter().position(|x| x == n);
+    let c = crate::output::BODIES_SHAPE_HEADER;
+    Some([at(c[0])?, at(c[1])?, at(c[2])?, at(c[3])?, at(c[4])?])
+}
+
+/// A row's height (m) and orientation as a unit quaternion x y z w (three.js's order), from the
+/// shape columns `cols`. `bodies.csv` prints the quaternion to a few digits: it is normalised
+/// here, and one that cannot be (zero, or not finite) is refused naming the line.
+pub(super) fn shape_of(
+    path: &Path,
+    line: u64,
+    cols: &[usize; 5],
+    rec: &csv::StringRecord,
+) -> Result<(f64, [f64; 4]), ViewError> {
+    let c = crate::output::BODIES_SHAPE_HEADER;
+    let h = num(path, line, c[0], &rec[cols[0]])?;
+    if h <= 0.0 {
+        return Err(bad(
+            path,
+            format!("line {line}: height_m = {h} is not a size: the file is damaged"),
+        ));
+    }
+    let [w, x, y, z] = [1, 2, 3, 4].map(|k| num(path, line, c[k], &rec[cols[k]]));
+    let q = [x?, y?, z?, w?];
+    let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(n > 0.5 && n < 2.0) {
+        return Err(bad(
+            path,
+            format!("line {line}: the orientation (qw, qx, qy, qz) has norm {n}, not 1: the file is damaged"),
+        ));
+    }
+    Ok((h, q.map(|v| v / n)))
 }
 
 pub(super) fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewError> {
@@ -193,9 +231,15 @@ pub(super) fn scan_bodies(path: &Path) -> Result<(BodiesScan, BodyCols), ViewErr
         }
         let d = num(path, line, "diameter_m", &rec[cols.d])?;
         let m = num(path, line, "mass_kg", &rec[cols.m])?;
+        let shape = match &cols.shape {
+            Some(c) => Some(shape_of(path, line, c, &rec)?),
+            None => None,
+        };
         if !s.index.contains_key(name) {
             s.index.insert(name.to_string(), s.apples.len() as u32);
-            s.apples.push(AppleInfo::new(name, d, m));
+            let mut a = AppleInfo::new(name, d, m);
+            a.height_m = shape.map(|(h, _)| h);
+            s.apples.push(a);
         }
         s.lo = s.lo.min(p);
         s.hi = s.hi.max(p);
