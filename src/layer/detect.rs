@@ -552,8 +552,12 @@ impl Detection {
                     };
                     // The surface's material point under the apple (a turning roller's or a
                     // swinging part's velocity differs from the one at the apple's centre).
-                    let v_s = self.surf_now[s]
-                        .velocity_at(cx.frame.pos[a] + arm + hit.normal * hit.overlap_m);
+                    let under = match extra {
+                        Some(_) => cx.frame.pos[a] + arm + hit.normal * hit.overlap_m,
+                        // A sphere's, as always written (the same bits).
+                        None => cx.frame.pos[a] - hit.normal * (cx.frame.radius[a] - hit.overlap_m),
+                    };
+                    let v_s = self.surf_now[s].velocity_at(under);
                     if let (Some(c), Some(r_star)) = (control, r_star) {
                         let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
                         let m_n = registry.apples[a].mass;
