@@ -132,3 +132,58 @@ fn a_bin_of_spheroids_against_a_bin_of_spheres() {
         "biased towards upright"
     );
 }
+
+/// The slip/roll detector with a spheroid (issue 29: a spheroid rolls when it turns about its
+/// true contact point). An elongated apple (D 80 mm, height 88 mm, 0.107 kg) lies on its side on
+/// the steel plate of `slip_to_roll.json`, axis across the launch, launched at 0.5 m/s without
+/// spin (mu 0.3). While it slides, friction mu m g slows it and spins it up about its own axis
+/// through the lever l = a - u from its centre to its contact point, so it rolls from
+/// t = v0 / (mu g (1 + m l^2 / I)), I = 2/5 m a^2 (the sphere's 2 v0 / (7 mu g) when u -> 0), at
+/// v0 / (1 + I / (m l^2)). u is the resting sag under eq. 12 on the cheek (elliptic law,
+/// R' = c^2 / a, R'' = a; at rest eq. 12 carries (1 + ke)/2 of Hertz). The detector's one
+/// transition, sliding to rolling: 48.88908 ms against 48.88908 ms (7.0e-8) and 0.3561194 m/s
+/// against 0.3561194 m/s (2.6e-8; docs/shape.md), held at twice those.
+#[test]
+fn a_spheroid_slides_then_rolls_on_its_side() {
+    use applesim::contact::elliptic::elliptic_hertz;
+    use applesim::record::transitions::Motion;
+    let mut sc = shipped("scenarios/slip_to_roll.json");
+    let (a, c, m, mu, g, v0, ke) = (0.04, 0.044, 0.107, 0.3, 9.81, 0.5, 0.09);
+    // E* of the apple (G 1 MPa, nu 0.18) on steel (G 81 GPa, nu 0.28), as physics.md section 1.
+    let e = |g_mod: f64, nu: f64| 2.0 * g_mod * (1.0 + nu);
+    let e_star = 1.0
+        / ((1.0 - 0.18f64.powi(2)) / e(1.0e6, 0.18) + (1.0 - 0.28f64.powi(2)) / e(8.1e10, 0.28));
+    let r_k = elliptic_hertz(c * c / a, a).stiffness_radius_m;
+    let k = 4.0 / 3.0 * e_star * r_k.sqrt();
+    let u = (m * g / (0.5 * (1.0 + ke) * k)).powf(2.0 / 3.0);
+    let l = a - u;
+    let inertia = 0.4 * m * a * a;
+    let t_closed = v0 / (mu * g * (1.0 + m * l * l / inertia));
+    let v_closed = v0 / (1.0 + inertia / (m * l * l));
+    let apple = &mut sc.apples[0];
+    apple.height_m = Some(2.0 * c);
+    apple.rotation =
+        Some(serde_json::from_str(r#"{"axis": [1, 0, 0], "angle_deg": 90}"#).expect("a rotation"));
+    apple.position_m = [0.0, 0.0, l];
+    sc.duration_s = 0.12;
+    let (r, _) = run(&sc);
+    assert_eq!(r.transitions.len(), 1, "{:#?}", r.transitions);
+    let tr = &r.transitions[0];
+    println!(
+        "t {} (closed {t_closed}, sphere 2 v0 / (7 mu g) = {}), speed {} (closed {v_closed}), u {u}",
+        tr.time_s,
+        2.0 * v0 / (7.0 * mu * g),
+        tr.speed_m_s
+    );
+    assert_eq!((tr.from, tr.to), (Motion::Sliding, Motion::Rolling));
+    assert!(
+        (tr.time_s / t_closed - 1.0).abs() < 1.4e-7,
+        "time {}",
+        tr.time_s
+    );
+    assert!(
+        (tr.speed_m_s / v_closed - 1.0).abs() < 5.2e-8,
+        "speed {}",
+        tr.speed_m_s
+    );
+}
