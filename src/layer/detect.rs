@@ -277,7 +277,9 @@ impl Detection {
             // last step's) or the line of centres.
             let shaped = if spheroid {
                 let n0 = match p.contact {
-                    NONE => d / r2.sqrt().max(1e-300),
+                    // Coincident centres (only a broken scene): +z, as for spheres.
+                    NONE if r2 > 0.0 => d / r2.sqrt(),
+                    NONE => Vec3::Z,
                     slot => {
                         // The last normal, moved on as it moved in the last step (the apples
                         // turn smoothly: one Newton step less when they roll).
