@@ -139,13 +139,10 @@ fn two_runs_write_identical_files() {
 
 /// The force pass runs in parallel once a step has enough contacts (a pile); its sums are taken
 /// in a fixed order, so one thread and two give the same bytes, in every file.
-#[test]
-fn one_thread_and_two_write_identical_files() {
-    let base = std::env::temp_dir().join(format!("applesim-threads-{}", std::process::id()));
-    std::fs::create_dir_all(&base).unwrap();
-    // 288 apples dropped into a bin: about 600 contacts per step at the end, above the
-    // parallel threshold.
-    let sc = serde_json::json!({
+/// 288 apples dropped into a steel bin (a 6 x 6 x 8 grid, 0.25 s at dt 1e-4 s): about 600
+/// contacts per step at the end, above the parallel force pass's threshold.
+fn grid_pile() -> serde_json::Value {
+    serde_json::json!({
         "description": "pile for the thread-count determinism test",
         "duration_s": 0.25,
         "time_step_s": 1e-4,
@@ -162,7 +159,16 @@ fn one_thread_and_two_write_identical_files() {
             "origin_m": [-0.2375, -0.2375, 0.05], "jitter_m": 0.004, "seed": 3 } ],
         "surfaces": [ { "name": "bin", "type": "bin", "material": "steel",
             "inner_size_m": [0.6, 0.6, 0.5], "position_m": [0, 0, 0] } ]
-    });
+    })
+}
+
+#[test]
+fn one_thread_and_two_write_identical_files() {
+    let base = std::env::temp_dir().join(format!("applesim-threads-{}", std::process::id()));
+    std::fs::create_dir_all(&base).unwrap();
+    // 288 apples dropped into a bin: about 600 contacts per step at the end, above the
+    // parallel threshold.
+    let sc = grid_pile();
     let path = base.join("pile.json");
     std::fs::write(&path, serde_json::to_vec_pretty(&sc).unwrap()).unwrap();
     let (a, b) = (base.join("t1"), base.join("t2"));
@@ -234,25 +240,8 @@ fn a_moving_source_writes_the_same_bytes_with_one_thread_and_two() {
 fn spheroids_write_the_same_bytes_with_one_thread_and_two() {
     let base = std::env::temp_dir().join(format!("applesim-spheroids-{}", std::process::id()));
     std::fs::create_dir_all(&base).unwrap();
-    let sc = serde_json::json!({
-        "description": "spheroid pile for the thread-count determinism test",
-        "duration_s": 0.25,
-        "time_step_s": 1e-4,
-        "gravity_m_s2": [0, 0, -9.81],
-        "output": { "sample_interval_s": 0.05 },
-        "materials": {
-            "apple": { "youngs_modulus_pa": 2.6e6, "poisson_ratio": 0.18, "density_kg_m3": 800 },
-            "steel": { "youngs_modulus_pa": 2.0e11, "poisson_ratio": 0.3 }
-        },
-        "contact": { "friction": 0.5, "ke": 0.3, "lambda_s_m": 1000 },
-        "generators": [ { "type": "grid", "name": "a", "material": "apple",
-            "diameter_m": { "mean_m": 0.08, "spread_m": 0.008 },
-            "aspect": { "mean": 0.85, "spread": 0.05 },
-            "count": [6, 6, 8], "spacing_m": [0.095, 0.095, 0.095],
-            "origin_m": [-0.2375, -0.2375, 0.05], "jitter_m": 0.004, "seed": 3 } ],
-        "surfaces": [ { "name": "bin", "type": "bin", "material": "steel",
-            "inner_size_m": [0.6, 0.6, 0.5], "position_m": [0, 0, 0] } ]
-    });
+    let mut sc = grid_pile();
+    sc["generators"][0]["aspect"] = serde_json::json!({ "mean": 0.85, "spread": 0.05 });
     let path = base.join("pile.json");
     std::fs::write(&path, serde_json::to_vec_pretty(&sc).unwrap()).unwrap();
     let (a, b) = (base.join("t1"), base.join("t2"));

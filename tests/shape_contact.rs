@@ -17,10 +17,12 @@
 //! - A body rolling about its own axis of symmetry on its equator (lever a, I = 2/5 m a^2),
 //!   launched sliding without spin: it ends rolling at v0 / (1 + I/(m a^2)) = 5/7 v0.
 
+mod common;
 use applesim::contact::elliptic::elliptic_hertz;
 use applesim::contact::spheroid::Spheroid;
-use applesim::contact::{theory, Material};
+use applesim::contact::Material;
 use applesim::layer::{ContactLayer, LayerConfig, SurfaceOptions};
+use common::ode;
 use rapier3d_f64::prelude::*;
 
 const A: f64 = 0.040;
@@ -176,52 +178,31 @@ fn drop(rot: Rotation, low: f64) -> (f64, f64, f64) {
     (ev[0].peak_force_n, ev[0].duration_s.unwrap(), m)
 }
 
+/// Checks an impact's peak force and contact time against the closed form of an elastic Hertz
+/// impact (tests/common/ode.rs) of mass `m` at 1 m/s on stiffness 4/3 E* sqrt(R_k), within `tol`.
+fn assert_impact(what: &str, p: f64, t: f64, m: f64, e_star: f64, r_k: f64, tol: f64) {
+    let k = 4.0 / 3.0 * e_star * r_k.sqrt();
+    let (_, p_closed, t_closed, _) = ode::elastic_closed_form(m, 1.0, k, r_k);
+    println!("{what}: P {p} ({p_closed}), t {t} ({t_closed})");
+    assert!(rel(p, p_closed) < tol, "{what}: peak {p} vs {p_closed}");
+    assert!(rel(t, t_closed) < tol, "{what}: time {t} vs {t_closed}");
+}
+
 /// Elastic pole drop: circular Hertz with R = a^2 / c.
 #[test]
 fn pole_drop_is_hertz_with_the_pole_radius() {
     let (p, t, m) = drop(pole_down(), C);
-    let r = A * A / C;
-    let k = 4.0 / 3.0 * e_star() * r.sqrt();
-    let th = theory::elastic_impact(m, 1.0, k, r);
-    println!(
-        "pole: P {p} ({}), t {t} ({})",
-        th.peak_force_n, th.contact_time_s
-    );
     // The issue asks 0.5 %; docs/shape.md prints 9e-7 for both, held at twice that.
-    assert!(
-        rel(p, th.peak_force_n) < 1.9e-6,
-        "peak {p} vs {}",
-        th.peak_force_n
-    );
-    assert!(
-        rel(t, th.contact_time_s) < 1.9e-6,
-        "time {t} vs {}",
-        th.contact_time_s
-    );
+    assert_impact("pole", p, t, m, e_star(), A * A / C, 1.9e-6);
 }
 
 /// Elastic cheek drop: the elliptic law with R' = a, R'' = c^2 / a.
 #[test]
 fn cheek_drop_is_the_elliptic_law() {
     let (p, t, m) = drop(cheek_down(), A);
-    let h = elliptic_hertz(A, C * C / A);
-    let k = 4.0 / 3.0 * e_star() * h.stiffness_radius_m.sqrt();
-    let th = theory::elastic_impact(m, 1.0, k, h.stiffness_radius_m);
-    println!(
-        "cheek: P {p} ({}), t {t} ({})",
-        th.peak_force_n, th.contact_time_s
-    );
+    let r_k = elliptic_hertz(A, C * C / A).stiffness_radius_m;
     // The issue asks 0.5 %; docs/shape.md prints 9e-7 for both, held at twice that.
-    assert!(
-        rel(p, th.peak_force_n) < 1.9e-6,
-        "peak {p} vs {}",
-        th.peak_force_n
-    );
-    assert!(
-        rel(t, th.contact_time_s) < 1.9e-6,
-        "time {t} vs {}",
-        th.contact_time_s
-    );
+    assert_impact("cheek", p, t, m, e_star(), r_k, 1.9e-6);
 }
 
 /// The pole hits harder than the cheek by (R_pole / R_k,cheek)^(1/5).
@@ -538,23 +519,8 @@ fn two_spheroids_head_on() {
     ];
     for (what, r1, r2, r_k) in cases {
         let (p, t, m) = head_on(r1, r2);
-        let k = 4.0 / 3.0 * e_star_apples() * r_k.sqrt();
-        let th = theory::elastic_impact(0.5 * m, 1.0, k, r_k);
-        println!(
-            "{what}: P {p} ({}), t {t} ({})",
-            th.peak_force_n, th.contact_time_s
-        );
         // docs/shape.md prints at most 1.3e-6, held at twice that.
-        assert!(
-            rel(p, th.peak_force_n) < 2.6e-6,
-            "{what}: peak {p} vs {}",
-            th.peak_force_n
-        );
-        assert!(
-            rel(t, th.contact_time_s) < 2.6e-6,
-            "{what}: time {t} vs {}",
-            th.contact_time_s
-        );
+        assert_impact(what, p, t, 0.5 * m, e_star_apples(), r_k, 2.6e-6);
     }
 }
 

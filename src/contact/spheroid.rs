@@ -290,17 +290,24 @@ pub fn elliptic_radii(r_prime: f64, r_double_prime: f64) -> (f64, f64) {
         let h = elliptic::elliptic_hertz(r1, r2);
         return (h.stiffness_radius_m, h.area_radius_m);
     }
-    let f = x - k as f64;
     // Nodes k-1 .. k+2 (node -1 mirrors node 1: the functions are even in t).
     let node = |i: isize| table[i.unsigned_abs()];
     let ki = k as isize;
-    let (p0, p1, p2, p3) = (node(ki - 1), node(ki), node(ki + 1), node(ki + 2));
-    let w0 = -f * (f - 1.0) * (f - 2.0) / 6.0;
-    let w1 = (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0;
-    let w2 = -(f + 1.0) * f * (f - 2.0) / 2.0;
-    let w3 = (f + 1.0) * f * (f - 1.0) / 6.0;
-    let rk = w0 * p0.0 + w1 * p1.0 + w2 * p2.0 + w3 * p3.0;
-    let ra = w0 * p0.1 + w1 * p1.1 + w2 * p2.1 + w3 * p3.1;
+    let nodes = [node(ki - 1), node(ki), node(ki + 1), node(ki + 2)];
+    cubic(nodes, x - k as f64, geo)
+}
+
+/// Cubic Lagrange interpolation of the table's pairs at nodes -1, 0, 1, 2 to the fraction `f`
+/// in [0, 1) of the interval (0, 1), times `geo`.
+fn cubic(p: [(f64, f64); 4], f: f64, geo: f64) -> (f64, f64) {
+    let w = [
+        -f * (f - 1.0) * (f - 2.0) / 6.0,
+        (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0,
+        -(f + 1.0) * f * (f - 2.0) / 2.0,
+        (f + 1.0) * f * (f - 1.0) / 6.0,
+    ];
+    let rk = w[0] * p[0].0 + w[1] * p[1].0 + w[2] * p[2].0 + w[3] * p[3].0;
+    let ra = w[0] * p[0].1 + w[1] * p[1].1 + w[2] * p[2].1 + w[3] * p[3].1;
     (rk * geo, ra * geo)
 }
 
@@ -317,32 +324,30 @@ fn near_radii(q: f64, geo: f64) -> (f64, f64) {
     let table = near_table();
     let x = q * NEAR_PER_UNIT;
     let k = (x.floor() as usize).clamp(1, table.len() - 3);
-    let f = x - k as f64;
-    let (p0, p1, p2, p3) = (table[k - 1], table[k], table[k + 1], table[k + 2]);
-    let w0 = -f * (f - 1.0) * (f - 2.0) / 6.0;
-    let w1 = (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0;
-    let w2 = -(f + 1.0) * f * (f - 2.0) / 2.0;
-    let w3 = (f + 1.0) * f * (f - 1.0) / 6.0;
-    let rk = w0 * p0.0 + w1 * p1.0 + w2 * p2.0 + w3 * p3.0;
-    let ra = w0 * p0.1 + w1 * p1.1 + w2 * p2.1 + w3 * p3.1;
-    (rk * geo, ra * geo)
+    cubic(
+        [table[k - 1], table[k], table[k + 1], table[k + 2]],
+        x - k as f64,
+        geo,
+    )
 }
 
 fn near_table() -> &'static [(f64, f64)] {
     static TABLE: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        // Three nodes past the reach, for the last intervals' stencils.
-        let n = (NEAR_SPAN * NEAR_PER_UNIT) as usize + 3;
-        (0..n)
-            .map(|i| {
-                let q = i as f64 / NEAR_PER_UNIT;
-                let rho = 1.0 / (1.0 - q);
-                let h = elliptic::elliptic_hertz(rho, 1.0);
-                let geo = rho.sqrt();
-                (h.stiffness_radius_m / geo, h.area_radius_m / geo)
-            })
-            .collect()
-    })
+    // Three nodes past the reach, for the last intervals' stencils.
+    let n = (NEAR_SPAN * NEAR_PER_UNIT) as usize + 3;
+    TABLE.get_or_init(|| tabulate(n, |i| 1.0 / (1.0 - i as f64 / NEAR_PER_UNIT)))
+}
+
+/// R_k / sqrt(R' R'') and R_a / sqrt(R' R'') by the exact solve at R'/R'' = `rho(i)`, i < n.
+fn tabulate(n: usize, rho: impl Fn(usize) -> f64) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|i| {
+            let rho = rho(i);
+            let h = elliptic::elliptic_hertz(rho, 1.0);
+            let geo = rho.sqrt();
+            (h.stiffness_radius_m / geo, h.area_radius_m / geo)
+        })
+        .collect()
 }
 
 /// Table nodes per unit of t = ln(R'/R'').
@@ -352,18 +357,8 @@ const TABLE_SPAN: f64 = 8.0;
 
 fn radii_table() -> &'static [(f64, f64)] {
     static TABLE: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        let n = (TABLE_SPAN * TABLE_PER_UNIT) as usize + 1;
-        (0..n)
-            .map(|i| {
-                let t = i as f64 / TABLE_PER_UNIT;
-                let rho = t.exp();
-                let h = elliptic::elliptic_hertz(rho, 1.0);
-                let geo = rho.sqrt();
-                (h.stiffness_radius_m / geo, h.area_radius_m / geo)
-            })
-            .collect()
-    })
+    let n = (TABLE_SPAN * TABLE_PER_UNIT) as usize + 1;
+    TABLE.get_or_init(|| tabulate(n, |i| (i as f64 / TABLE_PER_UNIT).exp()))
 }
 
 /// The common normal of two touching (or near) convex bodies, each a spheroid (a sphere is one
