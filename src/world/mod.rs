@@ -1119,18 +1119,15 @@ fn check_initial_surface_overlaps(
                 .find(|h| h.overlap_m > MAX_INITIAL_SURFACE_OVERLAP_RATIO * r)
             {
                 let field = sc.initial_apple_field(k);
-                let part = world.layer.surface_name(SurfaceId(s as u32));
-                let placed = sc
-                    .surface_fields_of(part)
-                    .map_or_else(String::new, |f| format!(" ({f})"));
-                return Err(ScenarioError::invalid(
+                let id = SurfaceId(s as u32);
+                return Err(starts_inside(
+                    sc,
+                    world,
                     field,
-                    format!(
-                        "apple '{}' starts {:.4} mm inside surface '{part}'{placed} (more than {} % of its radius): place it on or above the surface",
-                        a.name,
-                        h.overlap_m * 1e3,
-                        MAX_INITIAL_SURFACE_OVERLAP_RATIO * 100.0
-                    ),
+                    a,
+                    id,
+                    h.overlap_m,
+                    "radius",
                 ));
             }
         }
@@ -1138,12 +1135,9 @@ fn check_initial_surface_overlaps(
     Ok(())
 }
 
-/// [`check_initial_surface_overlaps`] for spheroid `k`: the surfaces are found by its bounding
-/// ball, which holds it; along each hit's normal n the spheroid reaches its support distance
-/// h(-n) from its centre, and the centre stands (R - u) from the surface, so it overlaps by
-/// h(-n) - (R - u). Exact for flat faces (the nearest point of a plane lies along its normal);
-/// for curved ones (rollers, troughs, meshes' edges) a close estimate, the layer's contact being
-/// exact. Allowed: [`MAX_INITIAL_SURFACE_OVERLAP_RATIO`] of its smaller radius.
+/// [`check_initial_surface_overlaps`] for spheroid `k`: its overlap with each surface as the
+/// layer computes it (`layer::surface::spheroid_hits`, exact on every surface kind). Allowed:
+/// [`MAX_INITIAL_SURFACE_OVERLAP_RATIO`] of its smaller radius.
 fn spheroid_surface_overlap(
     sc: &Scenario,
     k: usize,
@@ -1155,41 +1149,61 @@ fn spheroid_surface_overlap(
     let field = sc.initial_apple_field(k);
     // Checked by validation; read again for a library caller that skipped it.
     let turned = a.orientation(&field)?;
-    let r = shape.bounding_radius();
     let allowed = MAX_INITIAL_SURFACE_OVERLAP_RATIO * shape.a.min(shape.c);
+    let mut extra = Vec::new();
+    let mut scratch = crate::layer::surface::SpheroidScratch::default();
     for (s, &ch) in world.surface_colliders.iter().enumerate() {
         let Some(co) = world.physics.colliders.get(ch) else {
             continue;
         };
         hits.clear();
+        extra.clear();
         let id = SurfaceId(s as u32);
-        crate::layer::surface::surface_hits(
+        crate::layer::surface::spheroid_hits(
             world.layer.surface_shape(id),
             co,
             vec3(a.position_m),
-            r,
+            &turned,
+            &shape,
             0.0,
             hits,
+            &mut extra,
+            &mut scratch,
         );
         let deepest = hits
             .iter()
-            .map(|h| shape.point_with_normal(&turned, -h.normal).support_m - (r - h.overlap_m))
+            .map(|h| h.overlap_m)
             .fold(f64::NEG_INFINITY, f64::max);
         if deepest > allowed {
-            let part = world.layer.surface_name(id);
-            let placed = sc
-                .surface_fields_of(part)
-                .map_or_else(String::new, |f| format!(" ({f})"));
-            return Err(ScenarioError::invalid(
-                field,
-                format!(
-                    "apple '{}' starts {:.4} mm inside surface '{part}'{placed} (more than {} % of its smaller radius, as turned): place it on or above the surface",
-                    a.name,
-                    deepest * 1e3,
-                    MAX_INITIAL_SURFACE_OVERLAP_RATIO * 100.0
-                ),
-            ));
+            let what = "smaller radius, as turned";
+            return Err(starts_inside(sc, world, field, a, id, deepest, what));
         }
     }
     Ok(())
+}
+
+/// The refusal of an apple that starts `depth_m` inside surface `id`, more than the allowed share
+/// of its `radius` (as the message names it).
+fn starts_inside(
+    sc: &Scenario,
+    world: &World,
+    field: String,
+    a: &AppleSpec,
+    id: SurfaceId,
+    depth_m: f64,
+    radius: &str,
+) -> ScenarioError {
+    let part = world.layer.surface_name(id);
+    let placed = sc
+        .surface_fields_of(part)
+        .map_or_else(String::new, |f| format!(" ({f})"));
+    ScenarioError::invalid(
+        field,
+        format!(
+            "apple '{}' starts {:.4} mm inside surface '{part}'{placed} (more than {} % of its {radius}): place it on or above the surface",
+            a.name,
+            depth_m * 1e3,
+            MAX_INITIAL_SURFACE_OVERLAP_RATIO * 100.0
+        ),
+    )
 }
