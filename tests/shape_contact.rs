@@ -50,6 +50,34 @@ struct Scene {
     mass: f64,
 }
 
+/// A rapier world stepped as the layer needs it: exact symplectic Euler (one solver
+/// iteration), no CCD sub-steps.
+fn physics_world(gravity: f64, dt: f64) -> PhysicsWorld {
+    let mut world = PhysicsWorld::new();
+    world.gravity = Vector::new(0.0, 0.0, -gravity);
+    world.integration_parameters.num_solver_iterations = 1;
+    world.integration_parameters.max_ccd_substeps = 0;
+    world.integration_parameters.dt = dt;
+    world
+}
+
+/// A spheroid's rigid body: its mass at DENSITY, its principal inertia, gyroscopic forces on.
+fn spheroid_body(shape: &Spheroid, pose: Pose, vel: Vector, angvel: Vector) -> RigidBodyBuilder {
+    let mass = DENSITY * shape.volume_m3();
+    let (ieq, iax) = shape.principal_inertia(mass);
+    RigidBodyBuilder::dynamic()
+        .pose(pose)
+        .linvel(vel)
+        .angvel(angvel)
+        .additional_mass_properties(MassProperties::new(
+            Vector::ZERO,
+            mass,
+            Vector::new(ieq, ieq, iax),
+        ))
+        .gyroscopic_forces_enabled(true)
+        .can_sleep(false)
+}
+
 /// A spheroid on a steel half-space z = 0, turned by `rot` (its frame to the world's).
 #[allow(clippy::too_many_arguments)]
 fn scene(
@@ -64,29 +92,17 @@ fn scene(
     friction: f64,
     ke: f64,
 ) -> Scene {
-    let mut world = PhysicsWorld::new();
-    world.gravity = Vector::new(0.0, 0.0, -gravity);
-    world.integration_parameters.num_solver_iterations = 1;
-    world.integration_parameters.max_ccd_substeps = 0;
-    world.integration_parameters.dt = dt;
+    let mut world = physics_world(gravity, dt);
     let floor = world
         .colliders
         .insert(ColliderBuilder::new(SharedShape::halfspace(Vector::Z)));
     let mass = DENSITY * shape.volume_m3();
-    let (ieq, iax) = shape.principal_inertia(mass);
-    let body = world.bodies.insert(
-        RigidBodyBuilder::dynamic()
-            .pose(Pose::from_parts(pos, rot))
-            .linvel(vel)
-            .angvel(angvel)
-            .additional_mass_properties(MassProperties::new(
-                Vector::ZERO,
-                mass,
-                Vector::new(ieq, ieq, iax),
-            ))
-            .gyroscopic_forces_enabled(true)
-            .can_sleep(false),
-    );
+    let body = world.bodies.insert(spheroid_body(
+        &shape,
+        Pose::from_parts(pos, rot),
+        vel,
+        angvel,
+    ));
     let mut layer = ContactLayer::new(config);
     let fruit = layer.add_material("apple", apple());
     let st = layer.add_material("steel", steel());
@@ -440,33 +456,20 @@ fn a_wobbling_spheroid_conserves_energy() {
 fn head_on(r1: Rotation, r2: Rotation) -> (f64, f64, f64) {
     let shape = Spheroid::new(A, C);
     let dt = 1e-5;
-    let mut world = PhysicsWorld::new();
-    world.gravity = Vector::ZERO;
-    world.integration_parameters.num_solver_iterations = 1;
-    world.integration_parameters.max_ccd_substeps = 0;
-    world.integration_parameters.dt = dt;
+    let mut world = physics_world(0.0, dt);
     let mass = DENSITY * shape.volume_m3();
-    let (ieq, iax) = shape.principal_inertia(mass);
     let mut layer = ContactLayer::new(elastic());
     let fruit = layer.add_material("apple", apple());
     layer.set_default_coefficients(0.3, 1.0, 100.0);
     for (k, (rot, x, v)) in [(r1, -1.0, 0.5), (r2, 1.0, -0.5)].into_iter().enumerate() {
         let reach = shape.point_with_normal(&rot, Vector::X * x).support_m;
-        let body = world.bodies.insert(
-            RigidBodyBuilder::dynamic()
-                .pose(Pose::from_parts(
-                    Vector::new(x * (reach + 1e-5), 0.0, 0.0),
-                    rot,
-                ))
-                .linvel(Vector::new(v, 0.0, 0.0))
-                .additional_mass_properties(MassProperties::new(
-                    Vector::ZERO,
-                    mass,
-                    Vector::new(ieq, ieq, iax),
-                ))
-                .gyroscopic_forces_enabled(true)
-                .can_sleep(false),
-        );
+        let pose = Pose::from_parts(Vector::new(x * (reach + 1e-5), 0.0, 0.0), rot);
+        let body = world.bodies.insert(spheroid_body(
+            &shape,
+            pose,
+            Vector::new(v, 0.0, 0.0),
+            Vector::ZERO,
+        ));
         layer
             .add_spheroid_body(&world.bodies, body, shape, fruit, &format!("a{k}"))
             .unwrap();
