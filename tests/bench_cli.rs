@@ -112,6 +112,9 @@ fn bench_json_has_every_figure_per_window() {
         assert!(wall > 0.0 && rate > 0.0, "{x}");
         let awake = num(x, "mean_awake_apples");
         assert!((0.0..=5.0).contains(&awake), "{x}");
+        // A fixed step: every step is the driver's, of 1e-4 s.
+        assert_eq!(x["steps_set_by"]["driver"], x["steps"], "{x}");
+        assert!((num(x, "mean_step_s") - 1e-4).abs() < 1e-12, "{x}");
     }
     // Nobody sleeps in the first 2 ms, and nothing touches yet (apples fall 0.02 mm of 5 mm).
     assert_eq!(num(&w[0], "mean_awake_apples"), 5.0);
@@ -143,6 +146,8 @@ fn bench_text_report_and_default_window() {
         "settled pile height",
         "peak resident memory",
         "2 thread(s)",
+        "steps set by",
+        "driver 100 %",
     ] {
         assert!(out.contains(s), "lacks '{s}': {out}");
     }

@@ -340,3 +340,40 @@ fn adaptive_landing_after_free_fall_matches_a_fine_fixed_step() {
         adaptive.step_range_s
     );
 }
+
+/// `applesim bench` says what set an adaptive run's steps (docs/accuracy.md, "What sets the
+/// steps"): on the Fig. 1 drop at `balanced` (no gravity), the 20 steps in contact are the
+/// impact's (N = 20 per elastic contact time, the closed form of physics.md section 10), the
+/// free flight before and after is stepped by the driver's cap (growth by at most 2x a step, the
+/// largest step) or a pair about to touch, and every step is counted once. A fixed step is all
+/// the driver's.
+#[test]
+fn bench_counts_what_set_each_step() {
+    let mut sc = shipped("scenarios/drop_on_steel.json");
+    sc.gravity_m_s2 = [0.0, 0.0, 0.0];
+    sc.time_step_s = TimeStep::Adaptive;
+    sc.accuracy = Some(Accuracy::Balanced);
+    sc.output.sample_interval_s = Some(1e-3);
+    let r = applesim::bench::run(&sc, std::path::Path::new("scenarios"), &[]).unwrap();
+    let w = &r.windows[0];
+    let by = w.steps_set_by;
+    println!("{} steps: {by:?}, {}", w.steps, by.describe(w.steps));
+    assert_eq!(w.steps, 46);
+    assert_eq!(
+        by.impact + by.resting + by.approaching + by.motion + by.driver,
+        w.steps
+    );
+    assert_eq!(by.impact, 20, "the steps in contact");
+    assert_eq!(by.resting + by.motion, 0);
+    let mean = w.mean_step_s.unwrap();
+    assert!(
+        (mean * 46.0 - sc.duration_s).abs() < 1e-12,
+        "mean step {mean}"
+    );
+
+    sc.time_step_s = TimeStep::Fixed(1e-4);
+    let r = applesim::bench::run(&sc, std::path::Path::new("scenarios"), &[]).unwrap();
+    let w = &r.windows[0];
+    assert_eq!(w.steps_set_by.driver, w.steps);
+    assert_eq!(w.steps_set_by.describe(w.steps), "driver 100 %");
+}

@@ -371,6 +371,7 @@ impl ContactLayer {
                 if let Some(limit) = parts {
                     self.out.stats.limit(limit, StepLimit::Motion);
                 }
+                self.out.stats.dt_set_by_limit = self.out.stats.dt_limit_s < request.dt_s;
                 request.choose(self.out.stats.dt_limit_s)
             }
             None => request.dt_s,

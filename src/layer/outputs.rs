@@ -40,6 +40,9 @@ pub struct StepStats {
     pub dt_limit_s: f64,
     /// What set `dt_limit_s`.
     pub dt_limit_reason: StepLimit,
+    /// The step chosen was the layer's limit (`dt_limit_s`, landed on the end), not the
+    /// driver's request (a fixed step, the largest step, the growth cap).
+    pub dt_set_by_limit: bool,
 }
 
 impl StepStats {
