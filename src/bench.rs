@@ -179,7 +179,7 @@ impl StepsSetBy {
             ("motion", self.motion),
             ("driver", self.driver),
         ];
-        parts.sort_by(|a, b| b.1.cmp(&a.1));
+        parts.sort_by_key(|p| std::cmp::Reverse(p.1));
         let shown: Vec<String> = parts
             .iter()
             .filter(|(_, n)| steps > 0 && 200 * n >= steps)
