@@ -69,6 +69,7 @@ fn thresholds_follow_the_accuracy_unless_given() {
         enabled: true,
         speed_m_s: Some(0.002),
         time_s: None,
+        carried: true,
     };
     let r = given.rule(Some(Accuracy::Preview));
     assert_eq!((r.speed_m_s, r.time_s), (0.002, 0.1));

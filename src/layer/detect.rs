@@ -300,6 +300,14 @@ impl Detection {
                 Some((g, _)) => (g.normal, g.overlap_m),
                 None => geometry::sphere_sphere(d, r2, rs),
             };
+            if u > 0.0 {
+                // A rider touches nothing but its belt: a contact starting wakes it.
+                for k in [i, j] {
+                    if cx.sleep.ride(k).is_some() {
+                        to_wake.push(k as u32);
+                    }
+                }
+            }
             // Made when needed (planning, or a contact).
             let mut contact_geo: Option<Shaped> = None;
             if ai != aj {
@@ -468,6 +476,7 @@ impl Detection {
     ) {
         let control = cx.config.step_control;
         let gravity = cx.config.gravity;
+        let wake_ratio = cx.config.sleep.wake_overlap_ratio;
         let horizon = cx.clock.horizon_s;
         let ahead = control.map_or(dt_s, |_| horizon.max(dt_s));
         let energy_loss = cx.config.parts.energy_loss;
@@ -524,6 +533,39 @@ impl Detection {
                 }
                 if hits.is_empty() && chain.is_empty() {
                     continue;
+                }
+                if let Some(ride) = cx.sleep.ride(a) {
+                    // A rider's frozen contact holds while its belt runs on unchanged under it,
+                    // with one region of it at the same overlap, and nothing else is within the
+                    // search margin: it is left unseen (not evaluated, not closed). Else it
+                    // wakes, and this detection is redone with it awake.
+                    let holds = if s as u32 == ride.surface {
+                        let now = &self.surf_now[s];
+                        let belt_same = now.belt == ride.velocity
+                            && now.lin == Vec3::ZERO
+                            && now.ang == Vec3::ZERO
+                            && !now.changed;
+                        belt_same
+                            && hits.len() == 1
+                            && chain.len() == 1
+                            && cx.contacts.is_live(chain[0])
+                            && {
+                                let (u, n) = (hits[0].overlap_m, hits[0].normal);
+                                let c = cx.contacts.get_mut(chain[0]);
+                                if c.ref_u.is_nan() {
+                                    c.ref_u = c.overlap_m;
+                                }
+                                u > 0.0
+                                    && c.normal.dot(n) > surface::MESH_MERGE_COS
+                                    && (u - c.ref_u).abs() <= wake_ratio * c.ref_u
+                            }
+                    } else {
+                        hits.is_empty()
+                    };
+                    if holds {
+                        continue;
+                    }
+                    cx.sleep.request_wake(a as u32);
                 }
                 let law =
                     registry.laws()[registry.law_index(registry.apples[a].material, surf.material)];
@@ -667,7 +709,18 @@ impl Detection {
                     };
                     if hit.overlap_m > 0.0 {
                         cx.contacts.see(slot, epoch);
+                        let now = &self.surf_now[s];
+                        if now.belt != Vec3::ZERO
+                            && now.lin == Vec3::ZERO
+                            && now.ang == Vec3::ZERO
+                            && surf.turned_by_contacts.is_none()
+                        {
+                            // A running belt on a fixed body: its material moves at one
+                            // velocity everywhere, for ever (an apple may ride it).
+                            cx.frame.carrier[a] = Some((s as u32, now.belt));
+                        }
                         let c = cx.contacts.get_mut(slot);
+                        c.ref_u = f64::NAN;
                         c.normal = hit.normal;
                         c.overlap_m = hit.overlap_m;
                         match (extra, &shape) {

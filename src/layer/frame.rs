@@ -24,6 +24,9 @@ pub(super) struct Frame {
     pub count: Vec<u16>,
     /// |v| and |w| R below the sleep threshold.
     pub still: Vec<bool>,
+    /// A running belt (a surface on a fixed body with a belt velocity) the apple touches this
+    /// step, with the belt's velocity (with one contact: it may ride it, see [`super::sleep`]).
+    pub carrier: Vec<Option<(u32, Vec3)>>,
 }
 
 impl Frame {
@@ -36,6 +39,8 @@ impl Frame {
         self.count.clear();
         self.count.resize(n, 0);
         self.still.resize(n, false);
+        self.carrier.clear();
+        self.carrier.resize(n, None);
     }
 
     /// Reads the awake apples' current state from rapier; non-finite state is refused here,
@@ -140,7 +145,7 @@ impl Loads {
         bodies: &mut RigidBodySet,
         apples: &[AppleEntry],
         awake: &[u32],
-        asleep: &[bool],
+        idle: impl Fn(usize) -> bool,
         control: Option<StepControl>,
         kick: f64,
         gravity: Vec3,
@@ -148,8 +153,8 @@ impl Loads {
     ) {
         for &k in awake {
             let k = k as usize;
-            if asleep[k] {
-                // Fell asleep in this pass.
+            if idle(k) {
+                // Fell asleep in this pass, or rides a belt (rapier holds it asleep).
                 continue;
             }
             let a = &apples[k];

@@ -390,7 +390,11 @@ mod tests {
                 .build()
                 .unwrap();
             pool.install(|| {
-                assert_eq!(listed(&listed_all(&pos, &r, 0.01)), dense, "dense, {threads}");
+                assert_eq!(
+                    listed(&listed_all(&pos, &r, 0.01)),
+                    dense,
+                    "dense, {threads}"
+                );
                 assert_eq!(
                     listed(&listed_all(&pos2, &r2, 0.01)),
                     sparse,

@@ -277,6 +277,7 @@ impl ContactLayer {
     /// caller stops its body (`World::take_out` disables it in rapier and parks it far away).
     pub fn take_out_apple(&mut self, id: AppleId) {
         self.detection.retire(id.0 as usize);
+        self.sleep.forget_ride(id.0 as usize);
     }
 
     /// Checks that no apple can meet a concave surface tighter than itself (conforming contact).
@@ -398,13 +399,14 @@ impl ContactLayer {
             &mut self.frame,
             &mut self.loads,
             dt_s,
+            self.clock.time_s,
         );
         let kick = (self.clock.dt_back + dt_s) / (2.0 * dt_s);
         self.loads.hand_to_rapier(
             bodies,
             &self.registry.apples,
             self.sleep.awake(),
-            self.sleep.asleep(),
+            |k| self.sleep.is_asleep(k) || self.sleep.ride(k).is_some(),
             control,
             kick,
             self.config.gravity,
@@ -429,11 +431,14 @@ impl ContactLayer {
             self.sleep.awake(),
             self.config.sleep.speed_m_s,
             self.clock.time_s,
-        )
+        )?;
+        self.sleep.place_riders(&mut self.frame, self.clock.time_s);
+        Ok(())
     }
 
     fn wake_requested(&mut self, bodies: &mut RigidBodySet) {
-        self.sleep.wake_requested(bodies, &self.registry.apples);
+        self.sleep
+            .wake_requested(bodies, &self.registry.apples, self.clock.time_s);
         self.refresh_awake();
     }
 

@@ -189,7 +189,7 @@ impl ContactLayer {
     /// when it fell asleep (its contacts are frozen).
     pub fn apple_contact_force(&self, id: AppleId) -> Vec3 {
         let k = id.0 as usize;
-        if self.sleep.is_asleep(k) {
+        if self.sleep.is_asleep(k) || self.sleep.ride(k).is_some() {
             return self.sleep.sleep_force(k);
         }
         self.loads.force.get(k).copied().unwrap_or(Vec3::ZERO)
@@ -220,8 +220,28 @@ impl ContactLayer {
         self.sleep.asleep_count()
     }
 
-    /// Number of apples awake now.
+    /// Number of apples awake now (integrated, their contacts evaluated): neither asleep nor
+    /// riding a belt.
     pub fn awake_count(&self) -> usize {
-        self.registry.apples.len() - self.sleep.asleep_count()
+        self.registry.apples.len() - self.sleep.asleep_count() - self.sleep.riding_count()
+    }
+
+    /// Whether an apple rides a running belt (carried at its velocity, its contact frozen; see
+    /// [`SleepConfig::carried`](super::SleepConfig::carried)).
+    pub fn is_riding(&self, id: AppleId) -> bool {
+        self.sleep.ride(id.0 as usize).is_some()
+    }
+
+    /// Number of apples riding a belt now.
+    pub fn riding_count(&self) -> usize {
+        self.sleep.riding_count()
+    }
+
+    /// A riding apple's centre and velocity at time `t_s` (rapier holds it asleep where it began
+    /// to ride: read riders' poses here); `None` for an apple that does not ride.
+    pub fn rider_motion(&self, id: AppleId, t_s: f64) -> Option<(Vec3, Vec3)> {
+        self.sleep
+            .ride(id.0 as usize)
+            .map(|r| (r.centre_at(t_s), r.velocity))
     }
 }

@@ -6,14 +6,46 @@
 //! when it fell asleep. What wakes it is decided from the geometry in [`super::detect`], or by
 //! rapier (a body the user moved or pushed shows up in rapier's active set).
 //!
+//! An apple at rest on a running belt is at rest in the belt's frame: by the same rule (still,
+//! supported, no net force, for the stillness time) *in that frame*, with the belt as its only
+//! contact, it **rides** the belt ([`Ride`]): rapier carries it as a kinematic body at the belt's
+//! velocity (an exact motion: a belt runs at constant velocity, and an apple at rest on it moves
+//! with it), its contact is frozen (not evaluated; it reports the force it carried), and it stays
+//! on the awake list, so that pair finding, the step control and detection see it move. It is
+//! woken, dynamic again at the belt's velocity, the step anything else comes within the search
+//! margin of it (an apple or another surface), its belt contact's overlap drifts (the belt's
+//! end), or the belt changes. A line's belts carry most of its apples, and a rider costs rapier's
+//! kinematic update and its detection, not its contact law (docs/performance.md, "A line at
+//! scale").
+//!
 //! This module owns every piece of sleep state; the rest of the layer reads it (the awake list,
-//! who sleeps) and asks for wake-ups ([`Sleep::request_wake`]).
+//! who sleeps, who rides) and asks for wake-ups ([`Sleep::request_wake`]).
 
 use super::config::SleepConfig;
 use super::frame::{Frame, Loads};
 use super::registry::{AppleEntry, Registry};
 use crate::math::Vec3;
 use rapier3d_f64::dynamics::{IslandManager, RigidBodySet};
+
+/// An apple riding a running belt (see the module's doc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Ride {
+    /// The belt (surface index).
+    pub surface: u32,
+    /// The belt's velocity, the apple's (m/s).
+    pub velocity: Vec3,
+    /// Where its centre was when it began to ride (m), and when (s).
+    pub from: Vec3,
+    pub since_s: f64,
+}
+
+impl Ride {
+    /// Its centre at time `t_s`: carried at the belt's velocity.
+    #[inline]
+    pub fn centre_at(&self, t_s: f64) -> Vec3 {
+        self.from + self.velocity * (t_s - self.since_s)
+    }
+}
 
 /// The sleep state of every apple.
 #[derive(Debug)]
@@ -34,8 +66,12 @@ pub(super) struct Sleep {
     mean_torque: Vec<Vec3>,
     /// The contact force a sleeper carried when it fell asleep.
     sleep_force: Vec<Vec3>,
-    /// Sleepers to wake before the next detection.
+    /// Sleepers (and riders) to wake before the next detection.
     to_wake: Vec<u32>,
+    /// Per apple: the belt it rides.
+    riding: Vec<Option<Ride>>,
+    /// How many apples ride.
+    riding_count: usize,
 }
 
 impl Sleep {
@@ -50,6 +86,8 @@ impl Sleep {
             mean_torque: Vec::new(),
             sleep_force: Vec::new(),
             to_wake: Vec::new(),
+            riding: Vec::new(),
+            riding_count: 0,
         }
     }
 
@@ -65,6 +103,43 @@ impl Sleep {
         self.mean_torque.resize(n, Vec3::NAN);
         self.asleep.resize(n, false);
         self.sleep_force.resize(n, Vec3::ZERO);
+        self.riding.resize(n, None);
+    }
+
+    /// The belt apple `k` rides, if it does.
+    #[inline]
+    pub fn ride(&self, k: usize) -> Option<Ride> {
+        self.riding.get(k).copied().flatten()
+    }
+
+    /// How many apples ride a belt.
+    pub fn riding_count(&self) -> usize {
+        self.riding_count
+    }
+
+    /// Apple `k` left the run: it rides no more (its body is parked by the caller).
+    pub fn forget_ride(&mut self, k: usize) {
+        if let Some(Some(_)) = self.riding.get(k) {
+            self.riding[k] = None;
+            self.riding_count -= 1;
+        }
+    }
+
+    /// The riders' centres and velocities at time `t_s` into the frame (rapier does not move
+    /// them: they sleep in it while they ride).
+    pub fn place_riders(&self, frame: &mut Frame, t_s: f64) {
+        if self.riding_count == 0 {
+            return;
+        }
+        for &k in &self.awake {
+            let k = k as usize;
+            if let Some(ride) = self.riding[k] {
+                frame.pos[k] = ride.centre_at(t_s);
+                frame.vel[k] = ride.velocity;
+                frame.angvel[k] = Vec3::ZERO;
+                frame.still[k] = false;
+            }
+        }
     }
 
     /// The awake apples, in increasing order.
@@ -90,7 +165,7 @@ impl Sleep {
         self.asleep_count
     }
 
-    /// The contact force a sleeper carried when it fell asleep.
+    /// The contact force a sleeper (or a rider) carried when it fell asleep (began to ride).
     pub fn sleep_force(&self, k: usize) -> Vec3 {
         self.sleep_force[k]
     }
@@ -119,11 +194,16 @@ impl Sleep {
     /// Sleepers that rapier woke (the user moved one, or gave it an impulse with `wake_up`) show
     /// up in rapier's active set: they are awake again. Costs nothing when nobody sleeps.
     pub fn notice_rapier_wakeups(&mut self, islands: &IslandManager, registry: &Registry) {
-        if !self.sleeping_any(registry.apples.len()) {
+        if !self.sleeping_any(registry.apples.len()) && self.riding_count == 0 {
             return;
         }
         for h in islands.active_bodies() {
             if let Some(k) = registry.apple_of(h) {
+                if self.riding[k].is_some() {
+                    // A rider rapier woke (the user touched its body): it rides no more.
+                    self.to_wake.push(k as u32);
+                    continue;
+                }
                 if self.asleep[k] {
                     self.asleep[k] = false;
                     self.asleep_count -= 1;
@@ -152,10 +232,28 @@ impl Sleep {
         true
     }
 
-    /// Wakes the apples asked for (in the layer and in rapier).
-    pub fn wake_requested(&mut self, bodies: &mut RigidBodySet, apples: &[AppleEntry]) {
+    /// Wakes the apples asked for (in the layer and in rapier); `t_s` is the time of the
+    /// current poses (where a rider is put back into rapier).
+    pub fn wake_requested(&mut self, bodies: &mut RigidBodySet, apples: &[AppleEntry], t_s: f64) {
         for k in std::mem::take(&mut self.to_wake) {
             let k = k as usize;
+            if let Some(ride) = self.riding[k].take() {
+                // Awake in rapier again, where the belt has carried it, at the belt's velocity;
+                // its contact is evaluated again from this step's detection on.
+                self.riding_count -= 1;
+                self.still_time[k] = 0.0;
+                self.mean_force[k] = Vec3::NAN;
+                self.mean_torque[k] = Vec3::NAN;
+                if let Some(rb) = bodies.get_mut(apples[k].body) {
+                    let a = &apples[k];
+                    let rot = *rb.rotation();
+                    rb.set_translation(ride.centre_at(t_s) - rot * a.offset, false);
+                    rb.set_linvel(ride.velocity, false);
+                    rb.set_angvel(Vec3::ZERO, false);
+                    rb.wake_up(true);
+                }
+                continue;
+            }
             if !self.asleep[k] {
                 continue;
             }
@@ -183,12 +281,28 @@ impl Sleep {
         frame: &mut Frame,
         loads: &mut Loads,
         dt_s: f64,
+        t_s: f64,
     ) {
         if !cfg.enabled {
             return;
         }
+        let still2 = cfg.speed_m_s * cfg.speed_m_s;
         for i in 0..self.awake.len() {
             let k = self.awake[i] as usize;
+            if self.riding[k].is_some() {
+                continue;
+            }
+            // One contact, with a running belt: the rule below holds in the belt's frame (an
+            // inertial frame: the net force is the same), and its end is a ride.
+            let belt = match frame.carrier[k] {
+                Some((s, v)) if cfg.carried && frame.count[k] == 1 && !frame.still[k] => {
+                    let (dv, w) = (frame.vel[k] - v, frame.angvel[k]);
+                    let r = apples[k].radius;
+                    (dv.length_squared() < still2 && w.length_squared() * r * r < still2)
+                        .then_some((s, v))
+                }
+                _ => None,
+            };
             // Still, supported (touching something) and not accelerating: the net force would not
             // change its speed by the stillness threshold within the stillness time. The force is
             // a running mean over a quarter of the stillness time: an apple held in a pile
@@ -201,7 +315,7 @@ impl Sleep {
             // The mean runs while the apple is still (NaN: it starts again).
             let share = (4.0 * dt_s / cfg.time_s).min(1.0);
             let last = self.mean_force[k];
-            let still = frame.still[k];
+            let still = frame.still[k] || belt.is_some();
             let mean = if !still || last.x.is_nan() {
                 net
             } else {
@@ -227,12 +341,38 @@ impl Sleep {
                 let limit_t = cfg.speed_m_s * a.inertia / (a.radius * cfg.time_s);
                 resting &= mean_t.length_squared() < limit_t * limit_t;
             }
-            if still && !loads.busy[k] && resting {
+            // A rider's belt keeps it busy (a moving surface), and it touches nothing else.
+            if still && (!loads.busy[k] || belt.is_some()) && resting {
                 self.still_time[k] += dt_s;
             } else {
                 self.still_time[k] = 0.0;
             }
             if self.still_time[k] >= cfg.time_s {
+                if let Some((surface, velocity)) = belt {
+                    self.riding[k] = Some(Ride {
+                        surface,
+                        velocity,
+                        from: frame.pos[k],
+                        since_s: t_s,
+                    });
+                    self.riding_count += 1;
+                    self.still_time[k] = 0.0;
+                    self.mean_force[k] = Vec3::NAN;
+                    self.mean_torque[k] = Vec3::NAN;
+                    self.sleep_force[k] = loads.force[k];
+                    frame.vel[k] = velocity;
+                    frame.angvel[k] = Vec3::ZERO;
+                    loads.force[k] = Vec3::ZERO;
+                    loads.torque[k] = Vec3::ZERO;
+                    loads.loaded[k] = false;
+                    if let Some(rb) = bodies.get_mut(apples[k].body) {
+                        // Asleep in rapier: the layer carries it (`place_riders`).
+                        rb.reset_forces(false);
+                        rb.reset_torques(false);
+                        rb.sleep();
+                    }
+                    continue;
+                }
                 self.asleep[k] = true;
                 self.asleep_count += 1;
                 self.dirty = true;

@@ -686,6 +686,10 @@ pub struct SleepSpec {
     /// How long it must stay still before sleeping (s); default by accuracy.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_s: Option<f64>,
+    /// Whether apples at rest on a running belt ride it: carried at its velocity, their contact
+    /// frozen, by the same rule in the belt's frame (default true; `layer::sleep`).
+    #[serde(default = "default_true")]
+    pub carried: bool,
 }
 
 /// The sleep thresholds of a run (see [`SleepSpec`]).
@@ -722,6 +726,7 @@ impl Default for SleepSpec {
             enabled: true,
             speed_m_s: None,
             time_s: None,
+            carried: true,
         }
     }
 }

@@ -292,6 +292,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
         record_slips: sc.output.transitions.enabled,
         sleep: SleepConfig {
             enabled: sl.enabled,
+            carried: sl.carried,
             speed_m_s: rule.speed_m_s,
             time_s: rule.time_s,
             ..SleepConfig::default()
@@ -647,6 +648,17 @@ impl World {
         out
     }
 
+    /// The first planned emission after time `t_s` (an adaptive run's steps land on it, so that
+    /// an apple appears at its planned time, not up to a step later); `None` when none is left.
+    /// Emissions held up by a taken spot (due already) wait at the front of the queue, which is
+    /// in time order after them.
+    pub fn next_emission_after(&self, t_s: f64) -> Option<f64> {
+        self.pending
+            .iter()
+            .map(|f| f.time_s)
+            .find(|&e| e > t_s + 1e-12)
+    }
+
     /// Emissions still to come.
     pub fn pending_emissions(&self) -> usize {
         self.pending.len()
@@ -713,8 +725,12 @@ impl World {
         let p = vec3(a.position_m);
         let r = a.bounding_radius_m();
         for (k, &bh) in self.apple_bodies.iter().enumerate() {
-            let q = self.physics.bodies[bh].translation();
             let id = AppleId(k as u32);
+            // A rider sleeps in rapier where it began to ride: the layer carries it.
+            let q = match self.layer.rider_motion(id, self.time_s) {
+                Some((c, _)) => c,
+                None => self.physics.bodies[bh].translation(),
+            };
             if (q - p).length() < r + self.layer.apple_radius(id) {
                 return Some(format!("apple '{}'", self.layer.apple_name(id)));
             }
