@@ -53,7 +53,8 @@ pub struct SleepConfig {
     /// Apples at rest on a running belt ride it (see [`super::sleep`]): still in the belt's
     /// frame by the same rule, touching nothing but the belt, they are carried at the belt's
     /// velocity (a kinematic body in rapier) and their contact is frozen, until anything else
-    /// comes near, the belt's surface under them changes, or the belt ends.
+    /// comes near, the belt's surface under them changes, or the belt ends. Off by default (see
+    /// `scenario::SleepSpec::carried`).
     pub carried: bool,
 }
 
@@ -64,7 +65,7 @@ impl Default for SleepConfig {
             speed_m_s: 0.005,
             time_s: 0.2,
             wake_overlap_ratio: 0.05,
-            carried: true,
+            carried: false,
         }
     }
 }
