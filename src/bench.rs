@@ -119,8 +119,12 @@ pub struct WindowReport {
     pub wall_s: f64,
     /// Apples present x steps / wall seconds, summed step by step (`None` without steps).
     pub apple_steps_per_s: Option<f64>,
-    /// Apples not asleep, averaged over the window's steps (`None` without steps).
+    /// Apples neither asleep nor riding a belt, averaged over the window's steps (`None` without
+    /// steps).
     pub mean_awake_apples: Option<f64>,
+    /// Apples riding a belt (carried, their contact frozen), averaged over the window's steps
+    /// (`None` without steps).
+    pub mean_riding_apples: Option<f64>,
     /// Apples present at the window's end.
     pub apples_at_end: usize,
     /// Open contacts (apple-apple and apple-surface, sleepers' frozen contacts included) per apple
@@ -229,6 +233,7 @@ struct Meter {
     wall_s: f64,
     apple_steps: f64,
     awake_sum: f64,
+    riding_sum: f64,
     simulated_s: f64,
     set_by: StepsSetBy,
     end: Option<(usize, f64, f64)>,
@@ -277,6 +282,7 @@ pub fn run(sc: &Scenario, base_dir: &Path, windows: &[Window]) -> Result<BenchRe
             wall_s: 0.0,
             apple_steps: 0.0,
             awake_sum: 0.0,
+            riding_sum: 0.0,
             simulated_s: 0.0,
             set_by: StepsSetBy::default(),
             end: None,
@@ -303,6 +309,7 @@ pub fn run(sc: &Scenario, base_dir: &Path, windows: &[Window]) -> Result<BenchRe
                 m.wall_s += dt_wall;
                 m.apple_steps += present;
                 m.awake_sum += *awake.get_or_insert_with(|| layer.awake_count() as f64);
+                m.riding_sum += layer.riding_count() as f64;
                 m.simulated_s += dt;
                 m.set_by.count(stats.dt_set_by_limit, stats.dt_limit_reason);
             }
@@ -331,6 +338,7 @@ pub fn run(sc: &Scenario, base_dir: &Path, windows: &[Window]) -> Result<BenchRe
                 apple_steps_per_s: (m.steps > 0 && m.wall_s > 0.0)
                     .then(|| m.apple_steps / m.wall_s),
                 mean_awake_apples: (m.steps > 0).then(|| m.awake_sum / m.steps as f64),
+                mean_riding_apples: (m.steps > 0).then(|| m.riding_sum / m.steps as f64),
                 apples_at_end,
                 contacts_per_apple: per(all),
                 apple_apple_contacts_per_apple: per(apple_apple),

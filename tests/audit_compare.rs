@@ -168,22 +168,16 @@ fn a_layout_compared_with_itself_is_no_change_everywhere() {
         "--out",
         s(&other),
     ]));
-    // The line's figures and the plate's are no change. Of the nine, one reads "better" by
-    // chance (docs/damage.md 9: about one in 20 does at 95 %): the bruise volume the apples'
-    // nudges of each other on the plate add to bruises the plate made, 0.4 against 27 mm^3,
-    // a lone verdict at a minor point that downgrades no apple.
+    // All nine figures are no change (docs/damage.md 9), the bruise volume the apples' nudges
+    // of each other on the plate add to bruises the plate made (14 against 15 mm^3) too.
     let t = table(&other);
     for ((point, figure), row) in &t {
-        if point == "apples on plate" && figure == "bruise_volume_mm3" {
-            assert_eq!(row["verdict"], "a_better", "{row:?}");
-        } else {
-            assert_eq!(row["verdict"], "no_change", "{point} {figure}: {row:?}");
-        }
+        assert_eq!(row["verdict"], "no_change", "{point} {figure}: {row:?}");
     }
     for line in [
-        "| bruise volume (mm^3) | no change | 19891 | 19625 | +267 | -1907 to +2529 |",
-        "| 95th percentile peak g | no change | 109.7 | 110.4 | -0.7 | -3.9 to +1.7 |",
-        "| apples on plate | bruise volume (mm^3) | **A better** | 0.4 | 27 | -27 | -61 to -3 |",
+        "| bruise volume (mm^3) | no change | 19976 | 19642 | +334 | -1839 to +2621 |",
+        "| 95th percentile peak g | no change | 111.8 | 112.5 | -0.7 | -2.4 to +2.1 |",
+        "| apples on plate | bruise volume (mm^3) | no change | 14 | 15 | -2 | -28 to +25 |",
     ] {
         assert!(md.contains(line), "{line}\nnot in\n{md}");
     }
@@ -209,12 +203,17 @@ fn bare_and_padded_are_ranked_right() {
             "no_change"
         );
     }
-    // The figures are the runs' own.
+    // The figures are the runs' own: the bruise volume is the sum of the apples' volumes as
+    // read from summary.json, which serde_json's default float parser may read one unit of the
+    // last place off (17-digit numbers; its `float_roundtrip` feature is off), so it is held to
+    // 1e-15 of the run's total, a few units of the last place.
     let sum = json(&bare.join("summary.json"));
     let line = |f: &str| &t[&("all".to_string(), f.to_string())];
-    assert_eq!(
-        num(line("bruise_volume_mm3"), "a"),
-        sum["damage"]["total_bruise_volume_mm3"].as_f64().unwrap()
+    let total = sum["damage"]["total_bruise_volume_mm3"].as_f64().unwrap();
+    assert!(
+        (num(line("bruise_volume_mm3"), "a") - total).abs() <= 1e-15 * total,
+        "{} against {total}",
+        num(line("bruise_volume_mm3"), "a")
     );
     assert_eq!(
         num(line("apples_downgraded_share"), "a"),
@@ -232,8 +231,8 @@ fn bare_and_padded_are_ranked_right() {
     );
     for line in [
         "| apples downgraded | **B better** | 100.0 % (24 of 24) | 33.3 % (8 of 24) | +66.7 pp | +42.4 to +82.0 pp |",
-        "| bruise volume (mm^3) | **B better** | 19891 | 3033 | +16859 | +15035 to +18743 |",
-        "| 95th percentile peak g | **B better** | 109.7 | 82.6 | +27.1 | +25.9 to +29.0 |",
+        "| bruise volume (mm^3) | **B better** | 19976 | 3026 | +16950 | +15111 to +18840 |",
+        "| 95th percentile peak g | **B better** | 111.8 | 82.3 | +29.4 | +27.8 to +30.6 |",
     ] {
         assert!(md.contains(line), "{line}\nnot in\n{md}");
     }
@@ -361,8 +360,8 @@ fn seeds_give_paired_intervals_and_the_same_bytes() {
     );
     for line in [
         "| apples downgraded | **B better** | 98.3 +- 3.7 % (23.6 of 24) | 42.5 +- 11.2 % (10.2 of 24) | +55.8 pp | +42.3 to +69.3 pp |",
-        "| bruise volume (mm^3) | **B better** | 19863 +- 1684 | 3195 +- 493 | +16668 | +15123 to +18212 |",
-        "| 95th percentile peak g | **B better** | 109.3 +- 1.3 | 81.9 +- 1.2 | +27.4 | +27.1 to +27.7 |",
+        "| bruise volume (mm^3) | **B better** | 19869 +- 1779 | 3185 +- 488 | +16684 | +14998 to +18370 |",
+        "| 95th percentile peak g | **B better** | 111.3 +- 1.8 | 81.8 +- 1.3 | +29.5 | +28.8 to +30.1 |",
     ] {
         assert!(md.contains(line), "{line}\nnot in\n{md}");
     }
@@ -432,31 +431,31 @@ fn one_apple_from_its_hit_to_its_grade() {
     for (run, peak, g, loss, own, share, vol, across, deep, grade, why, at) in [
         (
             "bare",
-            "198.1",
-            "96.0",
-            "0.3091",
-            "0.3091",
+            "199.3",
+            "96.6",
+            "0.3074",
+            "0.3074",
             "100.0",
-            "1076.8",
+            "1068.7",
             "14.9",
-            "8.55",
+            "8.54",
             "US Utility",
-            "a bruise 8.55 mm deep, over US Extra Fancy's 3.17 mm deep",
+            "a bruise 8.54 mm deep, over US Extra Fancy's 3.17 mm deep",
             "0.584",
         ),
         (
             "padded",
-            "149.5",
-            "72.4",
-            "0.3155",
-            "0.1308",
+            "148.8",
+            "72.1",
+            "0.3138",
+            "0.1302",
             "41.5",
-            "238.9",
-            "12.2",
-            "3.67",
+            "235.8",
+            "12.1",
+            "3.65",
             "US Fancy",
-            "a bruise 3.67 mm deep, over US Extra Fancy's 3.17 mm deep",
-            "0.586",
+            "a bruise 3.65 mm deep, over US Extra Fancy's 3.17 mm deep",
+            "0.585",
         ),
     ] {
         let dir = &runs()[run];
@@ -566,26 +565,36 @@ fn a_lowered_bin_ranks_better_than_a_fixed_one() {
         "--out",
         s(&five),
     ]));
+    // B better everywhere but on the heap's downgrades of one run: 4 against 0 of 150 there,
+    // no change (-0.3 to +6.7 pp); over 5 seeds B better there too.
     for (t, what) in [(table(&one), "one run"), (table(&five), "5 seeds")] {
         for point in ["all", "bin/floor", "apples in bin"] {
             for f in FIGURES {
                 let row = &t[&(point.to_string(), f.to_string())];
-                assert_eq!(row["verdict"], "b_better", "{what} {point} {f}: {row:?}");
+                let want = if what == "one run"
+                    && point == "apples in bin"
+                    && f == "apples_downgraded_share"
+                {
+                    "no_change"
+                } else {
+                    "b_better"
+                };
+                assert_eq!(row["verdict"], want, "{what} {point} {f}: {row:?}");
             }
         }
     }
     for line in [
-        "| apples downgraded | **B better** | 42.0 % (63 of 150) | 8.0 % (12 of 150) | +34.0 pp | +24.6 to +42.7 pp |",
-        "| bruise volume (mm^3) | **B better** | 52299 | 2927 | +49372 | +35004 to +65074 |",
-        "| 95th percentile peak g | **B better** | 134.5 | 55.4 | +79.1 | +56.6 to +84.4 |",
-        "| apples in bin | apples downgraded | **B better** | 3.3 % (5 of 150) | 0.0 % (0 of 150) |",
+        "| apples downgraded | **B better** | 38.0 % (57 of 150) | 7.3 % (11 of 150) | +30.7 pp | +21.6 to +39.3 pp |",
+        "| bruise volume (mm^3) | **B better** | 45171 | 2360 | +42811 | +30304 to +56375 |",
+        "| 95th percentile peak g | **B better** | 121.0 | 57.3 | +63.7 | +48.2 to +84.5 |",
+        "| apples in bin | apples downgraded | no change | 2.7 % (4 of 150) | 0.0 % (0 of 150) | +2.7 pp | -0.3 to +6.7 pp |",
     ] {
         assert!(md.contains(line), "{line}\nnot in\n{md}");
     }
     for line in [
-        "| apples downgraded | **B better** | 41.2 +- 5.7 % (61.8 of 150) | 5.1 +- 3.5 % (7.6 of 150) | +36.1 pp | +28.4 to +43.9 pp |",
-        "| bruise volume (mm^3) | **B better** | 42608 +- 4508 | 1628 +- 1063 | +40980 | +35148 to +46812 |",
-        "| 95th percentile peak g | **B better** | 119.6 +- 5.0 | 54.4 +- 4.2 | +65.2 | +56.3 to +74.1 |",
+        "| apples downgraded | **B better** | 39.2 +- 4.1 % (58.8 of 150) | 7.8 +- 5.4 % (11.4 of 148.2) | +31.4 pp | +23.6 to +39.3 pp |",
+        "| bruise volume (mm^3) | **B better** | 42633 +- 5140 | 2653 +- 2310 | +39980 | +33654 to +46307 |",
+        "| 95th percentile peak g | **B better** | 126.6 +- 11.5 | 56.4 +- 8.1 | +70.1 | +53.2 to +87.1 |",
     ] {
         assert!(md5.contains(line), "{line}\nnot in\n{md5}");
     }

@@ -112,6 +112,8 @@ fn bench_json_has_every_figure_per_window() {
         assert!(wall > 0.0 && rate > 0.0, "{x}");
         let awake = num(x, "mean_awake_apples");
         assert!((0.0..=5.0).contains(&awake), "{x}");
+        // No belt: nobody rides.
+        assert_eq!(num(x, "mean_riding_apples"), 0.0, "{x}");
         // A fixed step: every step is the driver's, of 1e-4 s.
         assert_eq!(x["steps_set_by"]["driver"], x["steps"], "{x}");
         assert!((num(x, "mean_step_s") - 1e-4).abs() < 1e-12, "{x}");

@@ -231,6 +231,20 @@ fn a_moving_source_writes_the_same_bytes_with_one_thread_and_two() {
     let _ = std::fs::remove_dir_all(&base);
 }
 
+/// Issue 30: apples riding a belt (the handling line: its 20 apples ride the belt until its end,
+/// and are woken there) write the same bytes with one thread and two.
+#[test]
+fn riders_write_the_same_bytes_with_one_thread_and_two() {
+    let base = std::env::temp_dir().join(format!("applesim-riders-{}", std::process::id()));
+    let (a, b) = (base.join("t1"), base.join("t2"));
+    let sc = repo("scenarios/handling_line.json");
+    run_cli(&sc, &a, &["--threads", "1"]);
+    run_cli(&sc, &b, &["--threads", "2"]);
+    let f = assert_same_files("handling_line, --threads 1 and 2", &a, &b);
+    assert!(f.len() >= 6, "{f:?}");
+    let _ = std::fs::remove_dir_all(&base);
+}
+
 /// Issue 29: spheroids (the 288-apple grid of `one_thread_and_two_write_identical_files` with
 /// aspect 0.85 +- 0.05, turned at random: 365 contacts per step at the end (1.267 per apple,
 /// `applesim bench --window 0.2:0.25`), above the 256 of the

@@ -190,7 +190,7 @@ fn apples_falling_off_the_line_are_warned_about_with_time_and_place() {
     }
     assert_eq!(
         warnings[0],
-        "apple 'feed-1' left the scene at t = 1.04 s at [0.966, 0, -0.0743] m: it fell below every surface (it last touched 'belt', until t = 0.6462 s)"
+        "apple 'feed-1' left the scene at t = 1.04 s at [0.966, 0, -0.0744] m: it fell below every surface (it last touched 'belt', until t = 0.6456 s)"
     );
     assert!(
         stdout.contains("3 apples: 0 in bins, 0 on surfaces, 2 left the scene, 1 moving at the end, 0 never fed in"),

@@ -107,10 +107,12 @@ fn heap(rel: &str) -> (f64, f64, Vec<f64>) {
 
 /// 500 apples (D 75 +- 5 mm) poured into the 1.2 x 1.2 m bin, spheres against spheroids of
 /// aspect 0.85 +- 0.05 turned at random (docs/lines.md section 3d): the spheroids' heap is
-/// lower (highest top 0.2854 m against 0.3224 m, mean centre 0.0781 m against 0.0865 m), and they
-/// come to rest with their axes nearer upright than at random (mean |axis . z| 0.590 against
-/// 0.500 for uniform orientations; 0.336 of them within 37 degrees of upright, |axis . z| > 0.8,
-/// against 0.2). Regression pins of these runs, held to the printed digits; the orientation
+/// lower (highest top 0.2910 m against 0.3178 m, mean centre 0.0799 m against 0.0872 m), and they
+/// come to rest with their axes nearer upright than at random (mean |axis . z| 0.595 against
+/// 0.500 for uniform orientations; 0.322 of them within 37 degrees of upright, |axis . z| > 0.8,
+/// against 0.2). Regression pins of these runs, held to the printed digits (re-pinned when
+/// adaptive steps began to land on each source's emission; before: 0.2854 m against 0.3224 m,
+/// 0.0781 m against 0.0865 m, 0.590, 0.336); the orientation
 /// bias is also checked against the uniform distribution's own scatter (0.5 +- 3 sigma,
 /// sigma = sqrt(1/12 / 500) = 0.0129).
 #[test]
@@ -124,9 +126,9 @@ fn a_bin_of_spheroids_against_a_bin_of_spheres() {
         "spheres: top {top_s:.4} m, mean centre {mean_s:.4} m; spheroids: top {top_o:.4} m, mean centre {mean_o:.4} m, mean |axis.z| {m:.3}, upright {upright:.3}"
     );
     assert_eq!(tilt.len(), 500);
-    assert!((top_s - 0.3224).abs() < 1e-4 && (mean_s - 0.0865).abs() < 1e-4);
-    assert!((top_o - 0.2854).abs() < 1e-4 && (mean_o - 0.0781).abs() < 1e-4);
-    assert!((m - 0.590).abs() < 1e-3 && (upright - 0.336).abs() < 1e-3);
+    assert!((top_s - 0.3178).abs() < 1e-4 && (mean_s - 0.0872).abs() < 1e-4);
+    assert!((top_o - 0.2910).abs() < 1e-4 && (mean_o - 0.0799).abs() < 1e-4);
+    assert!((m - 0.595).abs() < 1e-3 && (upright - 0.322).abs() < 1e-3);
     assert!(
         m > 0.5 + 3.0 * (1.0 / 12.0 / n).sqrt(),
         "biased towards upright"

@@ -69,7 +69,7 @@ fn thresholds_follow_the_accuracy_unless_given() {
         enabled: true,
         speed_m_s: Some(0.002),
         time_s: None,
-        carried: false,
+        carried: true,
     };
     let r = given.rule(Some(Accuracy::Preview));
     assert_eq!((r.speed_m_s, r.time_s), (0.002, 0.1));
@@ -136,7 +136,7 @@ fn the_run_folder_records_the_thresholds_used() {
                 .unwrap();
         assert_eq!(
             v["model"]["sleep"],
-            json!({"enabled": true, "speed_m_s": speed, "time_s": time, "carried": false}),
+            json!({"enabled": true, "speed_m_s": speed, "time_s": time, "carried": true}),
             "{acc}"
         );
         let _ = std::fs::remove_dir_all(&dir);

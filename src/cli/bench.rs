@@ -56,24 +56,26 @@ fn print_table(name: &str, r: &BenchReport) {
         r.threads
     );
     println!(
-        "{:<22} {:>8} {:>10} {:>14} {:>11} {:>15} {:>18} {:>12}  steps set by",
+        "{:<22} {:>8} {:>10} {:>14} {:>11} {:>7} {:>15} {:>18} {:>12}  steps set by",
         "window (s)",
         "steps",
         "wall s",
         "apple-steps/s",
         "mean awake",
+        "riding",
         "contacts/apple",
         "apple-apple/apple",
         "mean step s"
     );
     for w in &r.windows {
         println!(
-            "{:<22} {:>8} {:>10.3} {:>14} {:>11} {:>15.3} {:>18.3} {:>12}  {}",
+            "{:<22} {:>8} {:>10.3} {:>14} {:>11} {:>7} {:>15.3} {:>18.3} {:>12}  {}",
             format!("{} {}-{}", w.window.label, w.window.from_s, w.window.to_s),
             w.steps,
             w.wall_s,
             opt(w.apple_steps_per_s, |x| format!("{x:.3e}")),
             opt(w.mean_awake_apples, |x| format!("{x:.1}")),
+            opt(w.mean_riding_apples, |x| format!("{x:.1}")),
             w.contacts_per_apple,
             w.apple_apple_contacts_per_apple,
             opt(w.mean_step_s, |x| format!("{x:.3e}")),

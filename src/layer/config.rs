@@ -50,11 +50,10 @@ pub struct SleepConfig {
     pub time_s: f64,
     /// Relative change of a contact's overlap that wakes a sleeper.
     pub wake_overlap_ratio: f64,
-    /// Apples at rest on a running belt ride it (see [`super::sleep`]): still in the belt's
+    /// Apples at rest on a running belt ride it (the layer's `sleep` module): still in the belt's
     /// frame by the same rule, touching nothing but the belt, they are carried at the belt's
     /// velocity (a kinematic body in rapier) and their contact is frozen, until anything else
-    /// comes near, the belt's surface under them changes, or the belt ends. Off by default (see
-    /// `scenario::SleepSpec::carried`).
+    /// comes near, the belt's surface under them changes, or the belt ends.
     pub carried: bool,
 }
 
@@ -65,7 +64,7 @@ impl Default for SleepConfig {
             speed_m_s: 0.005,
             time_s: 0.2,
             wake_overlap_ratio: 0.05,
-            carried: false,
+            carried: true,
         }
     }
 }

@@ -13,8 +13,8 @@
 //! with it), its contact is frozen (not evaluated; it reports the force it carried), and it stays
 //! on the awake list, so that pair finding, the step control and detection see it move. It is
 //! woken, dynamic again at the belt's velocity, the step anything else comes within the search
-//! margin of it (an apple or another surface), its belt contact's overlap drifts (the belt's
-//! end), or the belt changes. A line's belts carry most of its apples, and a rider costs rapier's
+//! margin of it (an apple or another surface), its belt contact's overlap drifts at all (by 1e-6
+//! of itself: the belt's end), or the belt changes. A line's belts carry most of its apples, and a rider costs rapier's
 //! kinematic update and its detection, not its contact law (docs/performance.md, "A line at
 //! scale").
 //!

@@ -230,6 +230,8 @@ pub struct OpenContact {
     prev_u: f64,
     last_u: f64,
     last_p: f64,
+    /// Mean contact pressure at the last pose (Pa; a rider's frozen contact holds it).
+    last_pressure: f64,
     /// Apple `a`'s share of the loss at the last pose.
     last_share: f64,
     /// Apple `a`'s share of the overlap and of the loss ([`crate::contact::share`]): set by the
@@ -370,6 +372,7 @@ impl OpenContact {
             prev_u: f64::NAN,
             last_u: 0.0,
             last_p: 0.0,
+            last_pressure: 0.0,
             last_share: 1.0,
             shares: (1.0, 1.0),
             last_w: (0.5, 0.5),
@@ -500,6 +503,7 @@ impl OpenContact {
         };
         self.last_u = s.overlap_m;
         self.last_p = s.force_n;
+        self.last_pressure = s.pressure_pa;
         self.last_share = self.shares.1;
         self.impulse += s.force_n * span;
         self.steps += 1;
@@ -545,6 +549,23 @@ impl OpenContact {
                 self.history_cut = true;
             }
         }
+    }
+
+    /// A frozen contact (an apple riding a belt, `layer::sleep`) held its last pose for `dt_s`
+    /// more, to `time_s`: its impulse, steps and resting sums go on as if it had been evaluated
+    /// (the same force and pressure), so that the contact's record is the same as without riding.
+    pub fn carry(&mut self, dt_s: f64, time_s: f64) {
+        if self.pulse.is_some() {
+            let t = self.last_t;
+            self.end_pulse(t);
+        }
+        self.impulse += self.last_p * dt_s;
+        self.steps += 1;
+        self.last_t = time_s;
+        let r = &mut self.rest;
+        r.0 += dt_s;
+        r.1 += self.last_p * dt_s;
+        r.2 += self.last_pressure * dt_s;
     }
 
     /// Sets apple `a`'s share of the overlap and of the loss from now on

@@ -687,10 +687,8 @@ pub struct SleepSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_s: Option<f64>,
     /// Whether apples at rest on a running belt ride it: carried at its velocity, their contact
-    /// frozen, by the same rule in the belt's frame (`layer::sleep`). Default false for now:
-    /// riding changes the adaptive steps of a line, and the shipped lines' documented figures
-    /// are not yet re-measured with it (issue 30).
-    #[serde(default)]
+    /// frozen, by the same rule in the belt's frame (default true; `layer::sleep`).
+    #[serde(default = "default_true")]
     pub carried: bool,
 }
 
@@ -728,7 +726,7 @@ impl Default for SleepSpec {
             enabled: true,
             speed_m_s: None,
             time_s: None,
-            carried: false,
+            carried: true,
         }
     }
 }

@@ -498,12 +498,19 @@ impl Simulation {
         }
     }
 
-    /// The time left to the one instant a step must land on: the end. Steps do not land on the
-    /// output samples: a sample between two steps is interpolated ([`Self::interpolated_states`]),
-    /// so that the output's sampling never changes the run (issue 31: landing on every sample
-    /// shortened a step each time and, the pour being chaotic, moved every figure).
+    /// The time left to the next instant a step must land on: the end, or a source's next
+    /// emission (an apple appears at its planned time: without it an adaptive step of up to
+    /// 10 ms fed it that much later, 4 mm behind on a 0.4 m/s belt). Steps do not land on the
+    /// output samples: a sample between two steps is interpolated
+    /// ([`Self::interpolated_states`]), so that the output's sampling never changes the run
+    /// (issue 31: landing on every sample shortened a step each time and, the pour being
+    /// chaotic, moved every figure).
     fn land_in_s(&self) -> f64 {
-        self.duration_s - self.time_s
+        let end = self.duration_s - self.time_s;
+        match self.world.next_emission_after(self.time_s) {
+            Some(e) if e - self.time_s < end => e - self.time_s,
+            _ => end,
+        }
     }
 
     /// The time of the next output sample, k times the interval rounded to 12 significant

@@ -213,8 +213,9 @@ impl Detector {
             for &i in &self.order[lo..hi] {
                 self.contacts.push(slips[i as usize]);
             }
-            if layer.is_asleep(AppleId(k as u32)) {
-                // Asleep: at rest, nothing evaluated; the state stands.
+            if layer.is_asleep(AppleId(k as u32)) || layer.is_riding(AppleId(k as u32)) {
+                // Asleep, or riding a belt (rolling with it, no slip): nothing evaluated; the
+                // state stands.
                 let tr = &mut self.tracks[k];
                 tr.prev = None;
                 tr.current_slip = 0.0;

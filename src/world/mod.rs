@@ -648,6 +648,17 @@ impl World {
         out
     }
 
+    /// The first planned emission after time `t_s` (an adaptive run's steps land on it, so that
+    /// an apple appears at its planned time, not up to a step later); `None` when none is left.
+    /// Emissions held up by a taken spot (due already) wait at the front of the queue, which is
+    /// in time order after them.
+    pub fn next_emission_after(&self, t_s: f64) -> Option<f64> {
+        self.pending
+            .iter()
+            .map(|f| f.time_s)
+            .find(|&e| e > t_s + 1e-12)
+    }
+
     /// Emissions still to come.
     pub fn pending_emissions(&self) -> usize {
         self.pending.len()
