@@ -78,6 +78,10 @@ pub(super) struct Detection {
 /// `detect_surface_contacts`).
 const RIDE_DRIFT: f64 = 1e-6;
 
+/// How far inside a box belt's face edges a riding sphere is not queried again (m): nearer the
+/// edges the full query decides whether it still holds.
+const RIDE_FACE_INSET_M: f64 = 1e-3;
+
 impl Detection {
     pub fn new() -> Self {
         Self {
@@ -508,6 +512,34 @@ impl Detection {
                 let surf = &registry.surfaces[s];
                 let now = &self.surf_now[s];
                 let shape = registry.apples[a].shape;
+                if let Some(ride) = cx.sleep.ride(a) {
+                    // A sphere riding over its belt's face, well inside its edges, keeps its one
+                    // hit at the same overlap (the check below would hold): not queried.
+                    if shape.is_none()
+                        && s as u32 == ride.surface
+                        && chain.len() == 1
+                        && cx.contacts.is_live(chain[0])
+                        && !cx.contacts.get(chain[0]).ref_u.is_nan()
+                        && now.exists
+                        && !now.changed
+                        && now.belt == ride.velocity
+                        && now.lin == Vec3::ZERO
+                        && now.ang == Vec3::ZERO
+                        && colliders.get(surf.collider).is_some_and(|co| {
+                            surface::over_a_box_face(
+                                &surf.shape,
+                                co,
+                                cx.frame.pos[a],
+                                RIDE_FACE_INSET_M,
+                            )
+                        })
+                    {
+                        if let Some(r) = cx.contacts.get_mut(chain[0]).record.as_mut() {
+                            r.carry(cx.clock.dt_back, time_s);
+                        }
+                        continue;
+                    }
+                }
                 if now.exists {
                     if let Some(co) = colliders.get(surf.collider) {
                         let margin = 2.0 * cx.frame.vel[a].length() * ahead + 1e-9;

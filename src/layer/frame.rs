@@ -50,12 +50,17 @@ impl Frame {
         bodies: &RigidBodySet,
         apples: &[AppleEntry],
         awake: &[u32],
+        riding: impl Fn(usize) -> bool,
         still_speed_m_s: f64,
         time_s: f64,
     ) -> Result<(), LayerError> {
         let still2 = still_speed_m_s * still_speed_m_s;
         for &k in awake {
             let k = k as usize;
+            if riding(k) {
+                // The layer carries it (`Sleep::place_riders`); rapier holds it asleep.
+                continue;
+            }
             let a = &apples[k];
             let Some(rb) = bodies.get(a.body) else {
                 return Err(LayerError::MissingBody {

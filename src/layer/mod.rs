@@ -425,10 +425,12 @@ impl ContactLayer {
         self.sleep.grow(n);
         self.sleep.notice_rapier_wakeups(islands, &self.registry);
         self.refresh_awake();
+        let sleep = &self.sleep;
         self.frame.read(
             bodies,
             &self.registry.apples,
-            self.sleep.awake(),
+            sleep.awake(),
+            |k| sleep.riding_count() > 0 && sleep.ride(k).is_some(),
             self.config.sleep.speed_m_s,
             self.clock.time_s,
         )?;

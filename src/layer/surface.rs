@@ -153,6 +153,31 @@ fn surface_hits_raw(
     }
 }
 
+/// Whether a sphere centred at `centre` lies over one face of a box surface, at least `inset`
+/// inside that face's edges (and not inside the box): there [`surface_hits`] finds that face
+/// alone, at an overlap that depends only on the distance to the face's plane, so a sphere
+/// carried along the face keeps its hit (an apple riding a belt, `super::sleep`). False for any
+/// other shape.
+pub fn over_a_box_face(
+    shape: &SurfaceShape,
+    collider: &Collider,
+    centre: Vec3,
+    inset: f64,
+) -> bool {
+    if !matches!(shape, SurfaceShape::FromCollider) {
+        return false;
+    }
+    let Some(c) = collider.shape().as_cuboid() else {
+        return false;
+    };
+    let p = collider.position().inverse_transform_point(centre);
+    let h = c.half_extents;
+    let outside = [p.x.abs() > h.x, p.y.abs() > h.y, p.z.abs() > h.z];
+    let inside_by = [h.x - p.x.abs(), h.y - p.y.abs(), h.z - p.z.abs()];
+    outside.iter().filter(|&&o| o).count() == 1
+        && (0..3).all(|i| outside[i] || inside_by[i] >= inset)
+}
+
 fn cuboid_hit(pose: &Pose, half: Vec3, centre: Vec3, radius: f64) -> Option<SurfaceHit> {
     let p = pose.inverse_transform_point(centre);
     let q = p.clamp(-half, half);
