@@ -547,6 +547,47 @@ mod tests {
         }
     }
 
+    /// A riding sphere is left unqueried only over one face of a box, at least the inset inside
+    /// its edges, where the full query gives that face alone at an overlap set by the height.
+    #[test]
+    fn over_a_box_face_only_well_inside_its_edges() {
+        let b = ColliderBuilder::cuboid(0.5, 0.15, 0.02)
+            .translation(Vec3::new(0.0, 0.0, -0.02))
+            .build();
+        let over = |x: f64, y: f64, z: f64| {
+            over_a_box_face(&SurfaceShape::FromCollider, &b, Vec3::new(x, y, z), 1e-3)
+        };
+        assert!(over(0.0, 0.0, 0.0399));
+        assert!(over(0.498, 0.148, 0.0399));
+        assert!(!over(0.4995, 0.0, 0.0399), "within the inset of an edge");
+        assert!(!over(0.51, 0.0, 0.0399), "past the end");
+        assert!(!over(0.51, 0.16, 0.0399), "over a corner");
+        assert!(!over(0.0, 0.0, -0.02), "inside the box");
+        // Where it holds, the full query finds the face alone, the overlap the same to the bit.
+        let mut first = None;
+        for x in [-0.45, 0.0, 0.3, 0.498] {
+            let mut hits = Vec::new();
+            surface_hits(
+                &SurfaceShape::FromCollider,
+                &b,
+                Vec3::new(x, 0.1, 0.0399),
+                0.04,
+                0.01,
+                &mut hits,
+            );
+            assert_eq!(hits.len(), 1, "{hits:?}");
+            assert!((hits[0].overlap_m - 1e-4).abs() < 1e-15);
+            assert_eq!(*first.get_or_insert(hits[0].overlap_m), hits[0].overlap_m);
+        }
+        let ball = ColliderBuilder::ball(0.5).build();
+        assert!(!over_a_box_face(
+            &SurfaceShape::FromCollider,
+            &ball,
+            Vec3::new(0.0, 0.0, 0.6),
+            1e-3
+        ));
+    }
+
     #[test]
     fn box_and_trough() {
         let b = ColliderBuilder::cuboid(0.5, 0.5, 0.1).build();
