@@ -221,26 +221,24 @@ fn one_thread_and_two_write_identical_files() {
 /// same bytes with one thread and two, in every file (summary.json's `apples[].fed` included).
 #[test]
 fn a_moving_source_writes_the_same_bytes_with_one_thread_and_two() {
-    let base = std::env::temp_dir().join(format!("applesim-head-{}", std::process::id()));
-    let (a, b) = (base.join("t1"), base.join("t2"));
-    let sc = repo("scenarios/lines/bin_filler_head.json");
-    run_cli(&sc, &a, &["--threads", "1"]);
-    run_cli(&sc, &b, &["--threads", "2"]);
-    let f = assert_same_files("bin_filler_head, --threads 1 and 2", &a, &b);
-    assert!(f.len() >= 6, "{f:?}");
-    let _ = std::fs::remove_dir_all(&base);
+    same_bytes_with_one_thread_and_two("scenarios/lines/bin_filler_head.json", "head");
 }
 
 /// Issue 30: apples riding a belt (the handling line: its 20 apples ride the belt until its end,
 /// and are woken there) write the same bytes with one thread and two.
 #[test]
 fn riders_write_the_same_bytes_with_one_thread_and_two() {
-    let base = std::env::temp_dir().join(format!("applesim-riders-{}", std::process::id()));
+    same_bytes_with_one_thread_and_two("scenarios/handling_line.json", "riders");
+}
+
+/// Runs a shipped scenario with `--threads 1` and `--threads 2` and compares every file.
+fn same_bytes_with_one_thread_and_two(scenario: &str, tag: &str) {
+    let base = std::env::temp_dir().join(format!("applesim-{tag}-{}", std::process::id()));
     let (a, b) = (base.join("t1"), base.join("t2"));
-    let sc = repo("scenarios/handling_line.json");
+    let sc = repo(scenario);
     run_cli(&sc, &a, &["--threads", "1"]);
     run_cli(&sc, &b, &["--threads", "2"]);
-    let f = assert_same_files("handling_line, --threads 1 and 2", &a, &b);
+    let f = assert_same_files(&format!("{scenario}, --threads 1 and 2"), &a, &b);
     assert!(f.len() >= 6, "{f:?}");
     let _ = std::fs::remove_dir_all(&base);
 }

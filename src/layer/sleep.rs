@@ -359,36 +359,41 @@ impl Sleep {
                     self.still_time[k] = 0.0;
                     self.mean_force[k] = Vec3::NAN;
                     self.mean_torque[k] = Vec3::NAN;
-                    self.sleep_force[k] = loads.force[k];
-                    frame.vel[k] = velocity;
-                    frame.angvel[k] = Vec3::ZERO;
-                    loads.force[k] = Vec3::ZERO;
-                    loads.torque[k] = Vec3::ZERO;
-                    loads.loaded[k] = false;
-                    if let Some(rb) = bodies.get_mut(apples[k].body) {
-                        // Asleep in rapier: the layer carries it (`place_riders`).
-                        rb.reset_forces(false);
-                        rb.reset_torques(false);
-                        rb.sleep();
-                    }
+                    // The layer carries it (`place_riders`).
+                    self.freeze(k, velocity, bodies, apples, frame, loads);
                     continue;
                 }
                 self.asleep[k] = true;
                 self.asleep_count += 1;
                 self.dirty = true;
-                self.sleep_force[k] = loads.force[k];
-                frame.vel[k] = Vec3::ZERO;
-                frame.angvel[k] = Vec3::ZERO;
                 frame.still[k] = true;
-                loads.force[k] = Vec3::ZERO;
-                loads.torque[k] = Vec3::ZERO;
-                loads.loaded[k] = false;
-                if let Some(rb) = bodies.get_mut(apples[k].body) {
-                    rb.reset_forces(false);
-                    rb.reset_torques(false);
-                    rb.sleep();
-                }
+                self.freeze(k, Vec3::ZERO, bodies, apples, frame, loads);
             }
+        }
+    }
+
+    /// Stops evaluating apple `k` (it falls asleep, or begins to ride a belt): it keeps the
+    /// contact force it carries, moves at `velocity` without turning, and rapier holds its body
+    /// asleep with no force on it.
+    fn freeze(
+        &mut self,
+        k: usize,
+        velocity: Vec3,
+        bodies: &mut RigidBodySet,
+        apples: &[AppleEntry],
+        frame: &mut Frame,
+        loads: &mut Loads,
+    ) {
+        self.sleep_force[k] = loads.force[k];
+        frame.vel[k] = velocity;
+        frame.angvel[k] = Vec3::ZERO;
+        loads.force[k] = Vec3::ZERO;
+        loads.torque[k] = Vec3::ZERO;
+        loads.loaded[k] = false;
+        if let Some(rb) = bodies.get_mut(apples[k].body) {
+            rb.reset_forces(false);
+            rb.reset_torques(false);
+            rb.sleep();
         }
     }
 }
