@@ -522,9 +522,7 @@ impl Detection {
                         && !cx.contacts.get(chain[0]).ref_u.is_nan()
                         && now.exists
                         && !now.changed
-                        && now.belt == ride.velocity
-                        && now.lin == Vec3::ZERO
-                        && now.ang == Vec3::ZERO
+                        && now.running_belt() == Some(ride.velocity)
                         && colliders.get(surf.collider).is_some_and(|co| {
                             surface::over_a_box_face(
                                 &surf.shape,
@@ -576,11 +574,8 @@ impl Detection {
                     // wakes, and this detection is redone with it awake.
                     let holds = if s as u32 == ride.surface {
                         let now = &self.surf_now[s];
-                        let belt_same = now.belt == ride.velocity
-                            && now.lin == Vec3::ZERO
-                            && now.ang == Vec3::ZERO
-                            && !now.changed;
-                        belt_same
+                        !now.changed
+                            && now.running_belt() == Some(ride.velocity)
                             && hits.len() == 1
                             && chain.len() == 1
                             && cx.contacts.is_live(chain[0])
@@ -752,15 +747,12 @@ impl Detection {
                     };
                     if hit.overlap_m > 0.0 {
                         cx.contacts.see(slot, epoch);
-                        let now = &self.surf_now[s];
-                        if now.belt != Vec3::ZERO
-                            && now.lin == Vec3::ZERO
-                            && now.ang == Vec3::ZERO
-                            && surf.turned_by_contacts.is_none()
+                        if let (Some(v), None) =
+                            (self.surf_now[s].running_belt(), surf.turned_by_contacts)
                         {
-                            // A running belt on a fixed body: its material moves at one
-                            // velocity everywhere, for ever (an apple may ride it).
-                            cx.frame.carrier[a] = Some((s as u32, now.belt));
+                            // Its material moves at one velocity everywhere, for ever: an apple
+                            // may ride it.
+                            cx.frame.carrier[a] = Some((s as u32, v));
                         }
                         let c = cx.contacts.get_mut(slot);
                         c.ref_u = f64::NAN;

@@ -82,6 +82,14 @@ impl SurfaceNow {
         self.lin + self.ang.cross(p - self.com)
     }
 
+    /// A running belt on a body that does not move: the one velocity of its material everywhere
+    /// (an apple at rest on it may ride it, `super::sleep`); `None` for any other surface.
+    #[inline]
+    pub fn running_belt(&self) -> Option<Vec3> {
+        (self.belt != Vec3::ZERO && self.lin == Vec3::ZERO && self.ang == Vec3::ZERO)
+            .then_some(self.belt)
+    }
+
     /// Reads the surface's pose and motion. Returns what changed and whether the candidate lists
     /// must be rebuilt (it appeared, vanished, or moved by more than `half_skin` since the last
     /// rebuild).

@@ -125,6 +125,13 @@ impl Sleep {
         }
     }
 
+    /// Apple `k` starts being still from nothing (woken, or begun to ride).
+    fn restart_stillness(&mut self, k: usize) {
+        self.still_time[k] = 0.0;
+        self.mean_force[k] = Vec3::NAN;
+        self.mean_torque[k] = Vec3::NAN;
+    }
+
     /// The riders' centres and velocities at time `t_s` into the frame (rapier does not move
     /// them: they sleep in it while they ride).
     pub fn place_riders(&self, frame: &mut Frame, t_s: f64) {
@@ -207,9 +214,7 @@ impl Sleep {
                 if self.asleep[k] {
                     self.asleep[k] = false;
                     self.asleep_count -= 1;
-                    self.still_time[k] = 0.0;
-                    self.mean_force[k] = Vec3::NAN;
-                    self.mean_torque[k] = Vec3::NAN;
+                    self.restart_stillness(k);
                     self.dirty = true;
                 }
             }
@@ -241,9 +246,7 @@ impl Sleep {
                 // Awake in rapier again, where the belt has carried it, at the belt's velocity;
                 // its contact is evaluated again from this step's detection on.
                 self.riding_count -= 1;
-                self.still_time[k] = 0.0;
-                self.mean_force[k] = Vec3::NAN;
-                self.mean_torque[k] = Vec3::NAN;
+                self.restart_stillness(k);
                 if let Some(rb) = bodies.get_mut(apples[k].body) {
                     let a = &apples[k];
                     let rot = *rb.rotation();
@@ -259,9 +262,7 @@ impl Sleep {
             }
             self.asleep[k] = false;
             self.asleep_count -= 1;
-            self.still_time[k] = 0.0;
-            self.mean_force[k] = Vec3::NAN;
-            self.mean_torque[k] = Vec3::NAN;
+            self.restart_stillness(k);
             self.dirty = true;
             if let Some(rb) = bodies.get_mut(apples[k].body) {
                 rb.wake_up(true);
@@ -356,9 +357,7 @@ impl Sleep {
                         since_s: t_s,
                     });
                     self.riding_count += 1;
-                    self.still_time[k] = 0.0;
-                    self.mean_force[k] = Vec3::NAN;
-                    self.mean_torque[k] = Vec3::NAN;
+                    self.restart_stillness(k);
                     // The layer carries it (`place_riders`).
                     self.freeze(k, velocity, bodies, apples, frame, loads);
                     continue;
