@@ -171,15 +171,12 @@ fn one_thread_and_two_write_identical_files() {
     let sc = grid_pile();
     let path = base.join("pile.json");
     std::fs::write(&path, serde_json::to_vec_pretty(&sc).unwrap()).unwrap();
-    let (a, b) = (base.join("t1"), base.join("t2"));
-    run_cli(&path, &a, &["--threads", "1"]);
-    run_cli(&path, &b, &["--threads", "2"]);
+    let (a, f) = one_thread_and_two(&path, &base, "t", "--threads 1 and 2");
     let contacts = std::fs::read_to_string(a.join("contacts.csv")).unwrap();
     assert!(
         contacts.lines().count() > 300,
         "the pile should produce many contacts"
     );
-    let f = assert_same_files("--threads 1 and 2", &a, &b);
     assert!(f.len() >= 6, "{f:?}");
     // Gzipped (output.compress): the same bytes at one thread and two, every CSV as NAME.csv.gz,
     // holding the plain run's text, and summary.json's contact list in contacts.json.gz.
@@ -187,10 +184,7 @@ fn one_thread_and_two_write_identical_files() {
     gz["output"]["compress"] = serde_json::json!(true);
     let gz_path = base.join("pile_gz.json");
     std::fs::write(&gz_path, serde_json::to_vec_pretty(&gz).unwrap()).unwrap();
-    let (c, d) = (base.join("gz1"), base.join("gz2"));
-    run_cli(&gz_path, &c, &["--threads", "1"]);
-    run_cli(&gz_path, &d, &["--threads", "2"]);
-    let g = assert_same_files("gzipped, --threads 1 and 2", &c, &d);
+    let (c, g) = one_thread_and_two(&gz_path, &base, "gz", "gzipped, --threads 1 and 2");
     let plain_csv: BTreeSet<String> = f
         .iter()
         .map(|p| p.display().to_string())
@@ -234,13 +228,25 @@ fn riders_write_the_same_bytes_with_one_thread_and_two() {
 /// Runs a shipped scenario with `--threads 1` and `--threads 2` and compares every file.
 fn same_bytes_with_one_thread_and_two(scenario: &str, tag: &str) {
     let base = std::env::temp_dir().join(format!("applesim-{tag}-{}", std::process::id()));
-    let (a, b) = (base.join("t1"), base.join("t2"));
-    let sc = repo(scenario);
-    run_cli(&sc, &a, &["--threads", "1"]);
-    run_cli(&sc, &b, &["--threads", "2"]);
-    let f = assert_same_files(&format!("{scenario}, --threads 1 and 2"), &a, &b);
+    let what = format!("{scenario}, --threads 1 and 2");
+    let (_, f) = one_thread_and_two(&repo(scenario), &base, "t", &what);
     assert!(f.len() >= 6, "{f:?}");
     let _ = std::fs::remove_dir_all(&base);
+}
+
+/// Runs `scenario` into `base/{tag}1` with one thread and `base/{tag}2` with two, checks that
+/// they hold the same files with the same bytes, and returns the first folder and the files.
+fn one_thread_and_two(
+    scenario: &Path,
+    base: &Path,
+    tag: &str,
+    what: &str,
+) -> (PathBuf, BTreeSet<PathBuf>) {
+    let (a, b) = (base.join(format!("{tag}1")), base.join(format!("{tag}2")));
+    run_cli(scenario, &a, &["--threads", "1"]);
+    run_cli(scenario, &b, &["--threads", "2"]);
+    let f = assert_same_files(what, &a, &b);
+    (a, f)
 }
 
 /// Issue 29: spheroids (the 288-apple grid of `one_thread_and_two_write_identical_files` with
@@ -256,10 +262,7 @@ fn spheroids_write_the_same_bytes_with_one_thread_and_two() {
     sc["generators"][0]["aspect"] = serde_json::json!({ "mean": 0.85, "spread": 0.05 });
     let path = base.join("pile.json");
     std::fs::write(&path, serde_json::to_vec_pretty(&sc).unwrap()).unwrap();
-    let (a, b) = (base.join("t1"), base.join("t2"));
-    run_cli(&path, &a, &["--threads", "1"]);
-    run_cli(&path, &b, &["--threads", "2"]);
-    let f = assert_same_files("spheroids, --threads 1 and 2", &a, &b);
+    let (a, f) = one_thread_and_two(&path, &base, "t", "spheroids, --threads 1 and 2");
     let bodies = std::fs::read_to_string(a.join("bodies.csv")).unwrap();
     assert!(
         bodies
