@@ -202,6 +202,9 @@ impl StepsSetBy {
 pub struct BenchReport {
     /// Rayon threads the run had (`--threads`).
     pub threads: usize,
+    /// rapier body sets the apples were spread over, stepped concurrently (1 on one thread, or
+    /// with fewer than [`crate::world::APPLE_SETS_MIN_APPLES`] apples).
+    pub body_sets: usize,
     /// Apples at the start.
     pub apples: usize,
     /// Steps taken.
@@ -350,6 +353,7 @@ pub fn run(sc: &Scenario, base_dir: &Path, windows: &[Window]) -> Result<BenchRe
         .collect();
     Ok(BenchReport {
         threads: rayon::current_num_threads(),
+        body_sets: sim.world().body_set_count(),
         apples,
         steps: sim.steps_done(),
         time_step_s,

@@ -495,7 +495,7 @@ fn the_world_builds_a_spheroid_body() {
     let mut w = world::build(&sc, Path::new(".")).unwrap();
     // rapier computes a body's mass properties in its first step; a step of length zero.
     w.refresh_pairs();
-    let body = |k: usize| &w.physics.bodies[w.apple_bodies[k]];
+    let body = |k: usize| w.apple_body(k);
     // The spheroid: m (a^2 + c^2) / 5 about an equatorial axis, 2 m a^2 / 5 about its own.
     let (m, a2, c2) = (0.2, 0.04f64 * 0.04, 0.036f64 * 0.036);
     let rb = body(0);

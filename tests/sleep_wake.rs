@@ -181,8 +181,9 @@ fn a_sleeper_that_rapier_wakes_is_awake_again() {
     step_to(&mut sim, 0.4);
     assert!(asleep(&sim, 0));
     let w = sim.world_mut();
-    let bh = w.apple_bodies[0];
-    w.physics.bodies[bh].apply_impulse(rapier3d_f64::math::Vector::new(0.02, 0.0, 0.0), true);
+    w.apple_body_mut(0)
+        .expect("apple body")
+        .apply_impulse(rapier3d_f64::math::Vector::new(0.02, 0.0, 0.0), true);
     step_to(&mut sim, 0.41);
     assert!(!asleep(&sim, 0), "rapier woke it: the layer must see it");
     let s = &sim.apple_states()[0];

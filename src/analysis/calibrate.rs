@@ -10,7 +10,7 @@
 //! restitution rises monotonically, until the simulated restitution matches the target.
 
 use crate::contact::{material::effective_modulus, normal, theory};
-use crate::layer::LayerError;
+use crate::layer::{LayerError, StepRequest};
 use crate::math::vec3;
 use crate::scenario::surfaces::{PaddingSpec, PlaneSpec};
 use crate::scenario::{
@@ -432,13 +432,7 @@ pub fn step_until<T>(
     let mut w = world::build(sc, Path::new("."))?;
     for step in 0..=max_steps {
         let t = step as f64 * dt;
-        let taken = w.layer.apply_forces(
-            &mut w.physics.bodies,
-            &w.physics.colliders,
-            &w.physics.islands,
-            t,
-            dt,
-        )?;
+        let taken = w.force_pass(&StepRequest::fixed(t, dt))?;
         if let Some(v) = done(&mut w, taken, step) {
             return Ok(Some(v));
         }
@@ -478,7 +472,7 @@ pub fn simulate_impact(setup: &ImpactSetup, ke: f64, v0: f64) -> Result<Impact, 
                 time_step_s: dt,
             });
         }
-        let vz = w.physics.bodies[w.apple_bodies[0]].linvel().z;
+        let vz = w.apple_body(0).linvel().z;
         let turned_back = rising && vz <= 0.0;
         rising |= vz > 0.0;
         (turned_back || step >= max_steps).then(|| Impact {

@@ -47,13 +47,14 @@ fn opt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
 
 fn print_table(name: &str, r: &BenchReport) {
     println!(
-        "{name}: {} apples, {} steps of {} s ({} s simulated), {} thread(s)",
+        "{name}: {} apples, {} steps of {} s ({} s simulated), {} thread(s), {} rapier body set(s)",
         r.apples,
         r.steps,
         r.time_step_s,
         // The sum of the steps, without the last digits of its rounding (0.030000000000000002).
         (r.simulated_time_s * 1e9).round() / 1e9,
-        r.threads
+        r.threads,
+        r.body_sets
     );
     println!(
         "{:<22} {:>8} {:>10} {:>14} {:>11} {:>7} {:>15} {:>18} {:>12}  steps set by",

@@ -2,12 +2,13 @@
 //! poses (read from rapier once per step), how many contacts it has, and the loads the force pass
 //! sums for it, handed to rapier at the end of the pass.
 
+use super::bodies::BodySets;
 use super::config::StepControl;
 use super::error::LayerError;
 use super::registry::AppleEntry;
 use super::SurfaceId;
 use crate::math::{is_finite, Vec3};
-use rapier3d_f64::dynamics::{RigidBodyHandle, RigidBodySet};
+use rapier3d_f64::dynamics::RigidBodyHandle;
 use rapier3d_f64::math::Rotation;
 
 /// Poses and motion of the apples at the current poses (awake apples only: a sleeper keeps what
@@ -47,7 +48,7 @@ impl Frame {
     /// before it can spread.
     pub fn read(
         &mut self,
-        bodies: &RigidBodySet,
+        bodies: &BodySets,
         apples: &[AppleEntry],
         awake: &[u32],
         riding: impl Fn(usize) -> bool,
@@ -147,7 +148,7 @@ impl Loads {
     #[allow(clippy::too_many_arguments)]
     pub fn hand_to_rapier(
         &mut self,
-        bodies: &mut RigidBodySet,
+        bodies: &mut BodySets,
         apples: &[AppleEntry],
         awake: &[u32],
         idle: impl Fn(usize) -> bool,
@@ -190,7 +191,7 @@ impl Loads {
             }
         }
         for (h, f, p) in self.body_loads.drain(..) {
-            if let Some(rb) = bodies.get_mut(h) {
+            if let Some(rb) = bodies.main.get_mut(h) {
                 if rb.is_dynamic() {
                     rb.add_force_at_point(f, p, true);
                 }

@@ -75,6 +75,7 @@
 //! | `outputs` | finished contacts, slips, the step's figures |
 
 mod adaptive;
+mod bodies;
 mod clock;
 mod config;
 mod contacts;
@@ -91,6 +92,7 @@ mod scene;
 mod sleep;
 pub mod surface;
 
+pub use bodies::{BodyRef, BodySets};
 pub use clock::{growth_cap, land, StepLimit, StepRequest};
 pub use config::{
     Coefficients, Guard, LayerConfig, Padding, SleepConfig, StepControl, SurfaceOptions,
@@ -110,7 +112,7 @@ use detect::{Detection, Parts};
 use frame::{Frame, Loads};
 use kernel::{Inputs, Kernel};
 use outputs::Outputs;
-use rapier3d_f64::dynamics::{IslandManager, RigidBodyHandle, RigidBodySet};
+use rapier3d_f64::dynamics::{IslandManager, RigidBodySet};
 use rapier3d_f64::geometry::{ColliderHandle, ColliderSet};
 use registry::Registry;
 use sleep::Sleep;
@@ -209,17 +211,20 @@ impl ContactLayer {
     /// Registers a dynamic rigid body without a collider as an apple: a ball of `radius_m`
     /// centred on the body's centre of mass, with the body's mass and (isotropic) inertia, from
     /// its mass properties as built (`additional_mass_properties`) or as rapier computed them.
+    ///
+    /// `body` is a handle in `bodies`: a bare handle for rapier's own set, or a [`BodyRef`] into
+    /// an apple set (then `bodies` is that set; see [`BodySets`] and [`Self::step_in`]).
     pub fn add_apple_body(
         &mut self,
         bodies: &RigidBodySet,
-        body: RigidBodyHandle,
+        body: impl Into<BodyRef>,
         radius_m: f64,
         material: MaterialId,
         name: &str,
     ) -> Result<AppleId, LayerError> {
         let id = self
             .registry
-            .add_apple_body(bodies, body, radius_m, material, name)?;
+            .add_apple_body(bodies, body.into(), radius_m, material, name)?;
         self.apple_added(id);
         Ok(id)
     }
@@ -228,18 +233,19 @@ impl ContactLayer {
     /// radius `shape.a`, polar half-height `shape.c` along the body's own z axis, centred on its
     /// centre of mass (docs/shape.md). Give the body the spheroid's principal inertia
     /// ([`Spheroid::principal_inertia`]) and enable its gyroscopic forces (a spheroid's are not
-    /// zero). A sphere (a = c) is the same as [`add_apple_body`](Self::add_apple_body).
+    /// zero). A sphere (a = c) is the same as [`add_apple_body`](Self::add_apple_body), and
+    /// `body` may lie in an apple set as there.
     pub fn add_spheroid_body(
         &mut self,
         bodies: &RigidBodySet,
-        body: RigidBodyHandle,
+        body: impl Into<BodyRef>,
         shape: Spheroid,
         material: MaterialId,
         name: &str,
     ) -> Result<AppleId, LayerError> {
         let id = self
             .registry
-            .add_spheroid_body(bodies, body, shape, material, name)?;
+            .add_spheroid_body(bodies, body.into(), shape, material, name)?;
         self.apple_added(id);
         Ok(id)
     }
@@ -323,15 +329,30 @@ impl ContactLayer {
         islands: &IslandManager,
         request: &StepRequest,
     ) -> Result<f64, LayerError> {
+        self.step_in(BodySets::one(bodies, islands), colliders, request)
+    }
+
+    /// [`Self::step`] with the apples' bodies spread over several sets: rapier's own (with the
+    /// surfaces) and apple sets, worlds of collider-less apples that the caller steps
+    /// concurrently with rapier's own after this call (each with the same gravity and
+    /// integration parameters; `World::advance` does it). See [`BodySets`] for why this changes
+    /// no result.
+    pub fn step_in(
+        &mut self,
+        mut bodies: BodySets,
+        colliders: &ColliderSet,
+        request: &StepRequest,
+    ) -> Result<f64, LayerError> {
+        let bodies = &mut bodies;
         self.clock.begin(request);
         self.registry.ensure_laws();
-        self.gather(bodies, islands)?;
+        self.gather(bodies)?;
         if self.config.passive {
             self.out.stats = StepStats::fresh();
             return Ok(request.dt_s);
         }
         self.detection
-            .observe_surfaces(bodies, colliders, &self.registry, &mut self.sleep);
+            .observe_surfaces(bodies.main, colliders, &self.registry, &mut self.sleep);
         self.wake_requested(bodies);
         let mut redone = false;
         loop {
@@ -418,12 +439,12 @@ impl ContactLayer {
     /// Reads the awake apples' current state from rapier. A sleeper costs nothing here: one that
     /// rapier woke (the user moved it, or gave it an impulse with `wake_up`) shows up in rapier's
     /// active set and is taken as awake again.
-    fn gather(&mut self, bodies: &RigidBodySet, islands: &IslandManager) -> Result<(), LayerError> {
+    fn gather(&mut self, bodies: &BodySets) -> Result<(), LayerError> {
         let n = self.registry.apples.len();
         self.frame.begin(n);
         self.loads.begin(n, self.config.step_control.is_some());
         self.sleep.grow(n);
-        self.sleep.notice_rapier_wakeups(islands, &self.registry);
+        self.sleep.notice_rapier_wakeups(bodies, &self.registry);
         self.refresh_awake();
         let sleep = &self.sleep;
         self.frame.read(
@@ -438,7 +459,7 @@ impl ContactLayer {
         Ok(())
     }
 
-    fn wake_requested(&mut self, bodies: &mut RigidBodySet) {
+    fn wake_requested(&mut self, bodies: &mut BodySets) {
         self.sleep
             .wake_requested(bodies, &self.registry.apples, self.clock.time_s);
         self.refresh_awake();

@@ -3,6 +3,7 @@
 //! shapes, belts). Everything here is set at registration and read by every step; nothing here
 //! changes while the world steps.
 
+use super::bodies::BodyRef;
 use super::config::{Coefficients, LayerConfig, SurfaceOptions};
 use super::error::LayerError;
 use super::hooks::{ContactHooks, Role};
@@ -12,7 +13,7 @@ use crate::contact::{self, Material, PairLaw};
 use crate::math::Vec3;
 use crate::record::events::{Names, Party};
 use rapier3d_f64::data::Coarena;
-use rapier3d_f64::dynamics::{RigidBodyAdditionalMassProps, RigidBodyHandle, RigidBodySet};
+use rapier3d_f64::dynamics::{RigidBodyAdditionalMassProps, RigidBodySet};
 use rapier3d_f64::geometry::{ColliderHandle, ColliderSet, InteractionGroups};
 use rapier3d_f64::pipeline::ActiveHooks;
 use std::collections::HashMap;
@@ -34,7 +35,7 @@ pub struct SurfaceId(pub u32);
 #[derive(Debug, Clone)]
 pub(super) struct AppleEntry {
     pub name: Arc<str>,
-    pub body: RigidBodyHandle,
+    pub body: BodyRef,
     /// Centre of the ball in the body's frame.
     pub offset: Vec3,
     /// The ball is centred on the body's centre of mass: its centre is the body's translation
@@ -80,7 +81,8 @@ pub(super) struct Registry {
     /// Registered colliders: role and index (also the hooks rapier calls).
     pub hooks: ContactHooks,
     /// Apple of each registered rigid body (rapier's wake-ups are reported by body).
-    apple_of_body: Coarena<u32>,
+    /// Per body set (see [`BodyRef`]).
+    apple_of_body: Vec<Coarena<u32>>,
 }
 
 impl Registry {
@@ -94,7 +96,7 @@ impl Registry {
             apples: Vec::new(),
             surfaces: Vec::new(),
             hooks: ContactHooks::default(),
-            apple_of_body: Coarena::new(),
+            apple_of_body: Vec::new(),
         }
     }
 
@@ -207,7 +209,7 @@ impl Registry {
         }
         let id = self.push_apple(AppleEntry {
             name: name.into(),
-            body,
+            body: body.into(),
             offset,
             centred: false,
             radius,
@@ -226,7 +228,7 @@ impl Registry {
     pub fn add_apple_body(
         &mut self,
         bodies: &RigidBodySet,
-        body: RigidBodyHandle,
+        body: BodyRef,
         radius_m: f64,
         material: MaterialId,
         name: &str,
@@ -235,7 +237,7 @@ impl Registry {
             return Err(LayerError::Duplicate(name.to_string()));
         }
         let rb = bodies
-            .get(body)
+            .get(body.handle)
             .ok_or_else(|| LayerError::NoMass(name.to_string()))?;
         let mprops = rb.mass_properties();
         let mut mp = mprops.local_mprops;
@@ -271,7 +273,7 @@ impl Registry {
     pub fn add_spheroid_body(
         &mut self,
         bodies: &RigidBodySet,
-        body: RigidBodyHandle,
+        body: BodyRef,
         shape: Spheroid,
         material: MaterialId,
         name: &str,
@@ -291,7 +293,11 @@ impl Registry {
 
     fn push_apple(&mut self, entry: AppleEntry) -> AppleId {
         let id = self.apples.len() as u32;
-        self.apple_of_body.insert(entry.body.0, id);
+        let set = entry.body.set as usize;
+        if self.apple_of_body.len() <= set {
+            self.apple_of_body.resize_with(set + 1, Coarena::new);
+        }
+        self.apple_of_body[set].insert(entry.body.handle.0, id);
         self.apples.push(entry);
         AppleId(id)
     }
@@ -335,8 +341,11 @@ impl Registry {
 
     /// The apple of a rigid body, if it is one.
     #[inline]
-    pub fn apple_of(&self, h: RigidBodyHandle) -> Option<usize> {
-        self.apple_of_body.get(h.0).map(|&k| k as usize)
+    pub fn apple_of(&self, r: BodyRef) -> Option<usize> {
+        self.apple_of_body
+            .get(r.set as usize)?
+            .get(r.handle.0)
+            .map(|&k| k as usize)
     }
 
     /// Name of a party of a contact.

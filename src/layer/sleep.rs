@@ -21,11 +21,11 @@
 //! This module owns every piece of sleep state; the rest of the layer reads it (the awake list,
 //! who sleeps, who rides) and asks for wake-ups ([`Sleep::request_wake`]).
 
+use super::bodies::BodySets;
 use super::config::SleepConfig;
 use super::frame::{Frame, Loads};
 use super::registry::{AppleEntry, Registry};
 use crate::math::Vec3;
-use rapier3d_f64::dynamics::{IslandManager, RigidBodySet};
 
 /// An apple riding a running belt (see the module's doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -200,11 +200,11 @@ impl Sleep {
 
     /// Sleepers that rapier woke (the user moved one, or gave it an impulse with `wake_up`) show
     /// up in rapier's active set: they are awake again. Costs nothing when nobody sleeps.
-    pub fn notice_rapier_wakeups(&mut self, islands: &IslandManager, registry: &Registry) {
+    pub fn notice_rapier_wakeups(&mut self, bodies: &BodySets, registry: &Registry) {
         if !self.sleeping_any(registry.apples.len()) && self.riding_count == 0 {
             return;
         }
-        for h in islands.active_bodies() {
+        for h in bodies.active() {
             if let Some(k) = registry.apple_of(h) {
                 if self.riding[k].is_some() {
                     // A rider rapier woke (the user touched its body): it rides no more.
@@ -239,7 +239,7 @@ impl Sleep {
 
     /// Wakes the apples asked for (in the layer and in rapier); `t_s` is the time of the
     /// current poses (where a rider is put back into rapier).
-    pub fn wake_requested(&mut self, bodies: &mut RigidBodySet, apples: &[AppleEntry], t_s: f64) {
+    pub fn wake_requested(&mut self, bodies: &mut BodySets, apples: &[AppleEntry], t_s: f64) {
         for k in std::mem::take(&mut self.to_wake) {
             let k = k as usize;
             if let Some(ride) = self.riding[k].take() {
@@ -277,7 +277,7 @@ impl Sleep {
         &mut self,
         cfg: &SleepConfig,
         gravity: Vec3,
-        bodies: &mut RigidBodySet,
+        bodies: &mut BodySets,
         apples: &[AppleEntry],
         frame: &mut Frame,
         loads: &mut Loads,
@@ -378,7 +378,7 @@ impl Sleep {
         &mut self,
         k: usize,
         velocity: Vec3,
-        bodies: &mut RigidBodySet,
+        bodies: &mut BodySets,
         apples: &[AppleEntry],
         frame: &mut Frame,
         loads: &mut Loads,

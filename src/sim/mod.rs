@@ -430,9 +430,9 @@ impl Simulation {
     fn refresh_states(&mut self) {
         let layer = &self.world.layer;
         self.states.clear();
-        for (k, &bh) in self.world.apple_bodies.iter().enumerate() {
+        for k in 0..self.world.apple_bodies.len() {
             let id = AppleId(k as u32);
-            let rb = &self.world.physics.bodies[bh];
+            let rb = self.world.apple_body(k);
             // A rider sleeps in rapier where it began to ride: the layer carries it.
             let (position, velocity) = match layer.rider_motion(id, self.time_s) {
                 Some((c, v)) => (c, v),
@@ -557,12 +557,7 @@ impl Simulation {
     /// Computes the forces at the current poses for the coming step and returns its length.
     fn force_pass(&mut self, request: &StepRequest) -> Result<f64, LayerError> {
         let w = &mut self.world;
-        let dt = w.layer.step(
-            &mut w.physics.bodies,
-            &w.physics.colliders,
-            &w.physics.islands,
-            request,
-        )?;
+        let dt = w.force_pass(request)?;
         self.events.extend(
             w.layer
                 .take_finished_events()
@@ -624,13 +619,7 @@ impl Simulation {
         let start = inside.then(|| self.start_of_step());
         let w = &mut self.world;
         w.advance(dt);
-        if let Some(&bh) = w.physics.quarantine().bodies().first() {
-            let name = w
-                .apple_bodies
-                .iter()
-                .position(|&b| b == bh)
-                .map(|k| w.layer.apple_name(AppleId(k as u32)).to_string())
-                .unwrap_or_else(|| format!("{bh:?}"));
+        if let Some(name) = w.quarantined() {
             return Err(SimError::Quarantine {
                 field: self.step_field,
                 body: name,

@@ -63,8 +63,8 @@ pub fn speed_bound(sc: &Scenario, world: &World) -> f64 {
     let mut bottom = f64::INFINITY;
     let mut v0: f64 = 0.0;
     // The apples present now (at build: where the scenario placed them).
-    for (a, &bh) in world.roster.apples().iter().zip(&world.apple_bodies) {
-        let rb = &world.physics.bodies[bh];
+    for (k, a) in world.roster.apples().iter().enumerate() {
+        let rb = world.apple_body(k);
         let h = up.dot(rb.translation());
         top = top.max(h);
         bottom = bottom.min(h - a.radius_m);

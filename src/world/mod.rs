@@ -25,8 +25,8 @@ pub mod zones;
 use crate::contact::Material;
 use crate::contact::{LawParts, SubModels};
 use crate::layer::{
-    AppleId, Coefficients, ContactLayer, Guard, LayerConfig, LayerError, MaterialId, SleepConfig,
-    StepControl, SurfaceId,
+    AppleId, BodyRef, BodySets, Coefficients, ContactLayer, Guard, LayerConfig, LayerError,
+    MaterialId, SleepConfig, StepControl, StepRequest, SurfaceId,
 };
 use crate::math::{vec3, Vec3};
 use crate::scenario::{self, AppleSpec, ContactModel, Fidelity, Scenario, ScenarioError, TimeStep};
@@ -64,12 +64,17 @@ pub enum BuildError {
 
 /// The rapier world plus our layer, ready to step.
 pub struct World {
-    /// rapier's sets, pipeline and parameters.
+    /// rapier's sets, pipeline and parameters: the surfaces' bodies and colliders, and the apples
+    /// of body set 0.
     pub physics: PhysicsWorld,
+    /// Apple sets: worlds of collider-less apples only, stepped concurrently with `physics` (see
+    /// [`World::advance`] and [`crate::layer::BodySets`]). Empty on one thread.
+    apple_sets: Vec<PhysicsWorld>,
     /// The contact layer.
     pub layer: ContactLayer,
-    /// Rigid body of each apple, in layer order (listed, generated, then fed in).
-    pub apple_bodies: Vec<RigidBodyHandle>,
+    /// Rigid body of each apple (its set and handle), in layer order (listed, generated, then fed
+    /// in). Read a body with [`World::apple_body`].
+    pub apple_bodies: Vec<BodyRef>,
     /// Every apple in the world, in layer order: name, material, radius, mass, origin.
     pub roster: Roster,
     /// Collider of each surface part, in layer order.
@@ -313,6 +318,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     }
     let mut world = World {
         physics,
+        apple_sets: Vec::new(),
         layer,
         apple_bodies: Vec::new(),
         roster: Roster::default(),
@@ -359,6 +365,10 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             .map(|(m, _)| m.clone());
     }
     let plan = roster::plan(sc)?;
+    world.split_apples(
+        plan.initial.len() + plan.feeds.len(),
+        rayon::current_num_threads(),
+    );
     for (a, origin) in &plan.initial {
         world.add_apple(a, *origin)?;
     }
@@ -385,7 +395,108 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     Ok(world)
 }
 
+/// The rigid-body set `set` of a world (0: rapier's own; see [`BodyRef`]).
+fn body_set<'a>(
+    physics: &'a PhysicsWorld,
+    apple_sets: &'a [PhysicsWorld],
+    set: u32,
+) -> &'a RigidBodySet {
+    match set {
+        0 => &physics.bodies,
+        s => &apple_sets[s as usize - 1].bodies,
+    }
+}
+
+/// The fewest apples in a scene for its apples to be split over body sets: below this, stepping
+/// a second world costs more than its share of rapier's step (measured on the eq. 12 pile,
+/// docs/performance.md "Two threads: rapier's step split").
+pub const APPLE_SETS_MIN_APPLES: usize = 256;
+
 impl World {
+    /// Spreads the apples to come over `threads` body sets (rapier's own and `threads - 1`
+    /// apple sets), in turn by apple index, when the scene has at least
+    /// [`APPLE_SETS_MIN_APPLES`] apples in all (`apples`), more than one thread, and no apple
+    /// needs a collider (rapier's own contact with a rigid surface is in rapier's own set). Which
+    /// set an apple is in changes no bit of any result ([`crate::layer::BodySets`]).
+    pub fn split_apples(&mut self, apples: usize, threads: usize) {
+        let sets = if apples >= APPLE_SETS_MIN_APPLES && !self.apple_colliders {
+            threads.max(1)
+        } else {
+            1
+        };
+        self.apple_sets = (1..sets)
+            .map(|_| {
+                let mut w = PhysicsWorld::new();
+                w.gravity = self.physics.gravity;
+                w.integration_parameters = self.physics.integration_parameters;
+                w
+            })
+            .collect();
+    }
+
+    /// How many body sets hold apples (1: rapier's own only).
+    pub fn body_set_count(&self) -> usize {
+        1 + self.apple_sets.len()
+    }
+
+    /// The set the next apple goes into: in turn over the sets.
+    fn next_apple_set(&self) -> u32 {
+        (self.apple_bodies.len() % self.body_set_count()) as u32
+    }
+
+    /// The rigid-body set `set` (0: rapier's own; see [`BodyRef`]).
+    fn body_set_mut(&mut self, set: u32) -> &mut RigidBodySet {
+        match set {
+            0 => &mut self.physics.bodies,
+            s => &mut self.apple_sets[s as usize - 1].bodies,
+        }
+    }
+
+    /// Apple `k`'s rigid body (layer order).
+    pub fn apple_body(&self, k: usize) -> &RigidBody {
+        let r = self.apple_bodies[k];
+        &body_set(&self.physics, &self.apple_sets, r.set)[r.handle]
+    }
+
+    /// Apple `k`'s rigid body, mutably (rapier marks it modified).
+    pub fn apple_body_mut(&mut self, k: usize) -> Option<&mut RigidBody> {
+        let r = self.apple_bodies[k];
+        self.body_set_mut(r.set).get_mut(r.handle)
+    }
+
+    /// The layer's force pass at the current poses ([`ContactLayer::step_in`]) over every body
+    /// set: returns the step to take, for [`World::advance`].
+    pub fn force_pass(&mut self, request: &StepRequest) -> Result<f64, LayerError> {
+        let sets = BodySets {
+            main: &mut self.physics.bodies,
+            islands: &self.physics.islands,
+            apple_sets: &mut self.apple_sets,
+        };
+        self.layer.step_in(sets, &self.physics.colliders, request)
+    }
+
+    /// The name of a body that rapier quarantined (its state went non-finite) in any set: an
+    /// apple's name, or rapier's handle of another body.
+    pub fn quarantined(&self) -> Option<String> {
+        let sets = std::iter::once(&self.physics).chain(&self.apple_sets);
+        for (s, w) in sets.enumerate() {
+            if let Some(&handle) = w.quarantine().bodies().first() {
+                let r = BodyRef {
+                    set: s as u32,
+                    handle,
+                };
+                return Some(
+                    self.apple_bodies
+                        .iter()
+                        .position(|&b| b == r)
+                        .map(|k| self.layer.apple_name(AppleId(k as u32)).to_string())
+                        .unwrap_or_else(|| format!("{handle:?}")),
+                );
+            }
+        }
+        None
+    }
+
     /// Advances rapier by `dt_s`: the step the layer answered the force pass with (the forces it
     /// set are for that step). The step is set here, every step; the world has no step of its
     /// own.
@@ -412,7 +523,26 @@ impl World {
             }
         }
         self.physics.integration_parameters.dt = dt_s;
-        self.physics.step_with_events(self.layer.hooks(), &());
+        let hooks = self.layer.hooks();
+        if self.apple_sets.is_empty() {
+            self.physics.step_with_events(hooks, &());
+            return;
+        }
+        // The apple sets in step with rapier's own world, each on rayon's pool: they hold only
+        // collider-less apples, which touch nothing in rapier.
+        for w in &mut self.apple_sets {
+            w.integration_parameters = self.physics.integration_parameters;
+            w.gravity = self.physics.gravity;
+        }
+        let (main, sets) = (&mut self.physics, &mut self.apple_sets);
+        rayon::join(
+            || main.step_with_events(hooks, &()),
+            || {
+                use rayon::prelude::*;
+                sets.par_iter_mut()
+                    .for_each(|w| w.step_with_events(&(), &()));
+            },
+        );
     }
 
     /// The motion of the body that carries surface part `k` (layer order), and the part's pose
@@ -515,7 +645,9 @@ impl World {
             }
             let shape = a.spheroid();
             let (ieq, iax) = shape.principal_inertia(mass);
-            let bh = self.physics.bodies.insert(
+            let set = self.next_apple_set();
+            let bodies = self.body_set_mut(set);
+            let handle = bodies.insert(
                 body.gyroscopic_forces_enabled(true)
                     .additional_mass_properties(MassProperties::new(
                         Vector::ZERO,
@@ -523,43 +655,50 @@ impl World {
                         Vector::new(ieq, ieq, iax),
                     )),
             );
-            self.apple_bodies.push(bh);
+            let r = BodyRef { set, handle };
+            self.apple_bodies.push(r);
+            let bodies = body_set(&self.physics, &self.apple_sets, set);
             let id = self
                 .layer
-                .add_spheroid_body(&self.physics.bodies, bh, shape, mid, &a.name)?;
+                .add_spheroid_body(bodies, r, shape, mid, &a.name)?;
             self.roster.push(entry);
             return Ok(id);
         }
-        let id =
-            if self.apple_colliders {
-                let c = self.layer.coefficients(mid, mid);
-                let ball = ColliderBuilder::ball(radius).mass(mass);
-                let ball = if self.layer.config().passive {
-                    // rapier's own contacts between apples (the `rigid` fidelity).
-                    ball.friction(c.friction).restitution(c.ke.sqrt())
-                } else {
-                    // Touches only the rigid surfaces; the layer handles the rest.
-                    ball.friction(0.0)
-                        .restitution(0.0)
-                        .collision_groups(InteractionGroups::new(
-                            APPLE_GROUP,
-                            Group::ALL & !APPLE_GROUP & !HERTZ_SURFACE_GROUP,
-                            InteractionTestMode::And,
-                        ))
-                };
-                let (bh, ch) = self.physics.insert(body, ball);
-                self.apple_bodies.push(bh);
-                self.layer
-                    .add_apple(&mut self.physics.colliders, ch, mid, &a.name)?
+        let id = if self.apple_colliders {
+            let c = self.layer.coefficients(mid, mid);
+            let ball = ColliderBuilder::ball(radius).mass(mass);
+            let ball = if self.layer.config().passive {
+                // rapier's own contacts between apples (the `rigid` fidelity).
+                ball.friction(c.friction).restitution(c.ke.sqrt())
             } else {
-                let inertia = 0.4 * mass * radius * radius;
-                let bh = self.physics.bodies.insert(body.additional_mass_properties(
-                    MassProperties::new(Vector::ZERO, mass, Vector::splat(inertia)),
-                ));
-                self.apple_bodies.push(bh);
-                self.layer
-                    .add_apple_body(&self.physics.bodies, bh, radius, mid, &a.name)?
+                // Touches only the rigid surfaces; the layer handles the rest.
+                ball.friction(0.0)
+                    .restitution(0.0)
+                    .collision_groups(InteractionGroups::new(
+                        APPLE_GROUP,
+                        Group::ALL & !APPLE_GROUP & !HERTZ_SURFACE_GROUP,
+                        InteractionTestMode::And,
+                    ))
             };
+            let (bh, ch) = self.physics.insert(body, ball);
+            self.apple_bodies.push(bh.into());
+            self.layer
+                .add_apple(&mut self.physics.colliders, ch, mid, &a.name)?
+        } else {
+            let inertia = 0.4 * mass * radius * radius;
+            let set = self.next_apple_set();
+            let handle = self
+                .body_set_mut(set)
+                .insert(body.additional_mass_properties(MassProperties::new(
+                    Vector::ZERO,
+                    mass,
+                    Vector::splat(inertia),
+                )));
+            let r = BodyRef { set, handle };
+            self.apple_bodies.push(r);
+            let bodies = body_set(&self.physics, &self.apple_sets, set);
+            self.layer.add_apple_body(bodies, r, radius, mid, &a.name)?
+        };
         self.roster.push(entry);
         Ok(id)
     }
@@ -724,12 +863,12 @@ impl World {
     fn spot_taken_by(&self, a: &AppleSpec) -> Option<String> {
         let p = vec3(a.position_m);
         let r = a.bounding_radius_m();
-        for (k, &bh) in self.apple_bodies.iter().enumerate() {
+        for k in 0..self.apple_bodies.len() {
             let id = AppleId(k as u32);
             // A rider sleeps in rapier where it began to ride: the layer carries it.
             let q = match self.layer.rider_motion(id, self.time_s) {
                 Some((c, _)) => c,
-                None => self.physics.bodies[bh].translation(),
+                None => self.apple_body(k).translation(),
             };
             if (q - p).length() < r + self.layer.apple_radius(id) {
                 return Some(format!("apple '{}'", self.layer.apple_name(id)));
@@ -817,7 +956,7 @@ impl World {
         // The layer forgets it: a parking spot may lie inside a surface (every spot below an
         // upward plane does), which once failed the run with an overlap of 100 km.
         self.layer.take_out_apple(AppleId(k as u32));
-        if let Some(rb) = self.physics.bodies.get_mut(self.apple_bodies[k]) {
+        if let Some(rb) = self.apple_body_mut(k) {
             rb.set_linvel(Vec3::ZERO, false);
             rb.set_angvel(Vec3::ZERO, false);
             // Apples are at most 1 m wide (the diameter range): 3 m apart never touch, and
