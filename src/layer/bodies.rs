@@ -73,6 +73,28 @@ impl<'a> BodySets<'a> {
         }
     }
 
+    /// Calls `f(set, bodies)` for every set, rapier's own first; with `parallel` and apple sets,
+    /// the sets on rayon's pool (each set is written by one task only).
+    pub fn for_each_set(&mut self, parallel: bool, f: impl Fn(u32, &mut RigidBodySet) + Sync) {
+        if parallel && !self.apple_sets.is_empty() {
+            use rayon::prelude::*;
+            let (main, sets) = (&mut *self.main, &mut *self.apple_sets);
+            rayon::join(
+                || f(0, main),
+                || {
+                    sets.par_iter_mut()
+                        .enumerate()
+                        .for_each(|(s, w)| f(s as u32 + 1, &mut w.bodies))
+                },
+            );
+        } else {
+            f(0, self.main);
+            for (s, w) in self.apple_sets.iter_mut().enumerate() {
+                f(s as u32 + 1, &mut w.bodies);
+            }
+        }
+    }
+
     /// Every body rapier holds active, set by set (set 0 first).
     pub fn active(&self) -> impl Iterator<Item = BodyRef> + '_ {
         let main = self.islands.active_bodies().map(BodyRef::from);

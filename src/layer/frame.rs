@@ -45,57 +45,120 @@ impl Frame {
     }
 
     /// Reads the awake apples' current state from rapier; non-finite state is refused here,
-    /// before it can spread.
+    /// before it can spread. With many awake apples and more than one thread, the bodies are
+    /// read in parallel chunks (a body read is a cache miss each) and written in awake order:
+    /// the same frame, and the same first error, for any thread count.
     pub fn read(
         &mut self,
         bodies: &BodySets,
         apples: &[AppleEntry],
         awake: &[u32],
-        riding: impl Fn(usize) -> bool,
+        riding: impl Fn(usize) -> bool + Sync,
         still_speed_m_s: f64,
         time_s: f64,
     ) -> Result<(), LayerError> {
-        let still2 = still_speed_m_s * still_speed_m_s;
-        for &k in awake {
+        let one = |k: u32| -> Result<Option<Pose>, LayerError> {
             let k = k as usize;
             if riding(k) {
                 // The layer carries it (`Sleep::place_riders`); rapier holds it asleep.
-                continue;
+                return Ok(None);
             }
-            let a = &apples[k];
-            let Some(rb) = bodies.get(a.body) else {
-                return Err(LayerError::MissingBody {
-                    apple: a.name.to_string(),
-                    time_s,
-                });
-            };
-            let pose = rb.position();
-            let c = if a.offset == Vec3::ZERO {
-                pose.translation
-            } else {
-                pose.transform_point(a.offset)
-            };
-            let w = rb.angvel();
-            let v = if a.centred {
-                rb.linvel()
-            } else {
-                rb.linvel() + w.cross(c - rb.center_of_mass())
-            };
-            if !(is_finite(c) && is_finite(v) && is_finite(w)) {
-                return Err(LayerError::NonFinite {
-                    body: a.name.to_string(),
-                    time_s,
-                });
+            read_pose(bodies, &apples[k], still_speed_m_s, time_s).map(Some)
+        };
+        if awake.len() >= PARALLEL_MIN_READS && rayon::current_num_threads() > 1 {
+            use rayon::prelude::*;
+            let chunks: Vec<Result<Vec<(u32, Pose)>, LayerError>> = awake
+                .par_chunks(READ_CHUNK)
+                .map(|chunk| {
+                    let mut out = Vec::with_capacity(chunk.len());
+                    for &k in chunk {
+                        if let Some(p) = one(k)? {
+                            out.push((k, p));
+                        }
+                    }
+                    Ok(out)
+                })
+                .collect();
+            for chunk in chunks {
+                for (k, p) in chunk? {
+                    self.put(k as usize, p);
+                }
             }
-            self.pos[k] = c;
-            self.vel[k] = v;
-            self.angvel[k] = w;
-            self.rot[k] = pose.rotation;
-            self.still[k] =
-                v.length_squared() < still2 && w.length_squared() * a.radius * a.radius < still2;
+        } else {
+            for &k in awake {
+                if let Some(p) = one(k)? {
+                    self.put(k as usize, p);
+                }
+            }
         }
         Ok(())
     }
+
+    fn put(&mut self, k: usize, p: Pose) {
+        self.pos[k] = p.centre;
+        self.vel[k] = p.vel;
+        self.angvel[k] = p.angvel;
+        self.rot[k] = p.rot;
+        self.still[k] = p.still;
+    }
+}
+
+/// Awake apples from which [`Frame::read`] reads the bodies in parallel (below, the pool's
+/// overhead outweighs ~40 ns per body).
+const PARALLEL_MIN_READS: usize = 256;
+
+/// Apples per parallel chunk of [`Frame::read`].
+const READ_CHUNK: usize = 128;
+
+/// One apple's state as read from its body.
+#[derive(Debug, Clone, Copy)]
+struct Pose {
+    centre: Vec3,
+    vel: Vec3,
+    angvel: Vec3,
+    rot: Rotation,
+    still: bool,
+}
+
+/// Reads apple `a`'s ball centre, its velocity and spin from its body; refuses non-finite state.
+fn read_pose(
+    bodies: &BodySets,
+    a: &AppleEntry,
+    still_speed_m_s: f64,
+    time_s: f64,
+) -> Result<Pose, LayerError> {
+    let Some(rb) = bodies.get(a.body) else {
+        return Err(LayerError::MissingBody {
+            apple: a.name.to_string(),
+            time_s,
+        });
+    };
+    let pose = rb.position();
+    let c = if a.offset == Vec3::ZERO {
+        pose.translation
+    } else {
+        pose.transform_point(a.offset)
+    };
+    let w = rb.angvel();
+    let v = if a.centred {
+        rb.linvel()
+    } else {
+        rb.linvel() + w.cross(c - rb.center_of_mass())
+    };
+    if !(is_finite(c) && is_finite(v) && is_finite(w)) {
+        return Err(LayerError::NonFinite {
+            body: a.name.to_string(),
+            time_s,
+        });
+    }
+    let still2 = still_speed_m_s * still_speed_m_s;
+    Ok(Pose {
+        centre: c,
+        vel: v,
+        angvel: w,
+        rot: pose.rotation,
+        still: v.length_squared() < still2 && w.length_squared() * a.radius * a.radius < still2,
+    })
 }
 
 /// The loads the force pass sums per apple, and what is handed to rapier.
@@ -113,6 +176,8 @@ pub(super) struct Loads {
     /// The layer left a non-zero force or torque on the body at the last step (so a zero one now
     /// must be written: rapier keeps user forces).
     pub loaded: Vec<bool>,
+    /// The forces handed to rapier this step: (apple, force, torque).
+    handoff: Vec<(u32, Vec3, Vec3)>,
     /// Reaction forces on dynamic surface bodies: (body, force, point).
     pub body_loads: Vec<(RigidBodyHandle, Vec3, Vec3)>,
     /// Reaction forces on the surfaces turned by their contacts, this step, in slot order:
@@ -157,6 +222,8 @@ impl Loads {
         gravity: Vec3,
         first_step: &mut [bool],
     ) {
+        let mut handoff = std::mem::take(&mut self.handoff);
+        handoff.clear();
         for &k in awake {
             let k = k as usize;
             if idle(k) {
@@ -183,13 +250,25 @@ impl Loads {
                 continue;
             }
             self.loaded[k] = load;
-            if let Some(rb) = bodies.get_mut(a.body) {
-                rb.reset_forces(false);
-                rb.reset_torques(false);
-                rb.add_force(f, false);
-                rb.add_torque(t, false);
-            }
+            handoff.push((k as u32, f, t));
         }
+        // Each set's bodies written by one task (rapier tracks the changes per set).
+        let parallel = handoff.len() >= PARALLEL_MIN_READS;
+        bodies.for_each_set(parallel, |set, rbs| {
+            for &(k, f, t) in &handoff {
+                let r = apples[k as usize].body;
+                if r.set != set {
+                    continue;
+                }
+                if let Some(rb) = rbs.get_mut(r.handle) {
+                    rb.reset_forces(false);
+                    rb.reset_torques(false);
+                    rb.add_force(f, false);
+                    rb.add_torque(t, false);
+                }
+            }
+        });
+        self.handoff = handoff;
         for (h, f, p) in self.body_loads.drain(..) {
             if let Some(rb) = bodies.main.get_mut(h) {
                 if rb.is_dynamic() {
