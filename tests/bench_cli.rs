@@ -148,6 +148,8 @@ fn bench_text_report_and_default_window() {
         "settled pile height",
         "peak resident memory",
         "2 thread(s)",
+        // Five apples, fewer than APPLE_SETS_MIN_APPLES: all in rapier's own set.
+        "2 thread(s), 1 rapier body set(s)",
         "steps set by",
         "driver 100 %",
     ] {
