@@ -523,14 +523,25 @@ impl Detection {
                         && now.exists
                         && !now.changed
                         && now.running_belt() == Some(ride.velocity)
-                        && colliders.get(surf.collider).is_some_and(|co| {
-                            surface::over_a_box_face(
-                                &surf.shape,
-                                co,
-                                cx.frame.pos[a],
-                                RIDE_FACE_INSET_M,
-                            )
-                        })
+                        && time_s <= {
+                            if ride.face_until_s.is_nan() {
+                                // First look: until when it rides well inside the face.
+                                let left = colliders.get(surf.collider).and_then(|co| {
+                                    surface::time_over_a_box_face(
+                                        &surf.shape,
+                                        co,
+                                        cx.frame.pos[a],
+                                        ride.velocity,
+                                        RIDE_FACE_INSET_M,
+                                    )
+                                });
+                                let until = left.map_or(f64::NEG_INFINITY, |t| time_s + t);
+                                cx.sleep.set_face_until(a, until);
+                                until
+                            } else {
+                                ride.face_until_s
+                            }
+                        }
                     {
                         if let Some(r) = cx.contacts.get_mut(chain[0]).record.as_mut() {
                             r.carry(cx.clock.dt_back, time_s);

@@ -37,6 +37,10 @@ pub(super) struct Ride {
     /// Where its centre was when it began to ride (m), and when (s).
     pub from: Vec3,
     pub since_s: f64,
+    /// Until when it rides over its belt's box face well inside the edges, where its one hit
+    /// cannot change and detection need not query it (s): NaN until detection first looks
+    /// ([`super::surface::time_over_a_box_face`]), -inf when it does not ride over a box face.
+    pub face_until_s: f64,
 }
 
 impl Ride {
@@ -110,6 +114,13 @@ impl Sleep {
     #[inline]
     pub fn ride(&self, k: usize) -> Option<Ride> {
         self.riding.get(k).copied().flatten()
+    }
+
+    /// Sets until when rider `k` rides over its belt's face (see [`Ride::face_until_s`]).
+    pub fn set_face_until(&mut self, k: usize, t_s: f64) {
+        if let Some(r) = self.riding.get_mut(k).and_then(Option::as_mut) {
+            r.face_until_s = t_s;
+        }
     }
 
     /// How many apples ride a belt.
@@ -355,6 +366,7 @@ impl Sleep {
                         velocity,
                         from: frame.pos[k],
                         since_s: t_s,
+                        face_until_s: f64::NAN,
                     });
                     self.riding_count += 1;
                     self.restart_stillness(k);

@@ -178,6 +178,39 @@ pub fn over_a_box_face(
         && (0..3).all(|i| outside[i] || inside_by[i] >= inset)
 }
 
+/// How long a sphere centred at `centre`, carried at `velocity`, stays over a box surface's face
+/// with its centre at least `inset` inside the face's edges ([`over_a_box_face`] holding
+/// throughout) (s); `None` when it is not over a face now, or moves off the face's plane. A
+/// rider's detection skips the query until then (the box is fixed: a running belt's body).
+pub fn time_over_a_box_face(
+    shape: &SurfaceShape,
+    collider: &Collider,
+    centre: Vec3,
+    velocity: Vec3,
+    inset: f64,
+) -> Option<f64> {
+    if !over_a_box_face(shape, collider, centre, inset) {
+        return None;
+    }
+    let half = collider.shape().as_cuboid()?.half_extents;
+    let pose = collider.position();
+    let p = pose.inverse_transform_point(centre);
+    let v = pose.rotation.inverse() * velocity;
+    let mut t = f64::INFINITY;
+    for i in 0..3 {
+        let (p, v, h) = (p[i], v[i], half[i]);
+        if p.abs() > h {
+            // The face's axis: the centre stays at its height above the face, or the test fails.
+            if v != 0.0 {
+                return None;
+            }
+        } else if v != 0.0 {
+            t = t.min((h - inset - p * v.signum()) / v.abs());
+        }
+    }
+    Some(t)
+}
+
 fn cuboid_hit(pose: &Pose, half: Vec3, centre: Vec3, radius: f64) -> Option<SurfaceHit> {
     let p = pose.inverse_transform_point(centre);
     let q = p.clamp(-half, half);
@@ -586,6 +619,39 @@ mod tests {
             Vec3::new(0.0, 0.0, 0.6),
             1e-3
         ));
+    }
+
+    /// The time a rider stays over the face is the time its centre takes to come within the
+    /// inset of the face's edge it moves toward (a turned box included): over_a_box_face holds
+    /// just before it and fails just after.
+    #[test]
+    fn time_over_a_box_face_ends_at_the_inset() {
+        let turn = Rotation::from_rotation_z(0.3);
+        let b = ColliderBuilder::cuboid(0.5, 0.15, 0.02)
+            .position(Pose::from_parts(Vec3::new(1.0, 2.0, -0.02), turn))
+            .build();
+        let shape = SurfaceShape::FromCollider;
+        // 0.2 m from the belt's centre along its length, 0.05 m across, moving at 0.4 m/s along
+        // and 0.1 m/s across (in the belt's frame).
+        let at = |local: Vec3| b.position().transform_point(local);
+        let v = turn * Vec3::new(0.4, 0.1, 0.0);
+        let c0 = at(Vec3::new(0.2, 0.05, 0.0599));
+        let t = time_over_a_box_face(&shape, &b, c0, v, 1e-3).unwrap();
+        // Along: (0.5 - 0.001 - 0.2) / 0.4 = 0.7475 s; across: (0.15 - 0.001 - 0.05) / 0.1 = 0.99 s.
+        assert!((t - 0.7475).abs() < 1e-12, "{t}");
+        assert!(over_a_box_face(&shape, &b, c0 + v * (t - 1e-9), 1e-3));
+        assert!(!over_a_box_face(&shape, &b, c0 + v * (t + 1e-9), 1e-3));
+        // Still: forever; moving off the face's plane, or not over a face: none.
+        assert_eq!(
+            time_over_a_box_face(&shape, &b, c0, Vec3::ZERO, 1e-3),
+            Some(f64::INFINITY)
+        );
+        assert_eq!(
+            time_over_a_box_face(&shape, &b, c0, Vec3::Z * 0.1, 1e-3),
+            None
+        );
+        let edge = at(Vec3::new(0.4995, 0.0, 0.0599));
+        assert_eq!(time_over_a_box_face(&shape, &b, edge, v, 1e-3), None);
     }
 
     #[test]
