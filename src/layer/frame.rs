@@ -57,14 +57,6 @@ impl Frame {
         still_speed_m_s: f64,
         time_s: f64,
     ) -> Result<(), LayerError> {
-        let one = |k: u32| -> Result<Option<Pose>, LayerError> {
-            let k = k as usize;
-            if riding(k) {
-                // The layer carries it (`Sleep::place_riders`); rapier holds it asleep.
-                return Ok(None);
-            }
-            read_pose(bodies, &apples[k], still_speed_m_s, time_s).map(Some)
-        };
         if awake.len() >= PARALLEL_MIN_READS && rayon::current_num_threads() > 1 {
             use rayon::prelude::*;
             let chunks: Vec<Result<Vec<(u32, Pose)>, LayerError>> = awake
@@ -72,8 +64,11 @@ impl Frame {
                 .map(|chunk| {
                     let mut out = Vec::with_capacity(chunk.len());
                     for &k in chunk {
-                        if let Some(p) = one(k)? {
-                            out.push((k, p));
+                        if !riding(k as usize) {
+                            out.push((
+                                k,
+                                read_pose(bodies, &apples[k as usize], still_speed_m_s, time_s)?,
+                            ));
                         }
                     }
                     Ok(out)
@@ -86,14 +81,19 @@ impl Frame {
             }
         } else {
             for &k in awake {
-                if let Some(p) = one(k)? {
-                    self.put(k as usize, p);
+                let k = k as usize;
+                if riding(k) {
+                    // The layer carries it (`Sleep::place_riders`); rapier holds it asleep.
+                    continue;
                 }
+                let p = read_pose(bodies, &apples[k], still_speed_m_s, time_s)?;
+                self.put(k, p);
             }
         }
         Ok(())
     }
 
+    #[inline(always)]
     fn put(&mut self, k: usize, p: Pose) {
         self.pos[k] = p.centre;
         self.vel[k] = p.vel;
@@ -121,6 +121,7 @@ struct Pose {
 }
 
 /// Reads apple `a`'s ball centre, its velocity and spin from its body; refuses non-finite state.
+#[inline(always)]
 fn read_pose(
     bodies: &BodySets,
     a: &AppleEntry,
@@ -222,6 +223,9 @@ impl Loads {
         gravity: Vec3,
         first_step: &mut [bool],
     ) {
+        // With apple sets and many loads, each set's bodies are written by one task (rapier
+        // tracks the changes per set); else straight away, in awake order.
+        let parallel = !bodies.apple_sets.is_empty() && awake.len() >= PARALLEL_MIN_READS;
         let mut handoff = std::mem::take(&mut self.handoff);
         handoff.clear();
         for &k in awake {
@@ -250,24 +254,24 @@ impl Loads {
                 continue;
             }
             self.loaded[k] = load;
-            handoff.push((k as u32, f, t));
-        }
-        // Each set's bodies written by one task (rapier tracks the changes per set).
-        let parallel = handoff.len() >= PARALLEL_MIN_READS;
-        bodies.for_each_set(parallel, |set, rbs| {
-            for &(k, f, t) in &handoff {
-                let r = apples[k as usize].body;
-                if r.set != set {
-                    continue;
-                }
-                if let Some(rb) = rbs.get_mut(r.handle) {
-                    rb.reset_forces(false);
-                    rb.reset_torques(false);
-                    rb.add_force(f, false);
-                    rb.add_torque(t, false);
-                }
+            if parallel {
+                handoff.push((k as u32, f, t));
+            } else if let Some(rb) = bodies.get_mut(a.body) {
+                set_load(rb, f, t);
             }
-        });
+        }
+        if parallel {
+            bodies.for_each_set(|set, rbs| {
+                for &(k, f, t) in &handoff {
+                    let r = apples[k as usize].body;
+                    if r.set == set {
+                        if let Some(rb) = rbs.get_mut(r.handle) {
+                            set_load(rb, f, t);
+                        }
+                    }
+                }
+            });
+        }
         self.handoff = handoff;
         for (h, f, p) in self.body_loads.drain(..) {
             if let Some(rb) = bodies.main.get_mut(h) {
@@ -277,4 +281,13 @@ impl Loads {
             }
         }
     }
+}
+
+/// Replaces the force and torque on an apple's body (rapier keeps user forces across steps).
+#[inline(always)]
+fn set_load(rb: &mut rapier3d_f64::dynamics::RigidBody, f: Vec3, t: Vec3) {
+    rb.reset_forces(false);
+    rb.reset_torques(false);
+    rb.add_force(f, false);
+    rb.add_torque(t, false);
 }
