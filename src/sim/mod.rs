@@ -8,6 +8,7 @@
 //! that would take more than `model.max_steps` steps.
 
 pub mod fate;
+pub mod keep_awake;
 pub mod slip_roll;
 pub mod timestep;
 
@@ -291,6 +292,8 @@ pub struct Simulation {
     probes: Vec<(AppleId, crate::record::probe::ProbeRecorder)>,
     /// Bin entries and apples leaving the scene, seen at the output samples.
     tracker: fate::Tracker,
+    /// The pool's other threads polling for work while the run steps (split scenes only).
+    keep_awake: keep_awake::KeepAwake,
 }
 
 /// Watches the total energy of a scene without energy input (no belt, no moving body).
@@ -379,6 +382,7 @@ impl Simulation {
                 })
                 .collect(),
             tracker: fate::Tracker::new(sc),
+            keep_awake: keep_awake::KeepAwake::default(),
             world,
         })
     }
@@ -597,6 +601,9 @@ impl Simulation {
                 duration_s: self.duration_s,
                 dt_s: self.dt_prev,
             });
+        }
+        if self.world.body_set_count() > 1 {
+            self.keep_awake.ensure();
         }
         let t = self.time_s;
         self.world.emit_due(t)?;
