@@ -10,8 +10,11 @@
 //! (`rayon::yield_now`), so the worker never sleeps between regions.
 //!
 //! It changes no result (only which thread runs a job; every parallel part of a step gives the
-//! same bits for any thread count). It costs a busy core while the run steps, so it is started
-//! only where the step is split (more than one thread and at least
+//! same bits for any thread count). It costs a busy core while the run steps, and its spinning
+//! slows the stepping thread where the step is mostly serial (measured: the 1000-apple line on
+//! two threads took 21 s instead of 15-16 s in most runs with pollers throughout, its late steps
+//! having about 560 awake apples and 1 300 contacts evaluated). So the driver runs pollers only
+//! after steps with at least [`MIN_CONTACTS`] contacts in a split scene (more than one thread and at least
 //! [`crate::world::APPLE_SETS_MIN_APPLES`] apples), and a poller that finds nothing to do for
 //! [`MAX_IDLE`] ends (the driver paused, or the run ended without dropping its driver); the next
 //! step starts another.
@@ -19,6 +22,12 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+/// The fewest contacts in a step (`StepStats::contacts`) for the next to keep the pool's threads
+/// polling: set between the two measured scenes, the eq. 12 pile's impact phase (about 2 500 to
+/// 3 000, faster with pollers) and the 1000-apple line's late steps (about 1 300 evaluated,
+/// slower with them; docs/performance.md). A tuned figure, not a derived one.
+pub const MIN_CONTACTS: usize = 2000;
 
 /// How long a poller spins with nothing to do before it ends.
 pub const MAX_IDLE: Duration = Duration::from_millis(20);
@@ -53,6 +62,17 @@ impl KeepAwake {
                 }
                 running.fetch_sub(1, Ordering::AcqRel);
             });
+        }
+    }
+}
+
+impl KeepAwake {
+    /// Stops the pollers (the step has too little parallel work to pay for a spinning core);
+    /// [`Self::ensure`] starts new ones.
+    pub fn release(&mut self) {
+        if self.running.load(Ordering::Acquire) > 0 {
+            self.stop.store(true, Ordering::Release);
+            self.stop = Arc::new(AtomicBool::new(false));
         }
     }
 }

@@ -602,8 +602,12 @@ impl Simulation {
                 dt_s: self.dt_prev,
             });
         }
-        if self.world.body_set_count() > 1 {
+        if self.world.body_set_count() > 1
+            && self.world.layer.stats().contacts >= keep_awake::MIN_CONTACTS
+        {
             self.keep_awake.ensure();
+        } else {
+            self.keep_awake.release();
         }
         let t = self.time_s;
         self.world.emit_due(t)?;
