@@ -407,9 +407,10 @@ fn body_set<'a>(
     }
 }
 
-/// The fewest apples in a scene for its apples to be split over body sets: below this, stepping
-/// a second world costs more than its share of rapier's step (measured on the eq. 12 pile,
-/// docs/performance.md "Two threads: rapier's step split").
+/// The fewest apples in a scene for its apples to be split over body sets. Chosen equal to the
+/// neighbour scan's parallel threshold, not measured on its own: a small scene gains little from
+/// a second set and pays a fork and join per step (docs/performance.md, "Two threads: rapier's
+/// step split over body sets").
 pub const APPLE_SETS_MIN_APPLES: usize = 256;
 
 impl World {
