@@ -214,12 +214,14 @@ impl NeighborList {
             let c = self.coords[i];
             let own = &sorted[start[id(c)] as usize..start[id(c) + 1] as usize];
             let after = own.partition_point(|&m| (m as usize) <= i);
+            let mut near = NearPairs::default();
             for &m in &own[after..] {
-                push_if_near(out, pos, radius, skin, i, m);
+                near.offer(out, pos, radius, skin, i, m as usize);
             }
             let mut ahead = |r: std::ops::Range<usize>| {
                 for &m in &sorted[r] {
-                    push_pair_if_near(out, pos, radius, skin, i, m);
+                    let m = m as usize;
+                    near.offer(out, pos, radius, skin, i.min(m), i.max(m));
                 }
             };
             if c[2] + 1 < dims[2] {
@@ -233,6 +235,7 @@ impl NeighborList {
                     ahead(range(c[0] + 1, y, c[2] - 1, c[2] + 1));
                 }
             }
+            near.flush(out);
         };
         scan_apples(pos.len(), &mut self.fresh, scan);
         sort_pairs(
@@ -334,21 +337,50 @@ fn push_if_near(
     }
 }
 
-/// Lists the pair of apples i and m (lower index first) if they are closer than
-/// R_i + R_m + skin. The test is symmetric in i and m, bit for bit.
-#[inline(always)]
-fn push_pair_if_near(
-    out: &mut Vec<(u32, u32)>,
-    pos: &[Vec3],
-    radius: &[f64],
-    skin: f64,
-    i: usize,
-    m: u32,
-) {
-    let mu = m as usize;
-    let reach = radius[i.min(mu)] + radius[i.max(mu)] + skin;
-    if (pos[i.max(mu)] - pos[i.min(mu)]).length_squared() < reach * reach {
-        out.push((i.min(mu) as u32, i.max(mu) as u32));
+/// The pairs of one apple's scan, kept without a branch on the distance test: each candidate is
+/// written and kept by advancing the count when near (whether a neighbour is within reach is what
+/// a branch predictor cannot learn: half the candidates of a pile are not).
+struct NearPairs {
+    buf: [(u32, u32); 32],
+    len: usize,
+}
+
+impl Default for NearPairs {
+    fn default() -> Self {
+        Self {
+            buf: [(0, 0); 32],
+            len: 0,
+        }
+    }
+}
+
+impl NearPairs {
+    /// Offers the pair (a, b), a < b: kept if the apples are closer than R_a + R_b + skin (the
+    /// test of `push_if_near`, bit for bit).
+    #[inline(always)]
+    fn offer(
+        &mut self,
+        out: &mut Vec<(u32, u32)>,
+        pos: &[Vec3],
+        radius: &[f64],
+        skin: f64,
+        a: usize,
+        b: usize,
+    ) {
+        if self.len == self.buf.len() {
+            out.extend_from_slice(&self.buf);
+            self.len = 0;
+        }
+        let reach = radius[a] + radius[b] + skin;
+        let near = (pos[b] - pos[a]).length_squared() < reach * reach;
+        self.buf[self.len] = (a as u32, b as u32);
+        self.len += usize::from(near);
+    }
+
+    /// Appends the kept pairs to `out`.
+    fn flush(&mut self, out: &mut Vec<(u32, u32)>) {
+        out.extend_from_slice(&self.buf[..self.len]);
+        self.len = 0;
     }
 }
 
