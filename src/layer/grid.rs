@@ -340,18 +340,10 @@ fn push_if_near(
 /// The pairs of one apple's scan, kept without a branch on the distance test: each candidate is
 /// written and kept by advancing the count when near (whether a neighbour is within reach is what
 /// a branch predictor cannot learn: half the candidates of a pile are not).
+#[derive(Default)]
 struct NearPairs {
     buf: [(u32, u32); 32],
     len: usize,
-}
-
-impl Default for NearPairs {
-    fn default() -> Self {
-        Self {
-            buf: [(0, 0); 32],
-            len: 0,
-        }
-    }
 }
 
 impl NearPairs {
