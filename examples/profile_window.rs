@@ -9,7 +9,8 @@
 //! ```
 //!
 //! One rayon thread unless `THREADS` says otherwise. Prints the window's cost per step, apple-steps
-//! per second, contacts and sleepers at its end.
+//! per second, contacts and sleepers at its end; built with `--features stage-clocks`, also the
+//! wall time per step of each stage (`layer::stage_clock`).
 
 use applesim::record::series::NoSamples;
 use applesim::scenario;
@@ -44,6 +45,7 @@ fn main() {
         while sim.time_s() < from - 1e-9 && !sim.done() {
             sim.step(&mut NoSamples).expect("stable run");
         }
+        applesim::layer::stage_clock::reset();
         let first = sim.steps_done();
         let clock = Instant::now();
         while sim.time_s() < to - 1e-9 && !sim.done() {
@@ -63,5 +65,13 @@ fn main() {
             layer.sleeping_count(),
             n
         );
+        if applesim::layer::stage_clock::ENABLED {
+            // The stage clocks (`--features stage-clocks`): us per step of the window.
+            let per_step: Vec<String> = applesim::layer::stage_clock::totals_s()
+                .iter()
+                .map(|(s, t)| format!("{} {:.1}", s.name(), 1e6 * t / steps))
+                .collect();
+            println!("us per step: {}", per_step.join(", "));
+        }
     });
 }

@@ -20,6 +20,7 @@ use super::outputs::{Outputs, StepStats};
 use super::registry::Registry;
 use super::scene::{Seen, SurfaceNow};
 use super::sleep::Sleep;
+use super::stage_clock::{Clock, Stage};
 use super::surface::{self, SurfaceHit};
 use crate::contact::{self, geometry, theory};
 use crate::math::Vec3;
@@ -177,6 +178,7 @@ impl Detection {
         self.epoch += 1;
         cx.frame.count.iter_mut().for_each(|c| *c = 0);
         let mut dropped: Vec<Pair> = Vec::new();
+        let timer = Clock::start();
         let rebuilt = self.grid.update(
             &cx.frame.pos,
             &cx.frame.radius,
@@ -191,11 +193,15 @@ impl Detection {
         for p in dropped {
             close_apple_pair(cx, p, time_s);
         }
-        if rebuilt || self.rebuild_candidates {
+        let candidates = rebuilt || self.rebuild_candidates;
+        if candidates {
             self.rebuild_surface_candidates(cx, colliders, time_s);
         }
         if rebuilt {
             self.reorder_contacts(cx.contacts);
+        }
+        if candidates {
+            timer.stop(Stage::Rebuild);
         }
         cx.out.stats.apple_candidates = self.grid.pairs().len();
         self.detect_apple_pairs(cx, time_s);

@@ -90,6 +90,7 @@ mod queries;
 mod registry;
 mod scene;
 mod sleep;
+pub mod stage_clock;
 pub mod surface;
 
 pub use bodies::{BodyRef, BodySets};
@@ -116,6 +117,7 @@ use rapier3d_f64::dynamics::{IslandManager, RigidBodySet};
 use rapier3d_f64::geometry::{ColliderHandle, ColliderSet};
 use registry::Registry;
 use sleep::Sleep;
+use stage_clock::{Clock, Stage};
 
 /// The Hertz contact layer. See the module documentation for how to attach it to a world.
 #[derive(Debug)]
@@ -346,13 +348,16 @@ impl ContactLayer {
         let bodies = &mut bodies;
         self.clock.begin(request);
         self.registry.ensure_laws();
+        let timer = Clock::start();
         self.gather(bodies)?;
+        timer.stop(Stage::Read);
         if self.config.passive {
             self.out.stats = StepStats::fresh();
             return Ok(request.dt_s);
         }
         self.detection
             .observe_surfaces(bodies.main, colliders, &self.registry, &mut self.sleep);
+        let timer = Clock::start();
         self.wake_requested(bodies);
         let mut redone = false;
         loop {
@@ -373,6 +378,7 @@ impl ContactLayer {
             redone = true;
         }
         self.sleep.clear_wakes();
+        timer.stop(Stage::Detect);
         let control = self.config.step_control;
         let dt_s = match control {
             Some(c) => {
@@ -398,6 +404,7 @@ impl ContactLayer {
             }
             None => request.dt_s,
         };
+        let timer = Clock::start();
         self.kernel.run(
             Inputs {
                 registry: &self.registry,
@@ -412,6 +419,8 @@ impl ContactLayer {
             &mut self.out,
             dt_s,
         )?;
+        timer.stop(Stage::Law);
+        let timer = Clock::start();
         self.sleep.decide(
             &self.config.sleep,
             self.config.gravity,
@@ -422,6 +431,8 @@ impl ContactLayer {
             dt_s,
             self.clock.time_s,
         );
+        timer.stop(Stage::Sleep);
+        let timer = Clock::start();
         let kick = (self.clock.dt_back + dt_s) / (2.0 * dt_s);
         self.loads.hand_to_rapier(
             bodies,
@@ -433,6 +444,7 @@ impl ContactLayer {
             self.config.gravity,
             &mut self.clock.first_step,
         );
+        timer.stop(Stage::Handoff);
         Ok(dt_s)
     }
 

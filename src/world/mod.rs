@@ -24,6 +24,7 @@ pub mod zones;
 
 use crate::contact::Material;
 use crate::contact::{LawParts, SubModels};
+use crate::layer::stage_clock::{Clock, Stage};
 use crate::layer::{
     AppleId, BodyRef, BodySets, Coefficients, ContactLayer, Guard, LayerConfig, LayerError,
     MaterialId, SleepConfig, StepControl, StepRequest, SurfaceId,
@@ -525,8 +526,10 @@ impl World {
         }
         self.physics.integration_parameters.dt = dt_s;
         let hooks = self.layer.hooks();
+        let timer = Clock::start();
         if self.apple_sets.is_empty() {
             self.physics.step_with_events(hooks, &());
+            timer.stop(Stage::Rapier);
             return;
         }
         // The apple sets in step with rapier's own world, each on rayon's pool: they hold only
@@ -544,6 +547,7 @@ impl World {
                     .for_each(|w| w.step_with_events(&(), &()));
             },
         );
+        timer.stop(Stage::Rapier);
     }
 
     /// The motion of the body that carries surface part `k` (layer order), and the part's pose
