@@ -142,3 +142,53 @@ fn the_1000_apple_pile_steps() {
     // Nothing has reached the floor or passed through it yet: the lowest layer is 6-14 mm up.
     assert!(states.iter().all(|s| s.position.z > 0.035));
 }
+
+/// Issue 30 item 3: the benchmark line's roller singulator (bench/make_line_1000.py) is a looped
+/// bed: 35 rollers, each carried round the same closed path (a top run of 1.2 m from x 8.98 m at
+/// z 0.80 m, 0.2 m down, back under it, up) at 0.32 m/s between every two keyframes, to one second
+/// past the run's end; the line builds and steps.
+#[test]
+fn the_benchmark_line_has_a_looped_singulator() {
+    let file = "scenarios/bench/line_1000.json";
+    let sc = scenario::load(&repo(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let (x0, x1, top, bottom, v) = (8.98, 8.98 + 1.2, 0.80, 0.60, 0.32);
+    let mut rollers = 0;
+    for s in &sc.surfaces {
+        let SurfaceSpec::Roller(r) = s else { continue };
+        if !r.name.starts_with("singulator-") {
+            continue;
+        }
+        rollers += 1;
+        let keys = r
+            .motion
+            .as_ref()
+            .and_then(|m| m.translation.as_ref())
+            .and_then(|t| t.keyframes.as_ref())
+            .unwrap_or_else(|| panic!("{}: keyframes", r.name));
+        assert!(keys.last().unwrap().0 >= sc.duration_s + 1.0 - 1e-9, "{}", r.name);
+        let at = |k: usize| {
+            let (t, d) = keys[k];
+            (t, r.position_m[0] + d[0], r.position_m[2] + d[2])
+        };
+        for k in 0..keys.len() {
+            let (t, x, z) = at(k);
+            // On the loop: the top or bottom run, or one of its two ends.
+            let on_run = ((z - top).abs() < 1e-9 || (z - bottom).abs() < 1e-9)
+                && (x0 - 1e-9..=x1 + 1e-9).contains(&x);
+            let on_end = ((x - x0).abs() < 1e-9 || (x - x1).abs() < 1e-9)
+                && (bottom - 1e-9..=top + 1e-9).contains(&z);
+            assert!(on_run || on_end, "{} at {t} s: ({x}, {z})", r.name);
+            if k > 0 {
+                let (t0, xa, za) = at(k - 1);
+                // Straight between corners, so the distance is the path's length.
+                let speed = ((x - xa).powi(2) + (z - za).powi(2)).sqrt() / (t - t0);
+                assert!((speed - v).abs() < 1e-6, "{} {t0}-{t} s: {speed} m/s", r.name);
+            }
+        }
+    }
+    assert_eq!(rollers, 35);
+    let mut sim = Simulation::new(&sc, &repo("scenarios/bench")).expect("the line builds");
+    for _ in 0..200 {
+        sim.step(&mut NoSamples).expect("the line steps");
+    }
+}
