@@ -165,7 +165,11 @@ fn the_benchmark_line_has_a_looped_singulator() {
             .and_then(|m| m.translation.as_ref())
             .and_then(|t| t.keyframes.as_ref())
             .unwrap_or_else(|| panic!("{}: keyframes", r.name));
-        assert!(keys.last().unwrap().0 >= sc.duration_s + 1.0 - 1e-9, "{}", r.name);
+        assert!(
+            keys.last().unwrap().0 >= sc.duration_s + 1.0 - 1e-9,
+            "{}",
+            r.name
+        );
         let at = |k: usize| {
             let (t, d) = keys[k];
             (t, r.position_m[0] + d[0], r.position_m[2] + d[2])
@@ -182,7 +186,11 @@ fn the_benchmark_line_has_a_looped_singulator() {
                 let (t0, xa, za) = at(k - 1);
                 // Straight between corners, so the distance is the path's length.
                 let speed = ((x - xa).powi(2) + (z - za).powi(2)).sqrt() / (t - t0);
-                assert!((speed - v).abs() < 1e-6, "{} {t0}-{t} s: {speed} m/s", r.name);
+                assert!(
+                    (speed - v).abs() < 1e-6,
+                    "{} {t0}-{t} s: {speed} m/s",
+                    r.name
+                );
             }
         }
     }
