@@ -11,8 +11,8 @@
 //! one would be mostly empty) and tests each pair of apples in neighbouring cells once (the dense
 //! grid: an apple's own cell and the 13 cells ahead of it; the sparse one: the 27 cells around
 //! each apple). Pairs are sorted by (i, j): the order of force accumulation is fixed, and results
-//! are bit-identical whatever the history of rebuilds or the scan. Each pair carries the index of its open contact (or [`NONE`]) across
-//! rebuilds.
+//! are bit-identical whatever the history of rebuilds or the scan. Each pair carries the index of
+//! its open contact (or [`NONE`]) across rebuilds.
 
 use crate::math::Vec3;
 
