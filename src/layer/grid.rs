@@ -258,6 +258,7 @@ impl NeighborList {
         let scan = |i: usize, out: &mut Vec<(u32, u32)>| {
             let c = self.coords[i];
             let first = out.len();
+            let mut near = NearPairs::default();
             for dx in -1..=1 {
                 for dy in -1..=1 {
                     for dz in -1..=1 {
@@ -267,11 +268,15 @@ impl NeighborList {
                             if k != key {
                                 break;
                             }
-                            push_if_near(out, pos, radius, skin, i, m);
+                            let m = m as usize;
+                            if m > i {
+                                near.offer(out, pos, radius, skin, i, m);
+                            }
                         }
                     }
                 }
             }
+            near.flush(out);
             out[first..].sort_unstable();
         };
         scan_apples(pos.len(), &mut self.fresh, scan);
@@ -317,26 +322,6 @@ fn scan_apples(
     }
 }
 
-/// Lists the pair (i, m) once (from its lower index) if the two apples are closer than
-/// R_i + R_m + skin.
-fn push_if_near(
-    out: &mut Vec<(u32, u32)>,
-    pos: &[Vec3],
-    radius: &[f64],
-    skin: f64,
-    i: usize,
-    m: u32,
-) {
-    let mu = m as usize;
-    if mu <= i {
-        return;
-    }
-    let reach = radius[i] + radius[mu] + skin;
-    if (pos[mu] - pos[i]).length_squared() < reach * reach {
-        out.push((i as u32, m));
-    }
-}
-
 /// The pairs of one apple's scan, kept without a branch on the distance test: each candidate is
 /// written and kept by advancing the count when near (whether a neighbour is within reach is what
 /// a branch predictor cannot learn: half the candidates of a pile are not).
@@ -348,7 +333,7 @@ struct NearPairs {
 
 impl NearPairs {
     /// Offers the pair (a, b), a < b: kept if the apples are closer than R_a + R_b + skin (the
-    /// test of `push_if_near`, bit for bit).
+    /// one distance test of both grids' scans).
     #[inline(always)]
     fn offer(
         &mut self,
