@@ -193,6 +193,12 @@ impl ContactStore {
         (&mut self.slots, &self.stamps)
     }
 
+    /// The slots (free ones included) and their stamps, both mutable, for detection's runs of
+    /// pairs (see `detect::SlotsMut`).
+    pub fn slots_and_stamps_mut(&mut self) -> (&mut [Contact], &mut [u64]) {
+        (&mut self.slots, &mut self.stamps)
+    }
+
     /// The contact in slot `k`.
     pub fn get(&self, k: u32) -> &Contact {
         &self.slots[k as usize]

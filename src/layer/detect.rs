@@ -13,6 +13,7 @@
 use super::adaptive::{damping_step, limit_in_contact, stick_half_period, time_to_touch};
 use super::clock::{StepClock, StepLimit};
 use super::config::LayerConfig;
+use super::config::StepControl;
 use super::contacts::{Contact, ContactStore, Shaped};
 use super::frame::Frame;
 use super::grid::{NeighborList, Pair, NONE};
@@ -73,6 +74,15 @@ pub(super) struct Detection {
     retired: Vec<bool>,
     /// The fastest moving surface this step (m/s; see [`SurfaceNow::shape_speed_m_s`]).
     pub surface_speed_m_s: f64,
+    /// Contact counts per apple of the pair runs after the first (see `detect_apple_pairs`).
+    run_counts: Vec<Vec<u16>>,
+    /// Tests: this many runs of pairs, whatever the pool (on a pool of one thread, in turn).
+    #[cfg(test)]
+    force_runs: Option<usize>,
+    /// Tests: how many contacts started, ended, woke a sleeper and limited the step, over the
+    /// pair passes.
+    #[cfg(test)]
+    found_kinds: [usize; 4],
 }
 
 /// The relative drift of a rider's belt contact overlap that wakes it (see
@@ -82,6 +92,142 @@ const RIDE_DRIFT: f64 = 1e-6;
 /// How far inside a box belt's face edges a riding sphere is not queried again (m): nearer the
 /// edges the full query decides whether it still holds.
 const RIDE_FACE_INSET_M: f64 = 1e-3;
+
+/// Listed pairs from which detection examines them on rayon's pool (below that, a task costs more
+/// than it saves).
+const PARALLEL_MIN_PAIRS: usize = 2048;
+
+/// The contact slots, written by several runs of pairs at once: each pair reaches only its own
+/// contact's slot (a slot is opened for one pair, named by it alone, and opened or freed only in
+/// the serial part of the pass), so no two runs touch the same slot.
+struct SlotsMut {
+    slots: *mut Contact,
+    stamps: *mut u64,
+    len: usize,
+}
+
+// SAFETY: see the type's doc; the store outlives the pass that holds this.
+unsafe impl Sync for SlotsMut {}
+
+impl SlotsMut {
+    fn new(store: &mut ContactStore) -> Self {
+        let (slots, stamps) = store.slots_and_stamps_mut();
+        Self {
+            slots: slots.as_mut_ptr(),
+            stamps: stamps.as_mut_ptr(),
+            len: slots.len(),
+        }
+    }
+
+    /// The open contact in slot `k`, seen by this pass.
+    ///
+    /// # Safety
+    /// Only the pair whose contact `k` is may call this, and only while it is examined.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn see(&self, k: u32, epoch: u64) -> &mut Contact {
+        let k = k as usize;
+        assert!(k < self.len, "a pair's contact slot is in the store");
+        // SAFETY: in bounds (above); exclusive by the caller's contract.
+        unsafe {
+            *self.stamps.add(k) = epoch;
+            &mut *self.slots.add(k)
+        }
+    }
+
+    /// The open contact in slot `k`, as [`Self::see`] without seeing it.
+    ///
+    /// # Safety
+    /// As [`Self::see`].
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn get(&self, k: u32) -> &mut Contact {
+        let k = k as usize;
+        assert!(k < self.len, "a pair's contact slot is in the store");
+        // SAFETY: as in `see`.
+        unsafe { &mut *self.slots.add(k) }
+    }
+}
+
+/// What one examination of the listed pairs reads: the poses, the sleepers, the settings; and
+/// the slots of the contacts it updates.
+struct PairView<'a> {
+    registry: &'a Registry,
+    frame: &'a Frame,
+    asleep: &'a [bool],
+    sleep: &'a Sleep,
+    retired: &'a [bool],
+    control: Option<StepControl>,
+    gravity: Vec3,
+    horizon: f64,
+    dt_back: f64,
+    energy_loss: bool,
+    friction: bool,
+    wake_ratio: f64,
+    time_s: f64,
+    epoch: u64,
+    slots: SlotsMut,
+}
+
+/// A run of listed pairs: `pairs` from list index `first_k`, the scan's part naming them (`None`:
+/// every pair), its contact counts per apple and what it found.
+struct PairRun<'a> {
+    pairs: &'a mut [Pair],
+    first_k: usize,
+    scan: Option<&'a [u32]>,
+    len: usize,
+    count: &'a mut [u16],
+    found: &'a mut Found,
+}
+
+/// A contact that starts this pass: opened in pair order once every run is examined.
+struct Start {
+    k: u32,
+    n: Vec3,
+    u: f64,
+    geo: Option<Shaped>,
+}
+
+/// What a run of pairs leaves for the serial part of the pass, in pair order.
+#[derive(Default)]
+struct Found {
+    starts: Vec<Start>,
+    parted: Vec<Pair>,
+    to_wake: Vec<u32>,
+    /// The run's shortest step limit, the first of equals (as `StepStats::limit` keeps it).
+    limit: Option<(f64, StepLimit)>,
+    touching: usize,
+}
+
+impl Found {
+    fn limit(&mut self, dt: f64, why: StepLimit) {
+        if self.limit.is_none_or(|(best, _)| dt < best) && dt < f64::INFINITY {
+            self.limit = Some((dt, why));
+        }
+    }
+}
+
+/// Writes an apple pair's geometry at the current poses into its contact (`new`: opened now).
+fn fill_pair_contact(
+    c: &mut Contact,
+    n: Vec3,
+    u: f64,
+    geo: Option<Shaped>,
+    radius_j: f64,
+    new: bool,
+) {
+    let old_normal = if new { Vec3::NAN } else { c.normal };
+    c.normal = n;
+    c.overlap_m = u;
+    match geo {
+        Some(sh) => {
+            // The key of the law's constants: they follow R_k as the apples turn.
+            c.curvature2 = 1.0 / sh.r_star_m;
+            c.shaped = Some(sh);
+            c.prev_normal = old_normal;
+        }
+        None => c.curvature2 = 1.0 / radius_j,
+    }
+    c.last_u = u;
+}
 
 impl Detection {
     pub fn new() -> Self {
@@ -99,6 +245,11 @@ impl Detection {
             chain: Vec::new(),
             retired: Vec::new(),
             surface_speed_m_s: 0.0,
+            run_counts: Vec::new(),
+            #[cfg(test)]
+            force_runs: None,
+            #[cfg(test)]
+            found_kinds: [0; 4],
         }
     }
 
@@ -204,28 +355,20 @@ impl Detection {
             timer.stop(Stage::Rebuild);
         }
         cx.out.stats.apple_candidates = self.grid.pairs().len();
+        let timer = Clock::start();
         self.detect_apple_pairs(cx, time_s);
+        timer.stop(Stage::Pairs);
+        let timer = Clock::start();
         self.detect_surface_contacts(cx, colliders, time_s, dt_s);
+        timer.stop(Stage::Surfaces);
     }
 
     fn detect_apple_pairs(&mut self, cx: &mut Parts, time_s: f64) {
-        let wake_ratio = cx.config.sleep.wake_overlap_ratio;
-        let control = cx.config.step_control;
-        let gravity = cx.config.gravity;
-        let horizon = cx.clock.horizon_s;
-        let dt_back = cx.clock.dt_back;
-        let energy_loss = cx.config.parts.energy_loss;
-        let friction = cx.config.parts.friction;
-        let (registry, frame) = (cx.registry, &mut *cx.frame);
-        let apples = &registry.apples;
-        let epoch = self.epoch;
-        let mut touching = 0;
-        let mut parted: Vec<Pair> = Vec::new();
         // With sleepers, only the pairs with an awake apple (listed when the awake set or the
         // pairs change); a settled pile has none.
-        let asleep = cx.sleep.asleep();
-        let all = cx.sleep.awake().len() == apples.len();
+        let all = cx.sleep.awake().len() == cx.registry.apples.len();
         if !all && self.pair_scan.is_none() {
+            let asleep = cx.sleep.asleep();
             let pairs = self.grid.pairs();
             self.pair_scan = Some(
                 (0..pairs.len() as u32)
@@ -238,245 +381,132 @@ impl Detection {
         }
         let scan = if all { None } else { self.pair_scan.take() };
         let count = scan.as_ref().map_or(self.grid.pairs().len(), |s| s.len());
-        let mut to_wake: Vec<u32> = Vec::new();
-        for q in 0..count {
-            let k = scan.as_ref().map_or(q, |s| s[q] as usize);
-            let p = self.grid.pairs()[k];
-            let (i, j) = (p.i as usize, p.j as usize);
-            let (ai, aj) = (!asleep[i], !asleep[j]);
-            if !ai && !aj {
-                continue;
-            }
-            if self.is_retired(i) || self.is_retired(j) {
-                // Taken out of the run: its contact (if any) ends here.
-                if p.contact != NONE {
-                    parted.push(p);
-                    self.grid.pairs_mut()[k].contact = NONE;
-                }
-                continue;
-            }
-            let d = frame.pos[i] - frame.pos[j];
-            let r2 = d.length_squared();
-            let rs = frame.radius[i] + frame.radius[j];
-            if r2 >= rs * rs && p.contact == NONE && control.is_none() && ai == aj {
-                // The common case: apart, nothing open, nothing to plan.
-                continue;
-            }
-            let spheroid = apples[i].shape.is_some() || apples[j].shape.is_some();
-            if spheroid && p.contact == NONE && p.gap_bound_m > 0.0 {
-                // Apart when last tested: the gap closes at most by the relative motion of
-                // the last step (symplectic Euler moved the poses by the velocities now held),
-                // the turns swinging the surfaces by up to |w| R.
-                let reach = ((frame.vel[i] - frame.vel[j]).length()
-                    + frame.angvel[i].length() * frame.radius[i]
-                    + frame.angvel[j].length() * frame.radius[j])
-                    * dt_back;
-                let gap = f64::from(p.gap_bound_m) - reach;
-                // With step control, a pair that may touch within the horizon must be planned.
-                let ahead = match control {
-                    None => 0.0,
-                    Some(_) => {
-                        let speed = (frame.vel[i] - frame.vel[j]).length()
-                            + frame.angvel[i].length() * frame.radius[i]
-                            + frame.angvel[j].length() * frame.radius[j];
-                        (speed + gravity.length() * horizon) * horizon
-                    }
+        // Runs of listed pairs, each examined on its own (on rayon's pool from
+        // `PARALLEL_MIN_PAIRS` pairs) and applied in pair order: the same contacts, slots and
+        // step limit for any number of runs.
+        let threads = rayon::current_num_threads();
+        let runs = if threads > 1 && count >= PARALLEL_MIN_PAIRS {
+            threads
+        } else {
+            1
+        };
+        #[cfg(test)]
+        let runs = self.force_runs.unwrap_or(runs).clamp(1, count.max(1));
+        let mut counts = std::mem::take(&mut cx.frame.count);
+        let n = counts.len();
+        self.run_counts.resize_with(runs - 1, Vec::new);
+        for c in &mut self.run_counts {
+            c.clear();
+            c.resize(n, 0);
+        }
+        let view = PairView {
+            registry: cx.registry,
+            frame: cx.frame,
+            asleep: cx.sleep.asleep(),
+            sleep: cx.sleep,
+            retired: &self.retired,
+            control: cx.config.step_control,
+            gravity: cx.config.gravity,
+            horizon: cx.clock.horizon_s,
+            dt_back: cx.clock.dt_back,
+            energy_loss: cx.config.parts.energy_loss,
+            friction: cx.config.parts.friction,
+            wake_ratio: cx.config.sleep.wake_overlap_ratio,
+            time_s,
+            epoch: self.epoch,
+            slots: SlotsMut::new(cx.contacts),
+        };
+        // Each run takes a range of the scan and the pairs it names (the scan is increasing, so
+        // the runs' pairs are disjoint ranges of the list).
+        let scan_ref = scan.as_deref();
+        let bound = |r: usize| -> (usize, usize) {
+            let q = r * count / runs;
+            let k = match scan_ref {
+                // The first run starts at the list's start (its slice does).
+                _ if r == 0 => 0,
+                Some(s) if q < count => s[q] as usize,
+                Some(_) => self.grid.pairs().len(),
+                None => q,
+            };
+            (q, k)
+        };
+        let bounds: Vec<(usize, usize)> = (0..=runs).map(bound).collect();
+        let mut found: Vec<Found> = (0..runs).map(|_| Found::default()).collect();
+        {
+            let mut rest = self.grid.pairs_mut();
+            let mut run_counts = self.run_counts.iter_mut();
+            let mut jobs = Vec::with_capacity(runs);
+            let mut first_counts = Some(&mut counts[..]);
+            for (r, f) in found.iter_mut().enumerate() {
+                let (q0, k0) = bounds[r];
+                let (q1, k1) = bounds[r + 1];
+                let (mine, tail) = std::mem::take(&mut rest).split_at_mut(k1 - k0);
+                rest = tail;
+                let count_r = match first_counts.take() {
+                    Some(c) => c,
+                    None => &mut run_counts.next().expect("one per extra run")[..],
                 };
-                if gap > ahead {
-                    self.grid.pairs_mut()[k].gap_bound_m = gap as f32;
-                    continue;
-                }
+                jobs.push(PairRun {
+                    pairs: mine,
+                    first_k: k0,
+                    scan: scan_ref.map(|s| &s[q0..q1]),
+                    len: q1 - q0,
+                    count: count_r,
+                    found: f,
+                });
             }
-            // A spheroid in the pair: the common normal, from the open contact's normal (the
-            // last step's) or the line of centres.
-            let shaped = if spheroid {
-                let n0 = match p.contact {
-                    // Coincident centres (only a broken scene): +z, as for spheres.
-                    NONE if r2 > 0.0 => d / r2.sqrt(),
-                    NONE => Vec3::Z,
-                    slot => {
-                        // The last normal, moved on as it moved in the last step (the apples
-                        // turn smoothly: one Newton step less when they roll).
-                        let c = cx.contacts.get(slot);
-                        let ahead = c.normal * 2.0 - c.prev_normal;
-                        if ahead.is_finite() && ahead.length_squared() > 0.25 {
-                            ahead.normalize()
-                        } else {
-                            c.normal
-                        }
-                    }
-                };
-                Some(shaped_pair(registry, frame, i, j, n0))
+            if runs == 1 {
+                jobs.iter_mut().for_each(|run| view.examine(run));
             } else {
-                None
-            };
-            let (n, u) = match &shaped {
-                Some((g, _)) => (g.normal, g.overlap_m),
-                None => geometry::sphere_sphere(d, r2, rs),
-            };
-            if u > 0.0 {
-                // A rider touches nothing but its belt: a contact starting wakes it.
-                for k in [i, j] {
-                    if cx.sleep.ride(k).is_some() {
-                        to_wake.push(k as u32);
-                    }
-                }
-            }
-            // Made when needed (planning, or a contact).
-            let mut contact_geo: Option<Shaped> = None;
-            if ai != aj {
-                // One sleeper: wake it if this contact starts, ends, or its overlap drifts.
-                let sleeper = if ai { j } else { i };
-                let drifts = p.contact != NONE && u > 0.0 && {
-                    let c = cx.contacts.get_mut(p.contact);
-                    if c.ref_u.is_nan() {
-                        c.ref_u = c.last_u;
-                    }
-                    (u - c.ref_u).abs() > wake_ratio * c.ref_u.max(0.0) + 1e-9
-                };
-                let starts = u > 0.0 && p.contact == NONE;
-                let ends = u <= 0.0 && p.contact != NONE;
-                if starts || ends || drifts {
-                    to_wake.push(sleeper as u32);
-                }
-            } else if p.contact != NONE {
-                cx.contacts.get_mut(p.contact).ref_u = f64::NAN;
-            }
-            if let Some(c) = control {
-                let law =
-                    registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
-                let (ri, rj) = (frame.radius[i], frame.radius[j]);
-                if let (Some((g, r_min)), None) = (&shaped, &contact_geo) {
-                    contact_geo = Some(shaped_contact(g, *r_min));
-                }
-                let r_star = match &contact_geo {
-                    Some(sh) if sh.r_star_m.is_finite() => sh.r_star_m,
-                    _ => ri * rj / (ri + rj),
-                };
-                let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
-                let m_n = theory::reduced_mass(apples[i].mass, apples[j].mass);
-                if u <= 0.0 {
-                    // Spheroids: the velocities of the nearest points (their turns move them).
-                    let closing = match &shaped {
-                        Some((g, _)) => ((frame.vel[j] + frame.angvel[j].cross(g.arm2))
-                            - (frame.vel[i] + frame.angvel[i].cross(g.arm1)))
-                        .dot(n),
-                        None => (frame.vel[j] - frame.vel[i]).dot(n),
-                    };
-                    // Relative acceleration of two apples: bounded by g (one supported, one
-                    // falling); contact forces are not known yet at this point.
-                    let accel = gravity.length();
-                    if let Some(t_touch) = time_to_touch(-u, closing, accel, horizon) {
-                        // About to touch: resolve the impact (see `StepControl`).
-                        let closing = closing + accel * t_touch;
-                        // Spheroids may turn their stiffest points together before they meet:
-                        // plan with their largest radii of curvature.
-                        let (k_n, r_star) = match &shaped {
-                            Some(_) => {
-                                let stiff = |k: usize| {
-                                    apples[k]
-                                        .shape
-                                        .map_or(frame.radius[k], |sh| sh.stiffest_radius())
-                                };
-                                let r = 1.0 / (1.0 / stiff(i) + 1.0 / stiff(j));
-                                if r > r_star {
-                                    (contact::normal::stiffness(law.e_star_pa, r), r)
-                                } else {
-                                    (k_n, r_star)
-                                }
-                            }
-                            None => (k_n, r_star),
-                        };
-                        let t_h = theory::elastic_impact(m_n, closing, k_n, r_star).contact_time_s;
-                        cx.out
-                            .stats
-                            .limit(t_touch + t_h / c.steps_per_contact, StepLimit::Approaching);
-                    }
-                } else {
-                    // Spheroids: the contact points' velocities, as the law's overlap rate.
-                    let rate = match &shaped {
-                        Some((g, _)) => ((frame.vel[j] + frame.angvel[j].cross(g.arm2))
-                            - (frame.vel[i] + frame.angvel[i].cross(g.arm1)))
-                        .dot(n),
-                        None => (frame.vel[j] - frame.vel[i]).dot(n),
-                    };
-                    let record = match p.contact {
-                        NONE => None,
-                        slot => cx.contacts.get_mut(slot).record.as_mut(),
-                    };
-                    let ke = if energy_loss { law.ke } else { 1.0 };
-                    let (t_stick, h_damping) = if friction && law.friction > 0.0 {
-                        let m_t =
-                            1.0 / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
-                        (
-                            stick_half_period(law.g_star_pa, r_star, u, m_t),
-                            history_damping_step(&law, r_star, u, m_n, m_t),
-                        )
-                    } else {
-                        (f64::INFINITY, f64::INFINITY)
-                    };
-                    let lim = limit_in_contact(
-                        &c, record, m_n, k_n, u, rate, ke, time_s, t_stick, h_damping,
-                    );
-                    cx.out.stats.limit(lim.0, lim.1);
-                }
-            }
-            if spheroid {
-                // Rounded down to f32 and shrunk: a lower bound.
-                self.grid.pairs_mut()[k].gap_bound_m = if u < 0.0 {
-                    (-u * (1.0 - 1e-6)) as f32
-                } else {
-                    0.0
-                };
-            }
-            if u > 0.0 {
-                let slot = match p.contact {
-                    NONE => {
-                        let s = cx.contacts.insert(Contact::new(p.i, Party::Apple(p.j)));
-                        self.grid.pairs_mut()[k].contact = s;
-                        s
-                    }
-                    s => s,
-                };
-                cx.contacts.see(slot, epoch);
-                let c = cx.contacts.get_mut(slot);
-                let old_normal = if p.contact == NONE {
-                    Vec3::NAN
-                } else {
-                    c.normal
-                };
-                c.normal = n;
-                c.overlap_m = u;
-                let geo = match (&shaped, contact_geo) {
-                    (Some((g, r_min)), None) => Some(shaped_contact(g, *r_min)),
-                    (_, geo) => geo,
-                };
-                match geo {
-                    Some(sh) => {
-                        // The key of the law's constants: they follow R_k as the apples turn.
-                        c.curvature2 = 1.0 / sh.r_star_m;
-                        c.shaped = Some(sh);
-                        c.prev_normal = old_normal;
-                    }
-                    None => c.curvature2 = 1.0 / frame.radius[j],
-                }
-                c.last_u = u;
-                frame.count[i] += 1;
-                frame.count[j] += 1;
-                touching += 1;
-            } else if p.contact != NONE {
-                parted.push(p);
-                self.grid.pairs_mut()[k].contact = NONE;
+                use rayon::prelude::*;
+                jobs.par_iter_mut().for_each(|run| view.examine(run));
             }
         }
+        for extra in &self.run_counts {
+            for (c, e) in counts.iter_mut().zip(extra) {
+                *c += e;
+            }
+        }
+        cx.frame.count = counts;
         if scan.is_some() {
             self.pair_scan = scan;
         }
-        for k in to_wake {
-            cx.sleep.request_wake(k);
+        // In pair order: the contacts that start (their slots), the step limit, the wakes and
+        // the contacts that end.
+        let mut touching = 0;
+        for f in &found {
+            #[cfg(test)]
+            {
+                let k = &mut self.found_kinds;
+                k[0] += f.starts.len();
+                k[1] += f.parted.len();
+                k[2] += f.to_wake.len();
+                k[3] += usize::from(f.limit.is_some());
+            }
+            touching += f.touching;
+            for s in &f.starts {
+                let p = self.grid.pairs()[s.k as usize];
+                let slot = cx.contacts.insert(Contact::new(p.i, Party::Apple(p.j)));
+                self.grid.pairs_mut()[s.k as usize].contact = slot;
+                cx.contacts.see(slot, self.epoch);
+                let radius_j = cx.frame.radius[p.j as usize];
+                fill_pair_contact(cx.contacts.get_mut(slot), s.n, s.u, s.geo, radius_j, true);
+                cx.frame.count[p.i as usize] += 1;
+                cx.frame.count[p.j as usize] += 1;
+            }
+            if let Some((dt, why)) = f.limit {
+                cx.out.stats.limit(dt, why);
+            }
         }
-        for p in parted {
-            close_apple_pair(cx, p, time_s);
+        for f in &found {
+            for &k in &f.to_wake {
+                cx.sleep.request_wake(k);
+            }
+        }
+        for f in &found {
+            for &p in &f.parted {
+                close_apple_pair(cx, p, time_s);
+            }
         }
         cx.out.stats.apple_apple_contacts = touching;
     }
@@ -953,6 +983,242 @@ impl Detection {
     }
 }
 
+impl PairView<'_> {
+    /// Examines a run of listed pairs at the current poses: updates the open contacts that go
+    /// on, the pairs' gap bounds and the run's contact counts; lists what starts, ends and wakes,
+    /// and the shortest step limit, for the serial part of the pass.
+    fn examine(&self, run: &mut PairRun) {
+        let (registry, frame, asleep) = (self.registry, self.frame, self.asleep);
+        let apples = &registry.apples;
+        let (control, gravity, horizon, dt_back) =
+            (self.control, self.gravity, self.horizon, self.dt_back);
+        let (energy_loss, friction, wake_ratio) =
+            (self.energy_loss, self.friction, self.wake_ratio);
+        let (time_s, epoch) = (self.time_s, self.epoch);
+        let retired = |k: usize| self.retired.get(k).copied().unwrap_or(false);
+        for q in 0..run.len {
+            let k = run.scan.map_or(run.first_k + q, |s| s[q] as usize);
+            let pk = k - run.first_k;
+            let p = run.pairs[pk];
+            let (i, j) = (p.i as usize, p.j as usize);
+            let (ai, aj) = (!asleep[i], !asleep[j]);
+            if !ai && !aj {
+                continue;
+            }
+            if retired(i) || retired(j) {
+                // Taken out of the run: its contact (if any) ends here.
+                if p.contact != NONE {
+                    run.found.parted.push(p);
+                    run.pairs[pk].contact = NONE;
+                }
+                continue;
+            }
+            let d = frame.pos[i] - frame.pos[j];
+            let r2 = d.length_squared();
+            let rs = frame.radius[i] + frame.radius[j];
+            if r2 >= rs * rs && p.contact == NONE && control.is_none() && ai == aj {
+                // The common case: apart, nothing open, nothing to plan.
+                continue;
+            }
+            let spheroid = apples[i].shape.is_some() || apples[j].shape.is_some();
+            if spheroid && p.contact == NONE && p.gap_bound_m > 0.0 {
+                // Apart when last tested: the gap closes at most by the relative motion of
+                // the last step (symplectic Euler moved the poses by the velocities now held),
+                // the turns swinging the surfaces by up to |w| R.
+                let reach = ((frame.vel[i] - frame.vel[j]).length()
+                    + frame.angvel[i].length() * frame.radius[i]
+                    + frame.angvel[j].length() * frame.radius[j])
+                    * dt_back;
+                let gap = f64::from(p.gap_bound_m) - reach;
+                // With step control, a pair that may touch within the horizon must be planned.
+                let ahead = match control {
+                    None => 0.0,
+                    Some(_) => {
+                        let speed = (frame.vel[i] - frame.vel[j]).length()
+                            + frame.angvel[i].length() * frame.radius[i]
+                            + frame.angvel[j].length() * frame.radius[j];
+                        (speed + gravity.length() * horizon) * horizon
+                    }
+                };
+                if gap > ahead {
+                    run.pairs[pk].gap_bound_m = gap as f32;
+                    continue;
+                }
+            }
+            // A spheroid in the pair: the common normal, from the open contact's normal (the
+            // last step's) or the line of centres.
+            let shaped = if spheroid {
+                let n0 = match p.contact {
+                    // Coincident centres (only a broken scene): +z, as for spheres.
+                    NONE if r2 > 0.0 => d / r2.sqrt(),
+                    NONE => Vec3::Z,
+                    slot => {
+                        // The last normal, moved on as it moved in the last step (the apples
+                        // turn smoothly: one Newton step less when they roll).
+                        // SAFETY: the pair's own contact.
+                        let c = unsafe { self.slots.get(slot) };
+                        let ahead = c.normal * 2.0 - c.prev_normal;
+                        if ahead.is_finite() && ahead.length_squared() > 0.25 {
+                            ahead.normalize()
+                        } else {
+                            c.normal
+                        }
+                    }
+                };
+                Some(shaped_pair(registry, frame, i, j, n0))
+            } else {
+                None
+            };
+            let (n, u) = match &shaped {
+                Some((g, _)) => (g.normal, g.overlap_m),
+                None => geometry::sphere_sphere(d, r2, rs),
+            };
+            if u > 0.0 {
+                // A rider touches nothing but its belt: a contact starting wakes it.
+                for k in [i, j] {
+                    if self.sleep.ride(k).is_some() {
+                        run.found.to_wake.push(k as u32);
+                    }
+                }
+            }
+            // Made when needed (planning, or a contact).
+            let mut contact_geo: Option<Shaped> = None;
+            if ai != aj {
+                // One sleeper: wake it if this contact starts, ends, or its overlap drifts.
+                let sleeper = if ai { j } else { i };
+                let drifts = p.contact != NONE && u > 0.0 && {
+                    // SAFETY: the pair's own contact.
+                    let c = unsafe { self.slots.get(p.contact) };
+                    if c.ref_u.is_nan() {
+                        c.ref_u = c.last_u;
+                    }
+                    (u - c.ref_u).abs() > wake_ratio * c.ref_u.max(0.0) + 1e-9
+                };
+                let starts = u > 0.0 && p.contact == NONE;
+                let ends = u <= 0.0 && p.contact != NONE;
+                if starts || ends || drifts {
+                    run.found.to_wake.push(sleeper as u32);
+                }
+            } else if p.contact != NONE {
+                // SAFETY: the pair's own contact.
+                unsafe { self.slots.get(p.contact) }.ref_u = f64::NAN;
+            }
+            if let Some(c) = control {
+                let law =
+                    registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
+                let (ri, rj) = (frame.radius[i], frame.radius[j]);
+                if let (Some((g, r_min)), None) = (&shaped, &contact_geo) {
+                    contact_geo = Some(shaped_contact(g, *r_min));
+                }
+                let r_star = match &contact_geo {
+                    Some(sh) if sh.r_star_m.is_finite() => sh.r_star_m,
+                    _ => ri * rj / (ri + rj),
+                };
+                let k_n = contact::normal::stiffness(law.e_star_pa, r_star);
+                let m_n = theory::reduced_mass(apples[i].mass, apples[j].mass);
+                if u <= 0.0 {
+                    // Spheroids: the velocities of the nearest points (their turns move them).
+                    let closing = match &shaped {
+                        Some((g, _)) => ((frame.vel[j] + frame.angvel[j].cross(g.arm2))
+                            - (frame.vel[i] + frame.angvel[i].cross(g.arm1)))
+                        .dot(n),
+                        None => (frame.vel[j] - frame.vel[i]).dot(n),
+                    };
+                    // Relative acceleration of two apples: bounded by g (one supported, one
+                    // falling); contact forces are not known yet at this point.
+                    let accel = gravity.length();
+                    if let Some(t_touch) = time_to_touch(-u, closing, accel, horizon) {
+                        // About to touch: resolve the impact (see `StepControl`).
+                        let closing = closing + accel * t_touch;
+                        // Spheroids may turn their stiffest points together before they meet:
+                        // plan with their largest radii of curvature.
+                        let (k_n, r_star) = match &shaped {
+                            Some(_) => {
+                                let stiff = |k: usize| {
+                                    apples[k]
+                                        .shape
+                                        .map_or(frame.radius[k], |sh| sh.stiffest_radius())
+                                };
+                                let r = 1.0 / (1.0 / stiff(i) + 1.0 / stiff(j));
+                                if r > r_star {
+                                    (contact::normal::stiffness(law.e_star_pa, r), r)
+                                } else {
+                                    (k_n, r_star)
+                                }
+                            }
+                            None => (k_n, r_star),
+                        };
+                        let t_h = theory::elastic_impact(m_n, closing, k_n, r_star).contact_time_s;
+                        run.found
+                            .limit(t_touch + t_h / c.steps_per_contact, StepLimit::Approaching);
+                    }
+                } else {
+                    // Spheroids: the contact points' velocities, as the law's overlap rate.
+                    let rate = match &shaped {
+                        Some((g, _)) => ((frame.vel[j] + frame.angvel[j].cross(g.arm2))
+                            - (frame.vel[i] + frame.angvel[i].cross(g.arm1)))
+                        .dot(n),
+                        None => (frame.vel[j] - frame.vel[i]).dot(n),
+                    };
+                    let record = match p.contact {
+                        NONE => None,
+                        // SAFETY: the pair's own contact.
+                        slot => unsafe { self.slots.get(slot) }.record.as_mut(),
+                    };
+                    let ke = if energy_loss { law.ke } else { 1.0 };
+                    let (t_stick, h_damping) = if friction && law.friction > 0.0 {
+                        let m_t =
+                            1.0 / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
+                        (
+                            stick_half_period(law.g_star_pa, r_star, u, m_t),
+                            history_damping_step(&law, r_star, u, m_n, m_t),
+                        )
+                    } else {
+                        (f64::INFINITY, f64::INFINITY)
+                    };
+                    let lim = limit_in_contact(
+                        &c, record, m_n, k_n, u, rate, ke, time_s, t_stick, h_damping,
+                    );
+                    run.found.limit(lim.0, lim.1);
+                }
+            }
+            if spheroid {
+                // Rounded down to f32 and shrunk: a lower bound.
+                run.pairs[pk].gap_bound_m = if u < 0.0 {
+                    (-u * (1.0 - 1e-6)) as f32
+                } else {
+                    0.0
+                };
+            }
+            if u > 0.0 {
+                let geo = match (&shaped, contact_geo) {
+                    (Some((g, r_min)), None) => Some(shaped_contact(g, *r_min)),
+                    (_, geo) => geo,
+                };
+                if p.contact == NONE {
+                    // Opened in pair order after the runs (its slot).
+                    run.found.starts.push(Start {
+                        k: k as u32,
+                        n,
+                        u,
+                        geo,
+                    });
+                } else {
+                    // SAFETY: the pair's own contact.
+                    let c = unsafe { self.slots.see(p.contact, epoch) };
+                    fill_pair_contact(c, n, u, geo, frame.radius[j], false);
+                    run.count[i] += 1;
+                    run.count[j] += 1;
+                }
+                run.found.touching += 1;
+            } else if p.contact != NONE {
+                run.found.parted.push(p);
+                run.pairs[pk].contact = NONE;
+            }
+        }
+    }
+}
+
 /// Closes the contact of an apple pair that parted (or left the list).
 fn close_apple_pair(cx: &mut Parts, p: Pair, time_s: f64) {
     let (i, j) = (p.i as usize, p.j as usize);
@@ -1051,5 +1317,136 @@ fn shaped_contact(g: &contact::spheroid::PairGeometry, r_min_m: f64) -> Shaped {
         r_star_m,
         area_radius_m,
         r_min_m,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{AppleId, ContactLayer, StepRequest};
+    use super::*;
+    use crate::contact::spheroid::Spheroid;
+    use crate::contact::Material;
+    use rapier3d_f64::dynamics::{IslandManager, RigidBodyBuilder};
+    use rapier3d_f64::parry::mass_properties::MassProperties;
+
+    /// The next number of a fixed pseudo-random sequence, in [-1, 1).
+    fn rnd(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    /// Five steps of the layer (with step control) on 1000 apples in a jittered lattice, every
+    /// fourth a spheroid, moved about between the steps (rapier does not step them); from the
+    /// second step on every seventh apple and the first 20 sleep and apple 3 is out of the run; the pairs
+    /// examined in `runs` runs on a pool of `threads`. Returns, per step, what the pass left
+    /// (the pairs, the contact slab, the step's figures, the contacts that ended, the sleepers,
+    /// the contact counts), and how many contacts started, ended, woke a sleeper and limited
+    /// the step.
+    fn steps_on(threads: usize, runs: usize) -> (Vec<String>, [usize; 4]) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut bodies = RigidBodySet::new();
+            let colliders = ColliderSet::new();
+            let islands = IslandManager::new();
+            let mut layer = ContactLayer::new(LayerConfig {
+                step_control: Some(StepControl {
+                    steps_per_contact: 20.0,
+                    max_displacement_m: 0.01,
+                }),
+                ..LayerConfig::default()
+            });
+            layer.detection.force_runs = Some(runs);
+            let fruit = layer.add_material(
+                "apple",
+                Material::from_shear(1.1e6, 0.18, Some(800.0)).unwrap(),
+            );
+            layer.set_default_coefficients(0.5, 0.09, 1000.0);
+            let mut seed = 7;
+            let mut handles = Vec::new();
+            for k in 0..1000 {
+                let cell = Vec3::new((k % 10) as f64, (k / 10 % 10) as f64, (k / 100) as f64);
+                let mut jitter = || Vec3::new(rnd(&mut seed), rnd(&mut seed), rnd(&mut seed));
+                let pos = cell * 0.078 + jitter() * 0.004;
+                let vel = jitter() * 0.5;
+                let r = 0.04 + 0.003 * rnd(&mut seed);
+                let m = 800.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+                let body = bodies.insert(
+                    RigidBodyBuilder::dynamic()
+                        .translation(pos)
+                        .linvel(vel)
+                        .additional_mass_properties(MassProperties::new(
+                            Vec3::ZERO,
+                            m,
+                            Vec3::splat(0.4 * m * r * r),
+                        )),
+                );
+                let name = format!("a{k}");
+                if k % 4 == 0 {
+                    let shape = Spheroid::new(r, 0.85 * r);
+                    layer.add_spheroid_body(&bodies, body, shape, fruit, &name)
+                } else {
+                    layer.add_apple_body(&bodies, body, r, fruit, &name)
+                }
+                .unwrap();
+                handles.push(body);
+            }
+            let mut log = Vec::new();
+            let (mut t, mut last) = (0.0, None);
+            for step in 0..5 {
+                if step == 1 {
+                    // The first 20 too: the list's first pairs are asleep (not scanned).
+                    for k in (0..1000).filter(|k| k % 7 == 0 || *k < 20) {
+                        layer.sleep.put_to_sleep(k);
+                    }
+                    layer.take_out_apple(AppleId(3));
+                }
+                if step > 0 {
+                    for (k, &h) in handles.iter().enumerate() {
+                        let shift = Vec3::new(rnd(&mut seed), rnd(&mut seed), rnd(&mut seed));
+                        if !layer.sleep.is_asleep(k) {
+                            let b = &mut bodies[h];
+                            let pos = b.translation() + shift * 0.002;
+                            b.set_translation(pos, false);
+                        }
+                    }
+                }
+                let request = StepRequest::adaptive(t, 5e-3, last, 5e-3, 0.0);
+                let dt = layer
+                    .step(&mut bodies, &colliders, &islands, &request)
+                    .unwrap();
+                (t, last) = (t + dt, Some(dt));
+                log.push(format!("{:?}", layer.detection.grid.pairs()));
+                log.push(format!("{:?}", layer.contacts));
+                log.push(format!("{:?}", layer.out.stats));
+                log.push(format!("{:?}", layer.out.finished));
+                log.push(format!("{:?}", layer.sleep.asleep()));
+                log.push(format!("{:?}", layer.frame.count));
+            }
+            (log, layer.detection.found_kinds)
+        })
+    }
+
+    /// The pairs examined in several runs (on one thread in turn, or on two at once) leave the
+    /// same pairs, contacts, step figures, ended contacts, sleepers and counts as one run.
+    #[test]
+    fn runs_of_pairs_find_and_apply_the_same_as_one() {
+        let (one, kinds) = steps_on(1, 1);
+        // Every kind of finding occurs: contacts start, end, wake sleepers and limit steps.
+        assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
+        for (threads, runs) in [(1, 3), (2, 2), (2, 5)] {
+            let (other, _) = steps_on(threads, runs);
+            assert_eq!(one.len(), other.len());
+            for (k, (a, b)) in one.iter().zip(&other).enumerate() {
+                assert!(
+                    a == b,
+                    "{runs} runs on {threads} threads: item {k} of the log differs"
+                );
+            }
+        }
     }
 }

@@ -194,6 +194,17 @@ impl Sleep {
         self.to_wake.push(k);
     }
 
+    /// Puts apple `k` to sleep where it is, with no rule asked (tests: sleepers beside awake
+    /// apples).
+    #[cfg(test)]
+    pub fn put_to_sleep(&mut self, k: usize) {
+        if !self.asleep[k] {
+            self.asleep[k] = true;
+            self.asleep_count += 1;
+            self.dirty = true;
+        }
+    }
+
     /// Whether wake-ups are pending.
     pub fn wakes_pending(&self) -> bool {
         !self.to_wake.is_empty()

@@ -18,6 +18,10 @@ pub enum Stage {
     /// Of detection: the neighbour list's rebuild, the surface candidates and the reorder of the
     /// contacts, when some apple moved half the skin.
     Rebuild,
+    /// Of detection: the listed apple pairs examined at the current poses.
+    Pairs,
+    /// Of detection: the surface contacts found at the current poses.
+    Surfaces,
     /// The contact law of every contact and the load sums.
     Law,
     /// The sleep rule.
@@ -30,10 +34,12 @@ pub enum Stage {
 
 impl Stage {
     /// Every stage, in the order a step runs them.
-    pub const ALL: [Stage; 7] = [
+    pub const ALL: [Stage; 9] = [
         Stage::Read,
         Stage::Detect,
         Stage::Rebuild,
+        Stage::Pairs,
+        Stage::Surfaces,
         Stage::Law,
         Stage::Sleep,
         Stage::Handoff,
@@ -46,6 +52,8 @@ impl Stage {
             Stage::Read => "read",
             Stage::Detect => "detect",
             Stage::Rebuild => "of which rebuild",
+            Stage::Pairs => "of which apple pairs",
+            Stage::Surfaces => "of which surfaces",
             Stage::Law => "law and sums",
             Stage::Sleep => "sleep",
             Stage::Handoff => "hand-off",
