@@ -71,6 +71,8 @@ pub struct World {
     /// Apple sets: worlds of collider-less apples only, stepped concurrently with `physics` (see
     /// [`World::advance`] and [`crate::layer::BodySets`]). Empty on one thread.
     apple_sets: Vec<PhysicsWorld>,
+    /// The apples the scene starts with (the split's plan; see [`Self::split_apples`]).
+    initial_apples: usize,
     /// The contact layer.
     pub layer: ContactLayer,
     /// Rigid body of each apple (its set and handle), in layer order (listed, generated, then fed
@@ -320,6 +322,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     let mut world = World {
         physics,
         apple_sets: Vec::new(),
+        initial_apples: 0,
         layer,
         apple_bodies: Vec::new(),
         roster: Roster::default(),
@@ -367,7 +370,8 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
     }
     let plan = roster::plan(sc)?;
     world.split_apples(
-        plan.initial.len() + plan.feeds.len(),
+        plan.initial.len(),
+        plan.feeds.len(),
         rayon::current_num_threads(),
     );
     for (a, origin) in &plan.initial {
@@ -414,13 +418,22 @@ fn body_set<'a>(
 /// step split over body sets").
 pub const APPLE_SETS_MIN_APPLES: usize = 256;
 
+/// Fed apples per run of one body set (see [`World::split_apples`]): a few cache lines of each
+/// of the layer's per-apple arrays. Not tuned.
+pub const FED_RUN: usize = 64;
+
 impl World {
     /// Spreads the apples to come over `threads` body sets (rapier's own and `threads - 1`
-    /// apple sets), in turn by apple index, when the scene has at least
-    /// [`APPLE_SETS_MIN_APPLES`] apples in all (`apples`), more than one thread, and no apple
+    /// apple sets) in runs of consecutive apple indices: the `initial` apples in one run per set
+    /// (the first `initial / threads` in set 0, and so on), the `fed` ones in runs of
+    /// [`FED_RUN`] dealt in turn (the apples in a line at one time are a window of the fed
+    /// ones). This when the scene has at least [`APPLE_SETS_MIN_APPLES`] apples in all, more
+    /// than one thread, and no apple
     /// needs a collider (rapier's own contact with a rigid surface is in rapier's own set). Which
     /// set an apple is in changes no bit of any result ([`crate::layer::BodySets`]).
-    pub fn split_apples(&mut self, apples: usize, threads: usize) {
+    pub fn split_apples(&mut self, initial: usize, fed: usize, threads: usize) {
+        self.initial_apples = initial;
+        let apples = initial + fed;
         let sets = if apples >= APPLE_SETS_MIN_APPLES && !self.apple_colliders {
             threads.max(1)
         } else {
@@ -441,9 +454,19 @@ impl World {
         1 + self.apple_sets.len()
     }
 
-    /// The set the next apple goes into: in turn over the sets.
+    /// The set the next apple goes into: consecutive apples share a set. A thread then reads,
+    /// examines and hands forces to mostly the apples it stepped (the frame's arrays, the pair
+    /// list and the contacts are in apple order), not every other apple of the other thread's
+    /// cache (docs/performance.md, "Apples in runs over the body sets").
     fn next_apple_set(&self) -> u32 {
-        (self.apple_bodies.len() % self.body_set_count()) as u32
+        let sets = self.body_set_count();
+        let (k, initial) = (self.apple_bodies.len(), self.initial_apples);
+        let set = if k < initial {
+            k * sets / initial
+        } else {
+            (k - initial) / FED_RUN % sets
+        };
+        set as u32
     }
 
     /// The rigid-body set `set` (0: rapier's own; see [`BodyRef`]).
