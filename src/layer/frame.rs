@@ -177,8 +177,8 @@ pub(super) struct Loads {
     /// The layer left a non-zero force or torque on the body at the last step (so a zero one now
     /// must be written: rapier keeps user forces).
     pub loaded: Vec<bool>,
-    /// The forces handed to rapier this step: (apple, force, torque).
-    handoff: Vec<(u32, Vec3, Vec3)>,
+    /// The forces handed to rapier this step, per body set: (body, force, torque).
+    handoff: Vec<Vec<(RigidBodyHandle, Vec3, Vec3)>>,
     /// Reaction forces on dynamic surface bodies: (body, force, point).
     pub body_loads: Vec<(RigidBodyHandle, Vec3, Vec3)>,
     /// Reaction forces on the surfaces turned by their contacts, this step, in slot order:
@@ -227,7 +227,8 @@ impl Loads {
         // tracks the changes per set); else straight away, in awake order.
         let parallel = !bodies.apple_sets.is_empty() && awake.len() >= PARALLEL_MIN_READS;
         let mut handoff = std::mem::take(&mut self.handoff);
-        handoff.clear();
+        handoff.resize_with(bodies.apple_sets.len() + 1, Vec::new);
+        handoff.iter_mut().for_each(Vec::clear);
         for &k in awake {
             let k = k as usize;
             if idle(k) {
@@ -255,19 +256,16 @@ impl Loads {
             }
             self.loaded[k] = load;
             if parallel {
-                handoff.push((k as u32, f, t));
+                handoff[a.body.set as usize].push((a.body.handle, f, t));
             } else if let Some(rb) = bodies.get_mut(a.body) {
                 set_load(rb, f, t);
             }
         }
         if parallel {
             bodies.for_each_set(|set, rbs| {
-                for &(k, f, t) in &handoff {
-                    let r = apples[k as usize].body;
-                    if r.set == set {
-                        if let Some(rb) = rbs.get_mut(r.handle) {
-                            set_load(rb, f, t);
-                        }
+                for &(h, f, t) in &handoff[set as usize] {
+                    if let Some(rb) = rbs.get_mut(h) {
+                        set_load(rb, f, t);
                     }
                 }
             });
