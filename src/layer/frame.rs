@@ -46,8 +46,9 @@ impl Frame {
 
     /// Reads the awake apples' current state from rapier; non-finite state is refused here,
     /// before it can spread. With many awake apples and more than one thread, the bodies are
-    /// read in parallel chunks (a body read is a cache miss each) and written in awake order:
-    /// the same frame, and the same first error, for any thread count.
+    /// read in parallel chunks of the awake list (a body read is a cache miss each), each
+    /// writing its own range of the arrays: the same frame, and the same first error (the first
+    /// in awake order), for any thread count.
     pub fn read(
         &mut self,
         bodies: &BodySets,
@@ -59,25 +60,41 @@ impl Frame {
     ) -> Result<(), LayerError> {
         if awake.len() >= PARALLEL_MIN_READS && rayon::current_num_threads() > 1 {
             use rayon::prelude::*;
-            let chunks: Vec<Result<Vec<(u32, Pose)>, LayerError>> = awake
-                .par_chunks(READ_CHUNK)
-                .map(|chunk| {
-                    let mut out = Vec::with_capacity(chunk.len());
+            // The awake list is increasing: its chunks name disjoint ranges of apples, and each
+            // chunk writes its own range of the arrays.
+            debug_assert!(awake.windows(2).all(|w| w[0] < w[1]));
+            let mut rest = Part {
+                first: 0,
+                pos: &mut self.pos,
+                vel: &mut self.vel,
+                angvel: &mut self.angvel,
+                rot: &mut self.rot,
+                still: &mut self.still,
+            };
+            let mut parts = Vec::new();
+            for chunk in awake.chunks(READ_CHUNK) {
+                let end = *chunk.last().expect("chunks are not empty") as usize + 1;
+                let (mine, tail) = rest.split(end);
+                parts.push((chunk, mine));
+                rest = tail;
+            }
+            let first_error = parts
+                .into_par_iter()
+                .map(|(chunk, mut part)| {
                     for &k in chunk {
                         if !riding(k as usize) {
-                            out.push((
-                                k,
-                                read_pose(bodies, &apples[k as usize], still_speed_m_s, time_s)?,
-                            ));
+                            let p =
+                                read_pose(bodies, &apples[k as usize], still_speed_m_s, time_s)?;
+                            part.put(k as usize, p);
                         }
                     }
-                    Ok(out)
+                    Ok(())
                 })
-                .collect();
-            for chunk in chunks {
-                for (k, p) in chunk? {
-                    self.put(k as usize, p);
-                }
+                .collect::<Vec<Result<(), LayerError>>>()
+                .into_iter()
+                .find_map(Result::err);
+            if let Some(e) = first_error {
+                return Err(e);
             }
         } else {
             for &k in awake {
@@ -106,6 +123,56 @@ impl Frame {
 /// Awake apples from which [`Frame::read`] reads the bodies in parallel (below, the pool's
 /// overhead outweighs ~40 ns per body).
 const PARALLEL_MIN_READS: usize = 256;
+
+/// The arrays of a range of apples from `first` on (a chunk of [`Frame::read`]).
+struct Part<'a> {
+    first: usize,
+    pos: &'a mut [Vec3],
+    vel: &'a mut [Vec3],
+    angvel: &'a mut [Vec3],
+    rot: &'a mut [Rotation],
+    still: &'a mut [bool],
+}
+
+impl<'a> Part<'a> {
+    /// The apples before `end`, and those from it.
+    fn split(self, end: usize) -> (Part<'a>, Part<'a>) {
+        let at = end - self.first;
+        let (pos, pos2) = self.pos.split_at_mut(at);
+        let (vel, vel2) = self.vel.split_at_mut(at);
+        let (angvel, angvel2) = self.angvel.split_at_mut(at);
+        let (rot, rot2) = self.rot.split_at_mut(at);
+        let (still, still2) = self.still.split_at_mut(at);
+        (
+            Part {
+                first: self.first,
+                pos,
+                vel,
+                angvel,
+                rot,
+                still,
+            },
+            Part {
+                first: end,
+                pos: pos2,
+                vel: vel2,
+                angvel: angvel2,
+                rot: rot2,
+                still: still2,
+            },
+        )
+    }
+
+    #[inline(always)]
+    fn put(&mut self, k: usize, p: Pose) {
+        let j = k - self.first;
+        self.pos[j] = p.centre;
+        self.vel[j] = p.vel;
+        self.angvel[j] = p.angvel;
+        self.rot[j] = p.rot;
+        self.still[j] = p.still;
+    }
+}
 
 /// Apples per parallel chunk of [`Frame::read`].
 const READ_CHUNK: usize = 128;

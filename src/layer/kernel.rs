@@ -758,9 +758,9 @@ mod tests {
     use rapier3d_f64::parry::mass_properties::MassProperties;
 
     /// One step of 1000 touching apples in a lattice (about 2 700 contacts, the parallel pass)
-    /// where two pairs far apart in the contact list overlap beyond the guard's limit, on a pool
-    /// of `threads`: the step's error.
-    fn bad_step_on(threads: usize) -> LayerError {
+    /// where two pairs far apart in the contact list overlap beyond the guard's limit, and the
+    /// `nan_apples` move at a NaN speed, on a pool of `threads`: the step's error.
+    fn bad_step_on(threads: usize, nan_apples: &[usize]) -> LayerError {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
@@ -784,9 +784,15 @@ mod tests {
                 if k == 901 || k == 21 {
                     pos.x -= 0.05;
                 }
+                let speed = if nan_apples.contains(&k) {
+                    f64::NAN
+                } else {
+                    0.0
+                };
                 let body = bodies.insert(
                     RigidBodyBuilder::dynamic()
                         .translation(pos)
+                        .linvel(Vec3::new(speed, 0.0, 0.0))
                         .additional_mass_properties(MassProperties::new(
                             Vec3::ZERO,
                             m,
@@ -811,8 +817,17 @@ mod tests {
     /// The parallel force pass reports the error of the lowest slot, as the serial one does.
     #[test]
     fn the_parallel_pass_reports_the_first_error_in_slot_order() {
-        let one = format!("{:?}", bad_step_on(1));
+        let one = format!("{:?}", bad_step_on(1, &[]));
         assert!(one.contains("a20") && one.contains("a21"), "{one}");
-        assert_eq!(one, format!("{:?}", bad_step_on(2)));
+        assert_eq!(one, format!("{:?}", bad_step_on(2, &[])));
+    }
+
+    /// The parallel read of the bodies reports the first non-finite apple in apple order, as
+    /// the serial one does (apples 700 and 300 in different chunks).
+    #[test]
+    fn the_parallel_read_reports_the_first_non_finite_apple() {
+        let one = format!("{:?}", bad_step_on(1, &[700, 300]));
+        assert!(one.contains("NonFinite") && one.contains("a300"), "{one}");
+        assert_eq!(one, format!("{:?}", bad_step_on(2, &[700, 300])));
     }
 }
