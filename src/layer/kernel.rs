@@ -675,11 +675,23 @@ impl Kernel {
             })
             .collect();
         let done: Vec<AtomicBool> = blocks.iter().map(|_| AtomicBool::new(false)).collect();
-        let next = AtomicUsize::new(0);
-        let claim = || {
-            let b = next.fetch_add(1, Ordering::Relaxed);
-            (b < blocks.len()).then_some(b)
+        // Each thread first takes the blocks of its own share of the slab (the stepping thread the
+        // first: the contacts of the first pairs, whose apples it read and examined), then
+        // helps with the others'.
+        let shares = rayon::current_num_threads();
+        let bounds: Vec<usize> = (0..=shares).map(|p| p * blocks.len() / shares).collect();
+        let next: Vec<AtomicUsize> = bounds[..shares]
+            .iter()
+            .map(|&b| AtomicUsize::new(b))
+            .collect();
+        let claim = |me: usize| {
+            (0..shares).find_map(|q| {
+                let p = (me + q) % shares;
+                let b = next[p].fetch_add(1, Ordering::Relaxed);
+                (b < bounds[p + 1]).then_some(b)
+            })
         };
+        let claim = &claim;
         let evaluate = |b: usize| {
             let mut guard = blocks[b].lock().expect("no panic holds it");
             let block = &mut *guard;
@@ -706,9 +718,9 @@ impl Kernel {
         };
         let mut first_error = None;
         rayon::scope(|scope| {
-            for _ in 1..rayon::current_num_threads() {
-                scope.spawn(|_| {
-                    while let Some(b) = claim() {
+            for helper in 1..shares {
+                scope.spawn(move |_| {
+                    while let Some(b) = claim(helper) {
                         evaluate(b);
                     }
                 });
@@ -731,7 +743,7 @@ impl Kernel {
                     }
                     first_error = block.error.take().map(|e| e.1);
                     summed += 1;
-                } else if let Some(b) = claim() {
+                } else if let Some(b) = claim(0) {
                     evaluate(b);
                 } else {
                     // Another thread is evaluating the next block.
@@ -739,7 +751,9 @@ impl Kernel {
                 }
             }
             // After an error no block is evaluated any more.
-            next.store(blocks.len(), Ordering::Relaxed);
+            for (n, &end) in next.iter().zip(&bounds[1..]) {
+                n.store(end, Ordering::Relaxed);
+            }
         });
         if let Some(e) = first_error {
             return Err(*e);
