@@ -3,10 +3,10 @@
 //!
 //! Each contact is evaluated from the layer's per-step arrays (read only) and writes only its own
 //! state; its force is added to the loads in slab order. On one thread the two happen together;
-//! on several, blocks of contacts are evaluated in parallel into an output per slot, and the
-//! calling thread adds each finished block to the loads in slab order while the others evaluate
-//! on, so the sums are bit-identical whatever the thread count and take no serial pass of their
-//! own.
+//! on several, blocks of contacts are evaluated in parallel into an output per slot (each thread
+//! first its own share of the slab, then the others'), and the calling thread adds each finished
+//! block to the loads in slab order while the others evaluate on, so the sums are bit-identical
+//! whatever the thread count and take no serial pass of their own.
 
 use super::clock::StepClock;
 use super::config::LayerConfig;
