@@ -1339,17 +1339,13 @@ mod tests {
 
     /// Five steps of the layer (with step control) on 1000 apples in a jittered lattice, every
     /// fourth a spheroid, moved about between the steps (rapier does not step them); from the
-    /// second step on every seventh apple and the first 20 sleep and apple 3 is out of the run; the pairs
-    /// examined in `runs` runs on a pool of `threads`. Returns, per step, what the pass left
-    /// (the pairs, the contact slab, the step's figures, the contacts that ended, the sleepers,
-    /// the contact counts), and how many contacts started, ended, woke a sleeper and limited
-    /// the step.
+    /// second step on every seventh apple and the first 20 sleep and apple 3 is out of the run;
+    /// the pairs examined in `runs` runs on a pool of `threads`. Returns, per step, what the
+    /// pass left (the pairs, the contact slab, the step's figures, the contacts that ended, the
+    /// sleepers, the contact counts), and how many contacts started, ended, woke a sleeper and
+    /// limited the step.
     fn steps_on(threads: usize, runs: usize) -> (Vec<String>, [usize; 4]) {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        super::super::on_pool(threads, || {
             let mut bodies = RigidBodySet::new();
             let colliders = ColliderSet::new();
             let islands = IslandManager::new();

@@ -470,11 +470,7 @@ mod tests {
         let sparse = brute(&pos2, &r2, 0.01);
         assert!(pos.len() >= PARALLEL_MIN_APPLES && dense.len() > 1000);
         for threads in [1, 2] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            super::super::on_pool(threads, || {
                 assert_eq!(
                     listed(&listed_all(&pos, &r, 0.01)),
                     dense,

@@ -775,11 +775,7 @@ mod tests {
     /// where two pairs far apart in the contact list overlap beyond the guard's limit, and the
     /// `nan_apples` move at a NaN speed, on a pool of `threads`: the step's error.
     fn bad_step_on(threads: usize, nan_apples: &[usize]) -> LayerError {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        super::super::on_pool(threads, || {
             let mut bodies = RigidBodySet::new();
             let colliders = ColliderSet::new();
             let islands = IslandManager::new();

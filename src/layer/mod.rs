@@ -498,3 +498,14 @@ impl ContactLayer {
         }
     }
 }
+
+/// Tests: runs `f` on a rayon pool of `threads` (what a layer step does on one thread and on
+/// several).
+#[cfg(test)]
+pub(crate) fn on_pool<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(f)
+}
