@@ -12,8 +12,7 @@
 
 use super::adaptive::{damping_step, limit_in_contact, stick_half_period, time_to_touch};
 use super::clock::{StepClock, StepLimit};
-use super::config::LayerConfig;
-use super::config::StepControl;
+use super::config::{LayerConfig, StepControl};
 use super::contacts::{Contact, ContactStore, Shaped};
 use super::frame::Frame;
 use super::grid::{NeighborList, Pair, NONE};
@@ -266,7 +265,7 @@ impl Detection {
     }
 
     fn is_retired(&self, k: usize) -> bool {
-        self.retired.get(k).copied().unwrap_or(false)
+        is_retired(&self.retired, k)
     }
 
     /// A new apple: the first one sets the grid's skin (its cells follow the largest radius).
@@ -995,7 +994,7 @@ impl PairView<'_> {
         let (energy_loss, friction, wake_ratio) =
             (self.energy_loss, self.friction, self.wake_ratio);
         let (time_s, epoch) = (self.time_s, self.epoch);
-        let retired = |k: usize| self.retired.get(k).copied().unwrap_or(false);
+        let retired = |k: usize| is_retired(self.retired, k);
         for q in 0..run.len {
             let k = run.scan.map_or(run.first_k + q, |s| s[q] as usize);
             let pk = k - run.first_k;
@@ -1217,6 +1216,11 @@ impl PairView<'_> {
             }
         }
     }
+}
+
+/// Whether apple `k` was taken out of the run (see [`Detection::retire`]).
+fn is_retired(retired: &[bool], k: usize) -> bool {
+    retired.get(k).copied().unwrap_or(false)
 }
 
 /// Closes the contact of an apple pair that parted (or left the list).
