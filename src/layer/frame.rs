@@ -58,19 +58,20 @@ impl Frame {
         still_speed_m_s: f64,
         time_s: f64,
     ) -> Result<(), LayerError> {
+        let mut all = Part {
+            first: 0,
+            pos: &mut self.pos,
+            vel: &mut self.vel,
+            angvel: &mut self.angvel,
+            rot: &mut self.rot,
+            still: &mut self.still,
+        };
         if awake.len() >= PARALLEL_MIN_READS && rayon::current_num_threads() > 1 {
             use rayon::prelude::*;
             // The awake list is increasing: its chunks name disjoint ranges of apples, and each
             // chunk writes its own range of the arrays.
             debug_assert!(awake.windows(2).all(|w| w[0] < w[1]));
-            let mut rest = Part {
-                first: 0,
-                pos: &mut self.pos,
-                vel: &mut self.vel,
-                angvel: &mut self.angvel,
-                rot: &mut self.rot,
-                still: &mut self.still,
-            };
+            let mut rest = all;
             let mut parts = Vec::new();
             for chunk in awake.chunks(READ_CHUNK) {
                 let end = *chunk.last().expect("chunks are not empty") as usize + 1;
@@ -104,19 +105,10 @@ impl Frame {
                     continue;
                 }
                 let p = read_pose(bodies, &apples[k], still_speed_m_s, time_s)?;
-                self.put(k, p);
+                all.put(k, p);
             }
         }
         Ok(())
-    }
-
-    #[inline(always)]
-    fn put(&mut self, k: usize, p: Pose) {
-        self.pos[k] = p.centre;
-        self.vel[k] = p.vel;
-        self.angvel[k] = p.angvel;
-        self.rot[k] = p.rot;
-        self.still[k] = p.still;
     }
 }
 
