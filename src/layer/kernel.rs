@@ -38,6 +38,15 @@ struct Block<'a> {
     error: Option<(usize, Box<LayerError>)>,
 }
 
+/// Marks a block of the parallel force pass evaluated when dropped.
+struct Done<'a>(&'a AtomicBool);
+
+impl Drop for Done<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Release);
+    }
+}
+
 /// What the evaluation of one contact hands to the sums.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct ContactOut {
@@ -694,6 +703,9 @@ impl Kernel {
         let claim = &claim;
         let evaluate = |b: usize| {
             let mut guard = blocks[b].lock().expect("no panic holds it");
+            // Done when the evaluation ends, by a panic too (the block's lock is then poisoned,
+            // and the summing thread's `lock` passes the panic on instead of waiting for ever).
+            let _done = Done(&done[b]);
             let block = &mut *guard;
             for (k, ((c, o), &stamp)) in block
                 .slots
@@ -714,7 +726,6 @@ impl Kernel {
                     }
                 }
             }
-            done[b].store(true, Ordering::Release);
         };
         let mut first_error = None;
         rayon::scope(|scope| {
