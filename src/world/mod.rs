@@ -428,9 +428,9 @@ impl World {
     /// (the first `initial / threads` in set 0, and so on), the `fed` ones in runs of
     /// [`FED_RUN`] dealt in turn (the apples in a line at one time are a window of the fed
     /// ones). This when the scene has at least [`APPLE_SETS_MIN_APPLES`] apples in all, more
-    /// than one thread, and no apple
-    /// needs a collider (rapier's own contact with a rigid surface is in rapier's own set). Which
-    /// set an apple is in changes no bit of any result ([`crate::layer::BodySets`]).
+    /// than one thread, and no apple needs a collider (rapier's own contact with a rigid surface
+    /// is in rapier's own set). Which set an apple is in changes no bit of any result
+    /// ([`crate::layer::BodySets`]).
     pub fn split_apples(&mut self, initial: usize, fed: usize, threads: usize) {
         self.initial_apples = initial;
         let apples = initial + fed;
@@ -457,7 +457,7 @@ impl World {
     /// The set the next apple goes into: consecutive apples share a set. A thread then reads,
     /// examines and hands forces to mostly the apples it stepped (the frame's arrays, the pair
     /// list and the contacts are in apple order), not every other apple of the other thread's
-    /// cache (docs/performance.md, "Apples in runs over the body sets").
+    /// cache (docs/performance.md, "Two threads: the serial stages", item 3).
     fn next_apple_set(&self) -> u32 {
         let sets = self.body_set_count();
         let (k, initial) = (self.apple_bodies.len(), self.initial_apples);
