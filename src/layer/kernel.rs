@@ -117,7 +117,7 @@ impl Ctx<'_> {
             }
         }
         let law = &self.registry.laws()[c.law as usize];
-        let k = c.consts;
+        let k = &c.consts;
         let point = match &c.shaped {
             Some(sh) => pi + sh.arm + n * (u * law.share1),
             None => contact::geometry::contact_point(pi, ri, n, u, law.share1),
@@ -194,7 +194,7 @@ impl Ctx<'_> {
         let resp = contact::evaluate(
             law,
             self.config.parts,
-            &k,
+            k,
             &kin,
             &mut c.xi,
             kill_rate,
@@ -215,7 +215,7 @@ impl Ctx<'_> {
             let roll = if rolling {
                 contact::rolling_torque(
                     law,
-                    &k,
+                    k,
                     n,
                     w_rel,
                     &resp,
@@ -227,7 +227,7 @@ impl Ctx<'_> {
                 Vec3::ZERO
             };
             if twisting {
-                roll + contact::twisting_torque(law, &k, n, w_rel, &resp, kill_rate)
+                roll + contact::twisting_torque(law, k, n, w_rel, &resp, kill_rate)
             } else {
                 roll
             }
@@ -254,7 +254,7 @@ impl Ctx<'_> {
             }));
         }
         if c.record.is_none() {
-            c.record = Some(self.begin(c, &k, &resp)?);
+            c.record = Some(self.begin(c, k, &resp)?);
         }
         // Warned once per contact.
         // A pad's limits, each warned once per contact (the further one may follow the first).
