@@ -651,8 +651,8 @@ impl Detection {
                     }
                     cx.sleep.request_wake(a as u32);
                 }
-                let law =
-                    registry.laws()[registry.law_index(registry.apples[a].material, surf.material)];
+                let law = &registry.laws()
+                    [registry.law_index(registry.apples[a].material, surf.material)];
                 for (h, hit) in hits.iter().enumerate() {
                     let extra = shaped_hits.get(h).copied();
                     // Match the hit to the open contact with the closest normal (one per smooth
@@ -752,7 +752,7 @@ impl Detection {
                                 let u = hit.overlap_m;
                                 (
                                     stick_half_period(law.g_star_pa, r_star, u, m_t),
-                                    history_damping_step(&law, r_star, u, m_n, m_t),
+                                    history_damping_step(law, r_star, u, m_n, m_t),
                                 )
                             } else {
                                 (f64::INFINITY, f64::INFINITY)
@@ -1121,7 +1121,7 @@ impl PairView<'_> {
             }
             if let Some(c) = control {
                 let law =
-                    registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
+                    &registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
                 let (ri, rj) = (frame.radius[i], frame.radius[j]);
                 if let (Some((g, r_min)), None) = (&shaped, &contact_geo) {
                     contact_geo = Some(shaped_contact(g, *r_min));
@@ -1187,7 +1187,7 @@ impl PairView<'_> {
                             1.0 / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
                         (
                             stick_half_period(law.g_star_pa, r_star, u, m_t),
-                            history_damping_step(&law, r_star, u, m_n, m_t),
+                            history_damping_step(law, r_star, u, m_n, m_t),
                         )
                     } else {
                         (f64::INFINITY, f64::INFINITY)
