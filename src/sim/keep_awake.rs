@@ -10,24 +10,27 @@
 //! (`rayon::yield_now`), so the worker never sleeps between regions.
 //!
 //! It changes no result (only which thread runs a job; every parallel part of a step gives the
-//! same bits for any thread count). It costs a busy core while the run steps, and its spinning
-//! slows the stepping thread where the step is mostly serial (measured: the 1000-apple line on
-//! two threads took 21 s instead of 15-16 s in most runs with pollers throughout, its late steps
-//! having about 560 awake apples and 1 300 contacts evaluated). So the driver runs pollers only
-//! after steps with at least [`MIN_CONTACTS`] contacts in a split scene (more than one thread and at least
-//! [`crate::world::APPLE_SETS_MIN_APPLES`] apples), and a poller that finds nothing to do for
-//! [`MAX_IDLE`] ends (the driver paused, or the run ended without dropping its driver); the next
-//! step starts another.
+//! same bits for any thread count). It costs a busy core while the run steps, so the driver runs
+//! pollers only after steps with at least [`MIN_CONTACTS`] contacts in a split scene (more than
+//! one thread and at least [`crate::world::APPLE_SETS_MIN_APPLES`] apples), and a poller that
+//! finds nothing to do for [`MAX_IDLE`] ends (the driver paused, or the run ended without dropping
+//! its driver); the next step starts another. On the 2-core VM a busy second core sometimes slows
+//! the stepping thread's serial stages too, by up to 1.6x for minutes at a time (the VM's "slow
+//! state", docs/performance.md): it comes and goes with the host, not with the scene, and a
+//! single two-thread timing there is not to be trusted.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// The fewest contacts in a step (`StepStats::contacts`) for the next to keep the pool's threads
-/// polling: set between the two measured scenes, the eq. 12 pile's impact phase (about 2 500 to
-/// 3 000, faster with pollers) and the 1000-apple line's late steps (about 1 300 evaluated,
-/// slower with them; docs/performance.md). A tuned figure, not a derived one.
-pub const MIN_CONTACTS: usize = 2000;
+/// polling: about where a step's parallel regions begin (256 contacts, 256 awake apples). Both
+/// measured scenes are faster with pollers: the eq. 12 pile's impact phase (about 2 500 to 3 000
+/// contacts) and the 1000-apple line's late steps (about 1 300 evaluated: 0.33 against 0.29 ms a
+/// step on two threads, docs/performance.md). It was 2 000 while the line seemed slower with
+/// them (21 s against 15-16 s), a measurement the VM's slow state explains. A tuned figure, not
+/// a derived one.
+pub const MIN_CONTACTS: usize = 500;
 
 /// How long a poller spins with nothing to do before it ends.
 pub const MAX_IDLE: Duration = Duration::from_millis(20);
