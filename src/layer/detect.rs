@@ -1120,7 +1120,19 @@ impl PairView<'_> {
                 // SAFETY: the pair's own contact.
                 unsafe { self.slots.get(p.contact) }.ref_u = f64::NAN;
             }
-            if let Some(c) = control {
+            // Two spheres apart that cannot touch within the horizon: nothing to plan, and the
+            // law's constants below are not needed (the same test as the planning's, first).
+            let far = control.is_some()
+                && shaped.is_none()
+                && u <= 0.0
+                && time_to_touch(
+                    -u,
+                    (frame.vel[j] - frame.vel[i]).dot(n),
+                    gravity.length(),
+                    horizon,
+                )
+                .is_none();
+            if let Some(c) = control.filter(|_| !far) {
                 let law =
                     &registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
                 let (ri, rj) = (frame.radius[i], frame.radius[j]);
