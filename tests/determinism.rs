@@ -325,3 +325,76 @@ fn apples_split_over_body_sets_move_the_same_bits() {
         );
     }
 }
+
+/// Riders leave rapier few bodies to step: below `world::APPLE_SETS_PARALLEL_MIN_AWAKE` awake
+/// apples the body sets are stepped one after the other, above it concurrently, and neither
+/// may change a bit. 324 apples land on a running belt (all awake, the sets concurrent), then
+/// ride it (few awake, the sets in turn); one thread and two end with the same bits, and the
+/// two-thread run went through both regimes.
+#[test]
+fn body_sets_stepped_in_turn_or_together_move_the_same_bits() {
+    use applesim::record::series::NoSamples;
+    use applesim::sim::Simulation;
+    use applesim::world::APPLE_SETS_PARALLEL_MIN_AWAKE;
+    let sc: applesim::scenario::Scenario = serde_json::from_value(serde_json::json!({
+        "description": "apples landing on a belt, then riding it",
+        "duration_s": 0.9,
+        "time_step_s": "adaptive",
+        "gravity_m_s2": [0, 0, -9.81],
+        "output": { "sample_interval_s": 0.1 },
+        "materials": {
+            "apple": { "youngs_modulus_pa": 2.6e6, "poisson_ratio": 0.18, "density_kg_m3": 800 },
+            "rubber": { "youngs_modulus_pa": 5e6, "poisson_ratio": 0.45 }
+        },
+        "contact": { "friction": 0.5, "ke": 0.3, "lambda_s_m": 1000 },
+        "generators": [ { "type": "grid", "name": "a", "material": "apple",
+            "diameter_m": { "mean_m": 0.075, "spread_m": 0.004 },
+            "count": [18, 18, 1], "spacing_m": [0.1, 0.1, 0.1],
+            "origin_m": [-0.85, -0.85, 0.0405], "jitter_m": 0.0, "seed": 5,
+            "velocity_m_s": [0.4, 0, 0] } ],
+        "surfaces": [ { "name": "belt", "type": "conveyor", "material": "rubber",
+            "size_m": [4.0, 2.0, 0.04], "position_m": [0.5, 0, -0.02],
+            "belt_velocity_m_s": 0.4 } ]
+    }))
+    .unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut sim = Simulation::new(&sc, Path::new(".")).unwrap();
+            assert_eq!(sim.world().body_set_count(), threads, "{threads} threads");
+            let (mut many, mut few) = (0, 0);
+            while !sim.done() {
+                sim.step(&mut NoSamples).unwrap();
+                if sim.world().layer.awake_count() >= APPLE_SETS_PARALLEL_MIN_AWAKE {
+                    many += 1;
+                } else {
+                    few += 1;
+                }
+            }
+            let bits: Vec<[u64; 9]> = sim
+                .apple_states()
+                .iter()
+                .map(|a| {
+                    let (p, v, w) = (a.position, a.velocity, a.angular_velocity);
+                    [p.x, p.y, p.z, v.x, v.y, v.z, w.x, w.y, w.z].map(f64::to_bits)
+                })
+                .collect();
+            let riding = sim.world().layer.riding_count();
+            (bits, many, few, riding)
+        })
+    };
+    let one = run(1);
+    let two = run(2);
+    assert_eq!(one.0.len(), 324);
+    assert!(
+        two.1 > 0 && two.2 > 0,
+        "both regimes: {} steps with many awake, {} with few",
+        two.1,
+        two.2
+    );
+    assert!(two.3 > 300, "the apples ride at the end: {}", two.3);
+    assert!(two.0 == one.0, "two body sets: an apple moved differently");
+}

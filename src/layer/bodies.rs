@@ -73,10 +73,11 @@ impl<'a> BodySets<'a> {
         }
     }
 
-    /// Calls `f(set, bodies)` for every set, rapier's own and the apple sets concurrently on
-    /// rayon's pool (each set is written by one task only).
-    pub fn for_each_set(&mut self, f: impl Fn(u32, &mut RigidBodySet) + Sync) {
-        if !self.apple_sets.is_empty() {
+    /// Calls `f(set, bodies)` for every set, rapier's own and the apple sets: concurrently on
+    /// rayon's pool when `parallel` (each set is written by one task only), else in set order
+    /// (a region costs its threads' wake-up, more than a few loads are worth).
+    pub fn for_each_set(&mut self, parallel: bool, f: impl Fn(u32, &mut RigidBodySet) + Sync) {
+        if parallel && !self.apple_sets.is_empty() {
             use rayon::prelude::*;
             let (main, sets) = (&mut *self.main, &mut *self.apple_sets);
             rayon::join(

@@ -54,6 +54,7 @@ impl Frame {
         bodies: &BodySets,
         apples: &[AppleEntry],
         awake: &[u32],
+        riders: usize,
         riding: impl Fn(usize) -> bool + Sync,
         still_speed_m_s: f64,
         time_s: f64,
@@ -66,7 +67,10 @@ impl Frame {
             rot: &mut self.rot,
             still: &mut self.still,
         };
-        if awake.len() >= PARALLEL_MIN_READS && rayon::current_num_threads() > 1 {
+        // Riders are not read (the layer carries them): they are no work for the pool.
+        if awake.len() - riders.min(awake.len()) >= PARALLEL_MIN_READS
+            && rayon::current_num_threads() > 1
+        {
             use rayon::prelude::*;
             // The awake list is increasing: its chunks name disjoint ranges of apples, and each
             // chunk writes its own range of the arrays.
@@ -282,9 +286,9 @@ impl Loads {
         gravity: Vec3,
         first_step: &mut [bool],
     ) {
-        // With apple sets and many loads, each set's bodies are written by one task (rapier
-        // tracks the changes per set); else straight away, in awake order.
-        let parallel = !bodies.apple_sets.is_empty() && awake.len() >= PARALLEL_MIN_READS;
+        // With apple sets, each set's bodies are written by one task (rapier tracks the changes
+        // per set), on the pool when there are many loads; else straight away, in awake order.
+        let sets = !bodies.apple_sets.is_empty();
         let mut handoff = std::mem::take(&mut self.handoff);
         handoff.resize_with(bodies.apple_sets.len() + 1, Vec::new);
         handoff.iter_mut().for_each(Vec::clear);
@@ -314,14 +318,15 @@ impl Loads {
                 continue;
             }
             self.loaded[k] = load;
-            if parallel {
+            if sets {
                 handoff[a.body.set as usize].push((a.body.handle, f, t));
             } else if let Some(rb) = bodies.get_mut(a.body) {
                 set_load(rb, f, t);
             }
         }
-        if parallel {
-            bodies.for_each_set(|set, rbs| {
+        if sets {
+            let loads: usize = handoff.iter().map(Vec::len).sum();
+            bodies.for_each_set(loads >= PARALLEL_MIN_READS, |set, rbs| {
                 for &(h, f, t) in &handoff[set as usize] {
                     if let Some(rb) = rbs.get_mut(h) {
                         set_load(rb, f, t);

@@ -463,6 +463,7 @@ impl ContactLayer {
             bodies,
             &self.registry.apples,
             sleep.awake(),
+            sleep.riding_count(),
             |k| sleep.riding_count() > 0 && sleep.ride(k).is_some(),
             self.config.sleep.speed_m_s,
             self.clock.time_s,

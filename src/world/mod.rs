@@ -418,6 +418,13 @@ fn body_set<'a>(
 /// step split over body sets").
 pub const APPLE_SETS_MIN_APPLES: usize = 256;
 
+/// The fewest awake apples (rapier's active bodies: sleepers and riders are not) for the body
+/// sets to be stepped concurrently; below, one after the other. A region costs the pool's wake-up
+/// (15-21 us on the 2-core VM, docs/performance.md) and rapier's step of ~100 bodies costs less:
+/// measured on the 1000-apple line's middle window (about 120 awake, 900 riding), two threads
+/// were slower than one there before. The same figure as the other regions' thresholds.
+pub const APPLE_SETS_PARALLEL_MIN_AWAKE: usize = 256;
+
 /// Fed apples per run of one body set (see [`World::split_apples`]): a few cache lines of each
 /// of the layer's per-apple arrays. Not tuned.
 pub const FED_RUN: usize = 64;
@@ -562,14 +569,23 @@ impl World {
             w.gravity = self.physics.gravity;
         }
         let (main, sets) = (&mut self.physics, &mut self.apple_sets);
-        rayon::join(
-            || main.step_with_events(hooks, &()),
-            || {
-                use rayon::prelude::*;
-                sets.par_iter_mut()
-                    .for_each(|w| w.step_with_events(&(), &()));
-            },
-        );
+        if self.layer.awake_count() >= APPLE_SETS_PARALLEL_MIN_AWAKE {
+            rayon::join(
+                || main.step_with_events(hooks, &()),
+                || {
+                    use rayon::prelude::*;
+                    sets.par_iter_mut()
+                        .for_each(|w| w.step_with_events(&(), &()));
+                },
+            );
+        } else {
+            // Few bodies to integrate (a line whose apples mostly ride or sleep): the sets one
+            // after the other, the same bits, without a region's wake-up.
+            main.step_with_events(hooks, &());
+            for w in sets.iter_mut() {
+                w.step_with_events(&(), &());
+            }
+        }
         timer.stop(Stage::Rapier);
     }
 
