@@ -49,6 +49,7 @@ impl Frame {
     /// read in parallel chunks of the awake list (a body read is a cache miss each), each
     /// writing its own range of the arrays: the same frame, and the same first error (the first
     /// in awake order), for any thread count.
+    #[allow(clippy::too_many_arguments)]
     pub fn read(
         &mut self,
         bodies: &BodySets,
