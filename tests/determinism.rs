@@ -288,24 +288,13 @@ fn apples_split_over_body_sets_move_the_same_bits() {
     use applesim::sim::Simulation;
     let sc: applesim::scenario::Scenario = serde_json::from_value(grid_pile()).unwrap();
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        on_threads(threads, || {
             let mut sim = Simulation::new(&sc, Path::new(".")).unwrap();
             assert_eq!(sim.world().body_set_count(), threads, "{threads} threads");
             while !sim.done() {
                 sim.step(&mut NoSamples).unwrap();
             }
-            let bits: Vec<[u64; 9]> = sim
-                .apple_states()
-                .iter()
-                .map(|a| {
-                    let (p, v, w) = (a.position, a.velocity, a.angular_velocity);
-                    [p.x, p.y, p.z, v.x, v.y, v.z, w.x, w.y, w.z].map(f64::to_bits)
-                })
-                .collect();
+            let bits = apple_bits(&mut sim);
             let events = sim.run(&mut NoSamples, &mut |_| {}).unwrap().events;
             (bits, events.len(), format!("{events:?}"))
         })
@@ -336,33 +325,25 @@ fn body_sets_stepped_in_turn_or_together_move_the_same_bits() {
     use applesim::record::series::NoSamples;
     use applesim::sim::Simulation;
     use applesim::world::APPLE_SETS_PARALLEL_MIN_AWAKE;
-    let sc: applesim::scenario::Scenario = serde_json::from_value(serde_json::json!({
-        "description": "apples landing on a belt, then riding it",
-        "duration_s": 0.9,
-        "time_step_s": "adaptive",
-        "gravity_m_s2": [0, 0, -9.81],
-        "output": { "sample_interval_s": 0.1 },
-        "materials": {
-            "apple": { "youngs_modulus_pa": 2.6e6, "poisson_ratio": 0.18, "density_kg_m3": 800 },
-            "rubber": { "youngs_modulus_pa": 5e6, "poisson_ratio": 0.45 }
-        },
-        "contact": { "friction": 0.5, "ke": 0.3, "lambda_s_m": 1000 },
-        "generators": [ { "type": "grid", "name": "a", "material": "apple",
-            "diameter_m": { "mean_m": 0.075, "spread_m": 0.004 },
-            "count": [18, 18, 1], "spacing_m": [0.1, 0.1, 0.1],
-            "origin_m": [-0.85, -0.85, 0.0405], "jitter_m": 0.0, "seed": 5,
-            "velocity_m_s": [0.4, 0, 0] } ],
-        "surfaces": [ { "name": "belt", "type": "conveyor", "material": "rubber",
-            "size_m": [4.0, 2.0, 0.04], "position_m": [0.5, 0, -0.02],
-            "belt_velocity_m_s": 0.4 } ]
-    }))
-    .unwrap();
+    // The determinism pile's materials and law, on a running belt.
+    let mut belt = grid_pile();
+    belt["duration_s"] = serde_json::json!(0.9);
+    belt["time_step_s"] = serde_json::json!("adaptive");
+    belt["materials"]["rubber"] =
+        serde_json::json!({ "youngs_modulus_pa": 5e6, "poisson_ratio": 0.45 });
+    let g = &mut belt["generators"][0];
+    g["diameter_m"]["mean_m"] = serde_json::json!(0.075);
+    g["diameter_m"]["spread_m"] = serde_json::json!(0.004);
+    g["count"] = serde_json::json!([18, 18, 1]);
+    g["spacing_m"] = serde_json::json!([0.1, 0.1, 0.1]);
+    g["origin_m"] = serde_json::json!([-0.85, -0.85, 0.0405]);
+    g["jitter_m"] = serde_json::json!(0.0);
+    g["velocity_m_s"] = serde_json::json!([0.4, 0, 0]);
+    belt["surfaces"] = serde_json::json!([{ "name": "belt", "type": "conveyor", "material": "rubber",
+        "size_m": [4.0, 2.0, 0.04], "position_m": [0.5, 0, -0.02], "belt_velocity_m_s": 0.4 }]);
+    let sc: applesim::scenario::Scenario = serde_json::from_value(belt).unwrap();
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        on_threads(threads, || {
             let mut sim = Simulation::new(&sc, Path::new(".")).unwrap();
             assert_eq!(sim.world().body_set_count(), threads, "{threads} threads");
             let (mut many, mut few) = (0, 0);
@@ -374,14 +355,7 @@ fn body_sets_stepped_in_turn_or_together_move_the_same_bits() {
                     few += 1;
                 }
             }
-            let bits: Vec<[u64; 9]> = sim
-                .apple_states()
-                .iter()
-                .map(|a| {
-                    let (p, v, w) = (a.position, a.velocity, a.angular_velocity);
-                    [p.x, p.y, p.z, v.x, v.y, v.z, w.x, w.y, w.z].map(f64::to_bits)
-                })
-                .collect();
+            let bits = apple_bits(&mut sim);
             let riding = sim.world().layer.riding_count();
             (bits, many, few, riding)
         })
@@ -397,4 +371,24 @@ fn body_sets_stepped_in_turn_or_together_move_the_same_bits() {
     );
     assert!(two.3 > 300, "the apples ride at the end: {}", two.3);
     assert!(two.0 == one.0, "two body sets: an apple moved differently");
+}
+
+/// Every apple's position, velocity and spin, as bits.
+fn apple_bits(sim: &mut applesim::sim::Simulation) -> Vec<[u64; 9]> {
+    sim.apple_states()
+        .iter()
+        .map(|a| {
+            let (p, v, w) = (a.position, a.velocity, a.angular_velocity);
+            [p.x, p.y, p.z, v.x, v.y, v.z, w.x, w.y, w.z].map(f64::to_bits)
+        })
+        .collect()
+}
+
+/// `f` run in a pool of `threads` threads.
+fn on_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
 }
