@@ -14,10 +14,11 @@
 //! pollers only after steps with at least [`MIN_CONTACTS`] contacts in a split scene (more than
 //! one thread and at least [`crate::world::APPLE_SETS_MIN_APPLES`] apples), and a poller that
 //! finds nothing to do for [`MAX_IDLE`] ends (the driver paused, or the run ended without dropping
-//! its driver); the next step starts another. On the 2-core VM a busy second core sometimes slows
-//! the stepping thread's serial stages too, by up to 1.6x for minutes at a time (the VM's "slow
-//! state", docs/performance.md): it comes and goes with the host, not with the scene, and a
-//! single two-thread timing there is not to be trusted.
+//! its driver); the next step starts another. On the 2-core VM, while the pollers run, the
+//! stepping thread's serial stages are sometimes slower too, by up to 1.6x for minutes at a time
+//! (the VM's "slow state", docs/performance.md; a busy loop on the other core does not cause it,
+//! and its cause is not found): it comes and goes over minutes, not with the scene, and a single
+//! two-thread timing there is not to be trusted.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
