@@ -431,14 +431,14 @@ impl Ctx<'_> {
             let eta_sub = substrate
                 .loss_factor
                 .unwrap_or(contact::share::pair_loss_factor(law.ke.sqrt()));
-            contact::padding::PadConstants::new(
+            Box::new(contact::padding::PadConstants::new(
                 self.registry.material(ai.material),
                 self.registry.material(p.material),
                 substrate,
                 p.thickness_m,
                 r_star,
                 [eta_apple, eta_pad, eta_sub],
-            )
+            ))
         });
         c.consts_curvature = c.curvature2;
         c.inv_r_min = 1.0 / c.shaped.map_or(r_min, |sh| sh.r_min_m);
