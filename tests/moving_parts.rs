@@ -373,6 +373,16 @@ fn a_sleeping_apple_wakes_when_a_part_moves_into_it() {
         }
     }
     assert!(was_asleep, "the apple fell asleep before the pusher moved");
+    // The pusher's collider is out of rapier's broad phase (the layer owns its contacts), yet
+    // rapier poses it with its body: its centre ends at -0.2 + 0.2 = 0.
+    let w = sim.world();
+    let co = &w.physics.colliders[w.surface_colliders[1]];
+    assert!(
+        !co.is_enabled(),
+        "a layer surface is left in rapier's broad phase"
+    );
+    let cx = co.position().translation.x;
+    assert!(cx.abs() < 1e-9, "the pusher's collider ends at x = {cx}");
     let x = series.of(0).last().unwrap().1.position.x;
     println!("pushed to x = {x:.4} m");
     // The pusher's face ends at -0.2 + 0.01 + 0.2 = 0.01 m: the apple's centre is beyond it.
