@@ -238,22 +238,34 @@ impl ContactStore {
         }
         // source[new] = old: slot `new` receives the contact of slot `old`.
         let mut done = vec![false; n];
+        let slots = self.slots.as_mut_ptr();
         for start in 0..n {
             if done[start] || source[start] as usize == start {
                 done[start] = true;
                 continue;
             }
-            // Follow the cycle: position j takes from source[j] until the cycle closes.
-            let mut j = start;
-            loop {
-                done[j] = true;
-                let from = source[j] as usize;
-                if from == start {
-                    break;
+            // Follow the cycle: position j takes from source[j] until the cycle closes, the
+            // first contact held aside meanwhile. Each contact is copied once (a swap copies two:
+            // a contact started mid-list shifts every one after it, one long cycle).
+            // SAFETY: every index is below n = slots.len(); the cycle visits each of its
+            // positions once, so each is read once (from) and written once (j); nothing between
+            // the read of `start` and the write back can panic, so no slot is dropped twice.
+            unsafe {
+                let held = std::ptr::read(slots.add(start));
+                let held_stamp = self.stamps[start];
+                let mut j = start;
+                loop {
+                    done[j] = true;
+                    let from = source[j] as usize;
+                    if from == start {
+                        std::ptr::write(slots.add(j), held);
+                        self.stamps[j] = held_stamp;
+                        break;
+                    }
+                    std::ptr::copy_nonoverlapping(slots.add(from), slots.add(j), 1);
+                    self.stamps[j] = self.stamps[from];
+                    j = from;
                 }
-                self.slots.swap(j, from);
-                self.stamps.swap(j, from);
-                j = from;
             }
         }
         self.slots.truncate(order.len());
@@ -339,5 +351,22 @@ mod tests {
         assert_eq!(got, want);
         assert_eq!(s.live_count(), 48);
         assert_eq!(s.stamps().len(), 48);
+    }
+
+    #[test]
+    fn reorder_of_a_contact_started_mid_list_shifts_the_rest() {
+        // The common order at a rebuild: a new contact (the last slot) belongs between the first
+        // two, so every contact after it moves up one slot (one cycle through all of them).
+        let mut s = ContactStore::default();
+        for k in 0..40 {
+            s.insert(Contact::new(k, Party::Apple(k + 1)));
+        }
+        let mut order: Vec<u32> = vec![0, 39];
+        order.extend(1..39);
+        let new_of = s.reorder(&order);
+        let got: Vec<u32> = (0..40).map(|k| s.get(k).i).collect();
+        assert_eq!(got, order);
+        assert_eq!(new_of[39], 1);
+        assert_eq!(new_of[38], 39);
     }
 }
