@@ -373,6 +373,46 @@ fn body_sets_stepped_in_turn_or_together_move_the_same_bits() {
     assert!(two.0 == one.0, "two body sets: an apple moved differently");
 }
 
+/// The surface candidates (which apples are near which walls) are listed on rayon's pool from
+/// `layer::PARALLEL_MIN_CANDIDATE_APPLES` apples, in runs joined in apple order: 512 apples
+/// dropped into a steel bin (an 8 x 8 x 8 grid, 0.1 s, adaptive steps) end with the same bits
+/// and the same contact events on one thread and two.
+#[test]
+fn surface_candidates_listed_in_runs_move_the_same_bits() {
+    use applesim::layer::PARALLEL_MIN_CANDIDATE_APPLES;
+    use applesim::record::series::NoSamples;
+    use applesim::sim::Simulation;
+    let mut bin = grid_pile();
+    bin["duration_s"] = serde_json::json!(0.1);
+    bin["time_step_s"] = serde_json::json!("adaptive");
+    let g = &mut bin["generators"][0];
+    g["count"] = serde_json::json!([8, 8, 8]);
+    g["origin_m"] = serde_json::json!([-0.3325, -0.3325, 0.05]);
+    bin["surfaces"][0]["inner_size_m"] = serde_json::json!([0.8, 0.8, 0.9]);
+    let sc: applesim::scenario::Scenario = serde_json::from_value(bin).unwrap();
+    let run = |threads: usize| {
+        on_threads(threads, || {
+            let mut sim = Simulation::new(&sc, Path::new(".")).unwrap();
+            while !sim.done() {
+                sim.step(&mut NoSamples).unwrap();
+            }
+            let bits = apple_bits(&mut sim);
+            let events = sim.run(&mut NoSamples, &mut |_| {}).unwrap().events;
+            (bits, events.len(), format!("{events:?}"))
+        })
+    };
+    let one = run(1);
+    assert!(
+        one.0.len() >= PARALLEL_MIN_CANDIDATE_APPLES,
+        "{}",
+        one.0.len()
+    );
+    assert!(one.1 > 100, "the bin's contact events: {}", one.1);
+    let two = run(2);
+    assert!(two.0 == one.0, "two threads: an apple moved differently");
+    assert!(two.2 == one.2, "two threads: the contact events differ");
+}
+
 /// Every apple's position, velocity and spin, as bits.
 fn apple_bits(sim: &mut applesim::sim::Simulation) -> Vec<[u64; 9]> {
     sim.apple_states()

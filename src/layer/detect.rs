@@ -97,6 +97,10 @@ const RIDE_FACE_INSET_M: f64 = 1e-3;
 /// pool's threads polling): the pair stage 38-40 us a step on one run, 21-23 us on two.
 const PARALLEL_MIN_PAIRS: usize = 512;
 
+/// Apples from which the surface candidates are listed on rayon's pool, in runs of consecutive
+/// apples (the 1000-apple line's 1 560 apples: 13 us a step of its rebuild on one thread).
+pub const PARALLEL_MIN_CANDIDATE_APPLES: usize = 512;
+
 /// The contact slots, written by several runs of pairs at once: each pair reaches only its own
 /// contact's slot (a slot is opened for one pair, named by it alone, and opened or freed only in
 /// the serial part of the pass), so no two runs touch the same slot.
@@ -263,10 +267,6 @@ impl Detection {
         }
         self.retired[k] = true;
         self.rebuild_candidates = true;
-    }
-
-    fn is_retired(&self, k: usize) -> bool {
-        is_retired(&self.retired, k)
     }
 
     /// A new apple: the first one sets the grid's skin (its cells follow the largest radius).
@@ -891,41 +891,68 @@ impl Detection {
                 (hull, members)
             })
             .collect();
-        let mut fresh: Vec<SurfaceCandidate> = Vec::new();
-        let mut hits = std::mem::take(&mut self.scratch);
-        for (a, &p) in cx.frame.pos.iter().enumerate() {
-            if self.is_retired(a) {
-                continue;
-            }
-            let r = cx.frame.radius[a];
-            let ball = Aabb::new(p - Vec3::splat(r), p + Vec3::splat(r));
-            let near = groups
-                .iter()
-                .filter(|(hull, _)| hull.intersects(&ball))
-                .flat_map(|(_, members)| &boxes[members.clone()]);
-            for &(s, ref bx) in near {
-                if !bx.intersects(&ball) {
+        // Each apple's candidates alone, in apple order: on rayon's pool in runs of consecutive
+        // apples from `PARALLEL_MIN_CANDIDATE_APPLES` apples, the runs' lists joined in order
+        // (the same list for any number of threads).
+        let (surf_now, retired) = (&self.surf_now, &self.retired);
+        let (pos, radius) = (&cx.frame.pos, &cx.frame.radius);
+        let scan = |apples: std::ops::Range<usize>,
+                    hits: &mut Vec<SurfaceHit>,
+                    fresh: &mut Vec<SurfaceCandidate>| {
+            for a in apples {
+                if is_retired(retired, a) {
                     continue;
                 }
-                hits.clear();
-                self.surf_now[s as usize].hits(
-                    &registry.surfaces[s as usize],
-                    colliders,
-                    p,
-                    r,
-                    skin,
-                    &mut hits,
-                );
-                if !hits.is_empty() {
-                    fresh.push(SurfaceCandidate {
-                        apple: a as u32,
-                        surface: s,
-                        first: NONE,
-                    });
+                let (p, r) = (pos[a], radius[a]);
+                let ball = Aabb::new(p - Vec3::splat(r), p + Vec3::splat(r));
+                let near = groups
+                    .iter()
+                    .filter(|(hull, _)| hull.intersects(&ball))
+                    .flat_map(|(_, members)| &boxes[members.clone()]);
+                for &(s, ref bx) in near {
+                    if !bx.intersects(&ball) {
+                        continue;
+                    }
+                    hits.clear();
+                    surf_now[s as usize].hits(
+                        &registry.surfaces[s as usize],
+                        colliders,
+                        p,
+                        r,
+                        skin,
+                        hits,
+                    );
+                    if !hits.is_empty() {
+                        fresh.push(SurfaceCandidate {
+                            apple: a as u32,
+                            surface: s,
+                            first: NONE,
+                        });
+                    }
                 }
             }
+        };
+        let n_apples = pos.len();
+        let threads = rayon::current_num_threads();
+        let mut fresh: Vec<SurfaceCandidate> = Vec::new();
+        if threads > 1 && n_apples >= PARALLEL_MIN_CANDIDATE_APPLES {
+            use rayon::prelude::*;
+            let per = n_apples.div_ceil(threads);
+            let lists: Vec<Vec<SurfaceCandidate>> = (0..threads)
+                .into_par_iter()
+                .map(|t| {
+                    let (mut hits, mut list) = (Vec::new(), Vec::new());
+                    scan(t * per..((t + 1) * per).min(n_apples), &mut hits, &mut list);
+                    list
+                })
+                .collect();
+            fresh.reserve(lists.iter().map(Vec::len).sum());
+            lists.into_iter().for_each(|l| fresh.extend(l));
+        } else {
+            let mut hits = std::mem::take(&mut self.scratch);
+            scan(0..n_apples, &mut hits, &mut fresh);
+            self.scratch = hits;
         }
-        self.scratch = hits;
         // Merge: both lists are sorted by (apple, surface).
         let old = std::mem::take(&mut self.candidates);
         let mut o = 0;

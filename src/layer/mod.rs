@@ -98,6 +98,7 @@ pub use clock::{growth_cap, land, StepLimit, StepRequest};
 pub use config::{
     Coefficients, Guard, LayerConfig, Padding, SleepConfig, StepControl, SurfaceOptions,
 };
+pub use detect::PARALLEL_MIN_CANDIDATE_APPLES;
 pub use error::LayerError;
 pub use hooks::{ContactHooks, Role};
 pub use outputs::{SlipSample, StepStats};
