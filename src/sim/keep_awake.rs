@@ -15,10 +15,11 @@
 //! one thread and at least [`crate::world::APPLE_SETS_MIN_APPLES`] apples), and a poller that
 //! finds nothing to do for [`MAX_IDLE`] ends (the driver paused, or the run ended without dropping
 //! its driver); the next step starts another. On the 2-core VM, while the pollers run, the
-//! stepping thread's serial stages are sometimes slower too, by up to 1.6x for minutes at a time
-//! (the VM's "slow state", docs/performance.md; a busy loop on the other core does not cause it,
-//! and its cause is not found): it comes and goes over minutes, not with the scene, and a single
-//! two-thread timing there is not to be trusted.
+//! stepping thread's serial stages are sometimes slower too, by up to 1.6x for seconds or minutes
+//! at a time (the VM's "slow state", docs/performance.md): in those spells a cache line's round
+//! trip between the two cores takes about 400 ns instead of about 100 ns (the host's placement of
+//! the VM's cores; `examples/core_latency.rs`), and a single two-thread timing there is not to
+//! be trusted.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
