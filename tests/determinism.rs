@@ -284,20 +284,11 @@ fn spheroids_write_the_same_bytes_with_one_thread_and_two() {
 /// finished contact events.
 #[test]
 fn apples_split_over_body_sets_move_the_same_bits() {
-    use applesim::record::series::NoSamples;
-    use applesim::sim::Simulation;
     let sc: applesim::scenario::Scenario = serde_json::from_value(grid_pile()).unwrap();
     let run = |threads: usize| {
-        on_threads(threads, || {
-            let mut sim = Simulation::new(&sc, Path::new(".")).unwrap();
-            assert_eq!(sim.world().body_set_count(), threads, "{threads} threads");
-            while !sim.done() {
-                sim.step(&mut NoSamples).unwrap();
-            }
-            let bits = apple_bits(&mut sim);
-            let events = sim.run(&mut NoSamples, &mut |_| {}).unwrap().events;
-            (bits, events.len(), format!("{events:?}"))
-        })
+        let (bits, events, text, sets) = run_to_end(&sc, threads);
+        assert_eq!(sets, threads, "{threads} threads");
+        (bits, events, text)
     };
     let one = run(1);
     assert_eq!(one.0.len(), 288);
@@ -380,8 +371,6 @@ fn body_sets_stepped_in_turn_or_together_move_the_same_bits() {
 #[test]
 fn surface_candidates_listed_in_runs_move_the_same_bits() {
     use applesim::layer::PARALLEL_MIN_CANDIDATE_APPLES;
-    use applesim::record::series::NoSamples;
-    use applesim::sim::Simulation;
     let mut bin = grid_pile();
     bin["duration_s"] = serde_json::json!(0.1);
     bin["time_step_s"] = serde_json::json!("adaptive");
@@ -390,17 +379,7 @@ fn surface_candidates_listed_in_runs_move_the_same_bits() {
     g["origin_m"] = serde_json::json!([-0.3325, -0.3325, 0.05]);
     bin["surfaces"][0]["inner_size_m"] = serde_json::json!([0.8, 0.8, 0.9]);
     let sc: applesim::scenario::Scenario = serde_json::from_value(bin).unwrap();
-    let run = |threads: usize| {
-        on_threads(threads, || {
-            let mut sim = Simulation::new(&sc, Path::new(".")).unwrap();
-            while !sim.done() {
-                sim.step(&mut NoSamples).unwrap();
-            }
-            let bits = apple_bits(&mut sim);
-            let events = sim.run(&mut NoSamples, &mut |_| {}).unwrap().events;
-            (bits, events.len(), format!("{events:?}"))
-        })
-    };
+    let run = |threads: usize| run_to_end(&sc, threads);
     let one = run(1);
     assert!(
         one.0.len() >= PARALLEL_MIN_CANDIDATE_APPLES,
@@ -411,6 +390,25 @@ fn surface_candidates_listed_in_runs_move_the_same_bits() {
     let two = run(2);
     assert!(two.0 == one.0, "two threads: an apple moved differently");
     assert!(two.2 == one.2, "two threads: the contact events differ");
+}
+
+/// `sc` run to its end on a pool of `threads`: every apple's bits, the number of finished
+/// contact events and their text, and how many rapier body sets the apples were spread over.
+fn run_to_end(
+    sc: &applesim::scenario::Scenario,
+    threads: usize,
+) -> (Vec<[u64; 9]>, usize, String, usize) {
+    use applesim::record::series::NoSamples;
+    on_threads(threads, || {
+        let mut sim = applesim::sim::Simulation::new(sc, Path::new(".")).unwrap();
+        let sets = sim.world().body_set_count();
+        while !sim.done() {
+            sim.step(&mut NoSamples).unwrap();
+        }
+        let bits = apple_bits(&mut sim);
+        let events = sim.run(&mut NoSamples, &mut |_| {}).unwrap().events;
+        (bits, events.len(), format!("{events:?}"), sets)
+    })
 }
 
 /// Every apple's position, velocity and spin, as bits.
