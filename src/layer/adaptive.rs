@@ -60,8 +60,7 @@ pub(super) fn contact_step_limit(
     rate: f64,
     unloading_ke: f64,
     age: f64,
-    t_stick: f64,
-    h_damping: f64,
+    tangential: impl FnOnce() -> (f64, f64),
 ) -> (f64, StepLimit) {
     let (t_a, u_a) = impact;
     let s = rate.abs();
@@ -87,12 +86,89 @@ pub(super) fn contact_step_limit(
     } else {
         u
     };
+    let (t_stick, h_damping) = tangential();
     (
-        (theory::contact_time_at_overlap(m_n, k, u_eff).min(t_stick)
-            / (0.25 * c.steps_per_contact).max(4.0))
-        .min(h_damping),
+        resting_step(c, m_n, k, u_eff, t_stick, h_damping),
         StepLimit::Resting,
     )
+}
+
+/// The step limit of a resting contact at effective overlap `u_eff` (see
+/// [`contact_step_limit`]): N/4 (at least 4) steps per contact time at `u_eff` and per half
+/// period `t_stick` of the stick spring, and no longer than the dashpot's stable step
+/// `h_damping`. Every term falls as the overlap grows.
+fn resting_step(
+    c: &StepControl,
+    m_n: f64,
+    k: f64,
+    u_eff: f64,
+    t_stick: f64,
+    h_damping: f64,
+) -> f64 {
+    (theory::contact_time_at_overlap(m_n, k, u_eff).min(t_stick)
+        / (0.25 * c.steps_per_contact).max(4.0))
+    .min(h_damping)
+}
+
+/// A lower bound of a resting contact's step limit, good while its overlap stays at or below
+/// `u_m` and its overlap rate's square at or below `rate2` (so that its impact overlap at that
+/// rate stays at or below `u_m` too).
+///
+/// Why: with step control, every touching pair asks for its limit at every step, and a resting
+/// contact's costs seven square roots (its contact time, the stick spring's half period, the
+/// dashpot's stable step), while only the shortest limit sets the step. Each term is a
+/// monotone function of the overlap (rounded operations that never rise as it grows:
+/// `sqrt`, products and quotients of positive numbers), so the limit at a slightly larger
+/// overlap bounds it from below for as long as the overlap stays under it; detection skips the
+/// exact limit of a contact whose bound already exceeds the shortest limit offered before it. The
+/// step is the same, bit for bit: a skipped contact could not have set it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestingBound {
+    /// Largest overlap covered (m); NaN: no bound.
+    pub u_m: f64,
+    /// Largest square of the overlap rate covered (m^2/s^2).
+    pub rate2: f64,
+    /// The bound (s).
+    pub dt_s: f64,
+}
+
+impl RestingBound {
+    /// No bound yet: covers nothing.
+    pub const NONE: Self = Self {
+        u_m: f64::NAN,
+        rate2: f64::NAN,
+        dt_s: f64::NAN,
+    };
+
+    /// Whether the bound holds at overlap `u` and overlap rate `rate`.
+    #[inline]
+    pub fn covers(&self, u: f64, rate: f64) -> bool {
+        u <= self.u_m && rate * rate <= self.rate2
+    }
+
+    /// The bound over overlaps up to `u` (1 + 1/64) (0.4 % below the limit at `u`: a resting
+    /// contact's overlap wanders by less than that between refreshes) for the pair's normal mass
+    /// `m_n` and stiffness `k`; `tangential(u)` gives the stick spring's half period and the
+    /// dashpot's stable step at overlap `u`, as the exact limit takes them.
+    pub(super) fn new(
+        c: &StepControl,
+        m_n: f64,
+        k: f64,
+        u: f64,
+        tangential: impl FnOnce(f64) -> (f64, f64),
+    ) -> Self {
+        let u_m = u * (1.0 + 1.0 / 64.0);
+        // Rates whose impact overlap stays within u_m: 5 m s^2 / (4 k) <= u_m^(5/2), the test of
+        // `contact_step_limit`; its power is rounded, so the contact time is taken at an overlap
+        // 1e-9 larger still.
+        let rate2 = u_m * u_m * u_m.sqrt() * k / (1.25 * m_n);
+        let (t_stick, h_damping) = tangential(u_m);
+        Self {
+            u_m,
+            rate2,
+            dt_s: resting_step(c, m_n, k, u_m * (1.0 + 1e-9), t_stick, h_damping),
+        }
+    }
 }
 
 /// The longest stable step of an explicit tangential dashpot of coefficient `gamma_t` on the
@@ -132,8 +208,7 @@ pub(super) fn limit_in_contact(
     rate: f64,
     unloading_ke: f64,
     time_s: f64,
-    t_stick: f64,
-    h_damping: f64,
+    tangential: impl FnOnce() -> (f64, f64),
 ) -> (f64, StepLimit) {
     let (scale, start) = match record {
         Some(o) => (
@@ -151,8 +226,7 @@ pub(super) fn limit_in_contact(
         rate,
         unloading_ke,
         time_s - start,
-        t_stick,
-        h_damping,
+        tangential,
     )
 }
 
@@ -187,4 +261,112 @@ pub(super) fn surface_motion_limit(
 ) -> Option<f64> {
     let reach = c.max_displacement_m.min(0.5 * skin_m);
     (surface_speed_m_s > 0.0 && reach > 0.0).then(|| reach / surface_speed_m_s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::theory::reduced_mass;
+
+    /// Two 80 mm apples of the paper (G 1.1 MPa, nu 0.18, 800 kg/m^3) and the LIGGGHTS history
+    /// model's dashpot at e = 0.3: normal mass, Hertz stiffness, tangential mass, and the
+    /// stick spring's half period and the dashpot's stable step at an overlap.
+    fn pair() -> (f64, f64, impl Fn(f64) -> (f64, f64)) {
+        let (r, g, nu) = (0.04, 1.1e6, 0.18);
+        let m = 800.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+        let e_star = 2.0 * g * (1.0 + nu) / (2.0 * (1.0 - nu * nu));
+        let g_star = g / (2.0 * (2.0 - nu));
+        let r_star = r / 2.0;
+        let m_n = reduced_mass(m, m);
+        let k = crate::contact::normal::stiffness(e_star, r_star);
+        // A sphere's own tangential mass 2 m / 7; two of them in series.
+        let m_t = m / 7.0;
+        let beta = -0.3558; // ln(0.3) / sqrt(ln(0.3)^2 + pi^2)
+        let tangential = move |u: f64| {
+            let k_t = crate::contact::friction::mindlin_stiffness(g_star, (r_star * u).sqrt());
+            let gamma_t =
+                -2.0 * crate::contact::damping::SQRT_FIVE_SIXTHS * beta * (k_t * m_n).sqrt();
+            (
+                stick_half_period(g_star, r_star, u, m_t),
+                damping_step(gamma_t, m_t),
+            )
+        };
+        (m_n, k, tangential)
+    }
+
+    fn resting(
+        c: &StepControl,
+        m_n: f64,
+        k: f64,
+        u: f64,
+        rate: f64,
+        t: &impl Fn(f64) -> (f64, f64),
+    ) -> f64 {
+        let impact = impact_scale(m_n, k, 0.5);
+        let (dt, why) = contact_step_limit(c, m_n, k, u, impact, rate, 0.09, 1.0, || t(u));
+        assert_eq!(why, StepLimit::Resting);
+        dt
+    }
+
+    /// The bound lies below the exact limit everywhere it covers (overlaps up to 1/64 above the
+    /// one it was made at, rates up to the one whose impact reaches that overlap), by the closed
+    /// form at its own overlap: every term goes as u^(-1/4) (the contact time as 1 / sqrt(k
+    /// sqrt(u)); the stick spring's half period and the dashpot's step as 1 / sqrt(k_t), k_t = 8
+    /// G* sqrt(R* u)), so it is (65/64)^(-1/4) of the limit at the overlap it was made at.
+    #[test]
+    fn a_resting_bound_is_below_every_limit_it_covers() {
+        let (m_n, k, tangential) = pair();
+        for n in [10.0, 20.0, 40.0] {
+            let c = StepControl {
+                steps_per_contact: n,
+                max_displacement_m: 0.01,
+            };
+            for u in [1e-5, 1e-4, 1e-3, 3e-3] {
+                let b = RestingBound::new(&c, m_n, k, u, &tangential);
+                let exact = resting(&c, m_n, k, u, 0.0, &tangential);
+                let ratio = b.dt_s / exact;
+                let expected = (65.0f64 / 64.0).powf(-0.25);
+                assert!(
+                    (ratio - expected).abs() < 1e-8,
+                    "N {n}, u {u}: bound / limit {ratio}, closed form {expected}"
+                );
+                // Over what it covers, down to half the overlap and from rest to the largest rate.
+                let top = b.rate2.sqrt() * (1.0 - 1e-12);
+                for f in [0.5, 0.9, 1.0, 1.0 + 1.0 / 128.0, 1.0 + 1.0 / 64.0] {
+                    let u2 = (u * f).min(b.u_m);
+                    for rate in [0.0, 0.5 * top, -0.9 * top, top, -top] {
+                        assert!(b.covers(u2, rate));
+                        let dt = resting(&c, m_n, k, u2, rate, &tangential);
+                        assert!(
+                            b.dt_s <= dt,
+                            "N {n}, u {u2}, rate {rate}: {} > {dt}",
+                            b.dt_s
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Past its overlap or its rate, or before it is made, a bound covers nothing.
+    #[test]
+    fn a_resting_bound_covers_nothing_past_its_reach() {
+        let (m_n, k, tangential) = pair();
+        let c = StepControl {
+            steps_per_contact: 10.0,
+            max_displacement_m: 0.01,
+        };
+        let b = RestingBound::new(&c, m_n, k, 1e-4, tangential);
+        assert!(b.covers(1e-4, 0.0));
+        assert!(!b.covers(b.u_m * (1.0 + 1e-12), 0.0));
+        assert!(!b.covers(1e-4, 1.001 * b.rate2.sqrt()));
+        assert!(!RestingBound::NONE.covers(0.0, 0.0));
+        // The largest rate covered is the one whose impact reaches the bound's overlap.
+        let (_, u_max) = impact_scale(m_n, k, b.rate2.sqrt());
+        assert!(
+            (u_max / b.u_m - 1.0).abs() < 1e-12,
+            "{u_max} against {}",
+            b.u_m
+        );
+    }
 }

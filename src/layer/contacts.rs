@@ -65,6 +65,9 @@ pub struct Contact {
     /// surface, whose geometry follows from the radius and `curvature2`). Detection sets it
     /// with the normal, at every step: it turns with the apple.
     pub shaped: Option<Shaped>,
+    /// A lower bound of its step limit once it rests, for detection to skip the exact one (see
+    /// [`super::adaptive::RestingBound`]; spheres only).
+    pub resting_bound: super::adaptive::RestingBound,
 }
 
 /// The geometry of a contact with a spheroidal apple at the current poses (see
@@ -119,6 +122,7 @@ impl Contact {
             law: 0,
             inv_r_min: 0.0,
             shaped: None,
+            resting_bound: super::adaptive::RestingBound::NONE,
         }
     }
 }

@@ -10,7 +10,9 @@
 //! seen this step); what it finds goes into the contact slab, the frame's contact counts, the
 //! finished events and the step statistics, which it borrows for the pass ([`Parts`]).
 
-use super::adaptive::{damping_step, limit_in_contact, stick_half_period, time_to_touch};
+use super::adaptive::{
+    damping_step, limit_in_contact, stick_half_period, time_to_touch, RestingBound,
+};
 use super::clock::{StepClock, StepLimit};
 use super::config::{LayerConfig, StepControl};
 use super::contacts::{Contact, ContactStore, Shaped};
@@ -82,6 +84,12 @@ pub(super) struct Detection {
     /// pair passes.
     #[cfg(test)]
     found_kinds: [usize; 4],
+    /// Tests: whether resting contacts' lower bounds may skip their exact limits (see
+    /// [`RestingBound`]), and how many they skipped.
+    #[cfg(test)]
+    bound_skip: bool,
+    #[cfg(test)]
+    bound_skips: usize,
 }
 
 /// The relative drift of a rider's belt contact overlap that wakes it (see
@@ -169,6 +177,8 @@ struct PairView<'a> {
     time_s: f64,
     epoch: u64,
     slots: SlotsMut,
+    #[cfg(test)]
+    bound_skip: bool,
 }
 
 /// A run of listed pairs: `pairs` from list index `first_k`, the scan's part naming them (`None`:
@@ -199,6 +209,9 @@ struct Found {
     /// The run's shortest step limit, the first of equals (as `StepStats::limit` keeps it).
     limit: Option<(f64, StepLimit)>,
     touching: usize,
+    /// Tests: exact limits skipped by a resting contact's bound.
+    #[cfg(test)]
+    bound_skips: usize,
 }
 
 impl Found {
@@ -254,6 +267,10 @@ impl Detection {
             force_runs: None,
             #[cfg(test)]
             found_kinds: [0; 4],
+            #[cfg(test)]
+            bound_skip: true,
+            #[cfg(test)]
+            bound_skips: 0,
         }
     }
 
@@ -415,6 +432,8 @@ impl Detection {
             time_s,
             epoch: self.epoch,
             slots: SlotsMut::new(cx.contacts),
+            #[cfg(test)]
+            bound_skip: self.bound_skip,
         };
         // Each run takes a range of the scan and the pairs it names (the scan is increasing, so
         // the runs' pairs are disjoint ranges of the list).
@@ -482,6 +501,7 @@ impl Detection {
                 k[1] += f.parted.len();
                 k[2] += f.to_wake.len();
                 k[3] += usize::from(f.limit.is_some());
+                self.bound_skips += f.bound_skips;
             }
             touching += f.touching;
             for s in &f.starts {
@@ -744,19 +764,23 @@ impl Detection {
                                 best.and_then(|(k, _)| cx.contacts.get_mut(k).record.as_mut());
                             let ke = if energy_loss { law.ke } else { 1.0 };
                             let turned = surf.turned_by_contacts;
-                            let (t_stick, h_damping) = if friction && law.friction > 0.0 {
-                                // A free-turning roller's surface point moves with the slip too
-                                // (its R^2 / I), as in the kernel's tangential mass.
-                                let m_t = 1.0
-                                    / (registry.apples[a].inv_tangential_mass
-                                        + turned.unwrap_or(0.0));
-                                let u = hit.overlap_m;
-                                (
-                                    stick_half_period(law.g_star_pa, r_star, u, m_t),
-                                    history_damping_step(law, r_star, u, m_n, m_t),
-                                )
-                            } else {
-                                (f64::INFINITY, f64::INFINITY)
+                            // The stick spring's half period and the dashpot's stable step:
+                            // asked for once the contact rests, or on a free roller.
+                            let tangential = || {
+                                if friction && law.friction > 0.0 {
+                                    // A free-turning roller's surface point moves with the slip
+                                    // too (its R^2 / I), as in the kernel's tangential mass.
+                                    let m_t = 1.0
+                                        / (registry.apples[a].inv_tangential_mass
+                                            + turned.unwrap_or(0.0));
+                                    let u = hit.overlap_m;
+                                    (
+                                        stick_half_period(law.g_star_pa, r_star, u, m_t),
+                                        history_damping_step(law, r_star, u, m_n, m_t),
+                                    )
+                                } else {
+                                    (f64::INFINITY, f64::INFINITY)
+                                }
                             };
                             let lim = limit_in_contact(
                                 &c,
@@ -767,11 +791,11 @@ impl Detection {
                                 rate,
                                 ke,
                                 time_s,
-                                t_stick,
-                                h_damping,
+                                tangential,
                             );
                             cx.out.stats.limit(lim.0, lim.1);
                             if turned.is_some() {
+                                let (t_stick, h_damping) = tangential();
                                 // A light free roller's spin rings on the stick spring faster
                                 // than the impact: four steps per half period at all times
                                 // (k_t h^2 / m_t = 0.62, stable; docs/physics.md 12.5).
@@ -1159,7 +1183,25 @@ impl PairView<'_> {
                     horizon,
                 )
                 .is_none();
-            if let Some(c) = control.filter(|_| !far) {
+            // Two spheres resting in contact whose limit's lower bound exceeds the shortest
+            // limit offered before them in this run: they cannot set the step (see
+            // `RestingBound`), and nothing else below needs the law's constants.
+            let bounded = control.is_some()
+                && u > 0.0
+                && shaped.is_none()
+                && p.contact != NONE
+                && run.found.limit.is_some_and(|(best, _)| {
+                    // SAFETY: the pair's own contact.
+                    let bound = &unsafe { self.slots.get(p.contact) }.resting_bound;
+                    bound.dt_s > best && bound.covers(u, (frame.vel[j] - frame.vel[i]).dot(n))
+                });
+            #[cfg(test)]
+            let bounded = bounded && self.bound_skip;
+            #[cfg(test)]
+            {
+                run.found.bound_skips += usize::from(bounded);
+            }
+            if let Some(c) = control.filter(|_| !far && !bounded) {
                 let law =
                     &registry.laws()[registry.law_index(apples[i].material, apples[j].material)];
                 let (ri, rj) = (frame.radius[i], frame.radius[j]);
@@ -1222,20 +1264,31 @@ impl PairView<'_> {
                         slot => unsafe { self.slots.get(slot) }.record.as_mut(),
                     };
                     let ke = if energy_loss { law.ke } else { 1.0 };
-                    let (t_stick, h_damping) = if friction && law.friction > 0.0 {
-                        let m_t =
-                            1.0 / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
-                        (
-                            stick_half_period(law.g_star_pa, r_star, u, m_t),
-                            history_damping_step(law, r_star, u, m_n, m_t),
-                        )
-                    } else {
-                        (f64::INFINITY, f64::INFINITY)
+                    // The stick spring's half period and the dashpot's stable step at overlap
+                    // u: asked for only once the contact rests.
+                    let tangential = |u: f64| {
+                        if friction && law.friction > 0.0 {
+                            let m_t = 1.0
+                                / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
+                            (
+                                stick_half_period(law.g_star_pa, r_star, u, m_t),
+                                history_damping_step(law, r_star, u, m_n, m_t),
+                            )
+                        } else {
+                            (f64::INFINITY, f64::INFINITY)
+                        }
                     };
-                    let lim = limit_in_contact(
-                        &c, record, m_n, k_n, u, rate, ke, time_s, t_stick, h_damping,
-                    );
+                    let lim = limit_in_contact(&c, record, m_n, k_n, u, rate, ke, time_s, || {
+                        tangential(u)
+                    });
                     run.found.limit(lim.0, lim.1);
+                    if lim.1 == StepLimit::Resting && shaped.is_none() && p.contact != NONE {
+                        // SAFETY: the pair's own contact.
+                        let bound = &mut unsafe { self.slots.get(p.contact) }.resting_bound;
+                        if !bound.covers(u, rate) {
+                            *bound = RestingBound::new(&c, m_n, k_n, u, tangential);
+                        }
+                    }
                 }
             }
             if spheroid {
@@ -1600,6 +1653,56 @@ mod tests {
             }
             (log, layer.detection.found_kinds)
         })
+    }
+
+    /// The resting contacts' lower bounds skip only exact step limits that cannot set the step
+    /// ([`RestingBound`]): 60 apples poured into a small bin at `preview` take the same steps
+    /// and end at the same poses, bit for bit, with the skip and without it, and the skip did
+    /// skip (most resting limits, once the heap rests).
+    #[test]
+    fn resting_bounds_leave_every_step_bit_for_bit() {
+        let json = r#"{
+            "duration_s": 2.0, "time_step_s": "adaptive", "accuracy": "preview",
+            "gravity_m_s2": [0, 0, -9.81],
+            "output": {"sample_interval_s": 0.5, "force_history": false},
+            "materials": {"apple": {"preset": "apple-paper"}, "plastic": {"preset": "plastic-paper"}},
+            "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+            "sources": [{"name": "pour", "material": "apple",
+                "diameter_m": {"mean_m": 0.075, "spread_m": 0.005},
+                "position_m": [0, 0, 0.3], "jitter_m": 0.05, "velocity_m_s": [0, 0, -0.5],
+                "rate_per_s": 60, "count": 60, "seed": 3}],
+            "surfaces": [{"name": "bin", "type": "bin", "material": "plastic",
+                "inner_size_m": [0.4, 0.4, 0.4], "position_m": [0, 0, 0]}]
+        }"#;
+        let sc = crate::scenario::from_json(json, "pour.json").unwrap();
+        let run = |skip: bool| {
+            let mut sim = crate::sim::Simulation::new(&sc, std::path::Path::new(".")).unwrap();
+            sim.world_mut().layer.detection.bound_skip = skip;
+            let mut steps = Vec::new();
+            while !sim.done() {
+                sim.step(&mut crate::record::series::NoSamples).unwrap();
+                steps.push(sim.time_s().to_bits());
+            }
+            let layer = &sim.world().layer;
+            let poses: Vec<[u64; 3]> = layer
+                .frame
+                .pos
+                .iter()
+                .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+                .collect();
+            (steps, poses, layer.detection.bound_skips)
+        };
+        let (steps, poses, skipped) = run(true);
+        let (steps_all, poses_all, none) = run(false);
+        assert_eq!(none, 0);
+        assert!(
+            skipped > steps.len(),
+            "{skipped} skips in {} steps",
+            steps.len()
+        );
+        assert_eq!(steps.len(), steps_all.len());
+        assert!(steps == steps_all, "the step times differ");
+        assert!(poses == poses_all, "the poses differ");
     }
 
     /// The pairs examined in several runs (on one thread in turn, or on two at once) leave the
