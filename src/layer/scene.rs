@@ -90,6 +90,12 @@ impl SurfaceNow {
             .then_some(self.belt)
     }
 
+    /// Whether it still carries a rider at `velocity`: it exists, did not change this step, and
+    /// runs as a belt at that velocity.
+    pub fn carries(&self, velocity: Vec3) -> bool {
+        self.exists && !self.changed && self.running_belt() == Some(velocity)
+    }
+
     /// Reads the surface's pose and motion. Returns what changed and whether the candidate lists
     /// must be rebuilt (it appeared, vanished, or moved by more than `half_skin` since the last
     /// rebuild).
