@@ -1707,35 +1707,14 @@ mod tests {
             "surfaces": [{"name": "bin", "type": "bin", "material": "plastic",
                 "inner_size_m": [0.4, 0.4, 0.4], "position_m": [0, 0, 0]}]
         }"#;
-        let sc = crate::scenario::from_json(json, "pour.json").unwrap();
-        let run = |skip: bool| {
-            let mut sim = crate::sim::Simulation::new(&sc, std::path::Path::new(".")).unwrap();
-            sim.world_mut().layer.detection.bound_skip = skip;
-            let mut steps = Vec::new();
-            while !sim.done() {
-                sim.step(&mut crate::record::series::NoSamples).unwrap();
-                steps.push(sim.time_s().to_bits());
-            }
-            let layer = &sim.world().layer;
-            let poses: Vec<[u64; 3]> = layer
-                .frame
-                .pos
-                .iter()
-                .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-                .collect();
-            (steps, poses, layer.detection.bound_skips)
-        };
-        let (steps, poses, skipped) = run(true);
-        let (steps_all, poses_all, none) = run(false);
-        assert_eq!(none, 0);
-        assert!(
-            skipped > steps.len(),
-            "{skipped} skips in {} steps",
-            steps.len()
-        );
-        assert_eq!(steps.len(), steps_all.len());
-        assert!(steps == steps_all, "the step times differ");
-        assert!(poses == poses_all, "the poses differ");
+        let skipping = run_scene(json, |d| d.bound_skip = true);
+        let all = run_scene(json, |d| d.bound_skip = false);
+        assert_eq!(all.detection.bound_skips, 0);
+        let skipped = skipping.detection.bound_skips;
+        let steps = skipping.steps.len();
+        assert!(skipped > steps, "{skipped} skips in {steps} steps");
+        assert!(skipping.steps == all.steps, "the step times differ");
+        assert!(skipping.poses == all.poses, "the poses differ");
     }
 
     /// A rider over its belt's face is listed as its belt's candidate without a query: eight
@@ -1757,34 +1736,50 @@ mod tests {
             "surfaces": [{"name": "belt", "type": "conveyor", "material": "rubber",
                 "size_m": [3.0, 0.5, 0.04], "position_m": [0, 0, 0], "belt_velocity_m_s": 0.4}]
         }"#;
-        let sc = crate::scenario::from_json(json, "belt.json").unwrap();
-        let run = |skip: bool| {
-            let mut sim = crate::sim::Simulation::new(&sc, std::path::Path::new(".")).unwrap();
-            sim.world_mut().layer.detection.face_skip = skip;
-            let mut steps = Vec::new();
-            let mut riding = 0;
-            while !sim.done() {
-                sim.step(&mut crate::record::series::NoSamples).unwrap();
-                steps.push(sim.time_s().to_bits());
-                riding = riding.max(sim.world().layer.sleep.riding_count());
-            }
-            let layer = &sim.world().layer;
-            let poses: Vec<[u64; 3]> = layer
-                .frame
-                .pos
-                .iter()
-                .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-                .collect();
-            (steps, poses, layer.detection.face_skips, riding)
-        };
-        let (steps, poses, skipped, riding) = run(true);
-        let (steps_all, poses_all, none, _) = run(false);
-        assert_eq!(none, 0);
+        let skipping = run_scene(json, |d| d.face_skip = true);
+        let all = run_scene(json, |d| d.face_skip = false);
+        assert_eq!(all.detection.face_skips, 0);
         // All eight ride; 929 riders were listed without a query when this was written.
-        assert_eq!(riding, 8);
+        assert_eq!(skipping.riding, 8);
+        let skipped = skipping.detection.face_skips;
         assert!(skipped > 929 / 2, "{skipped} riders listed without a query");
-        assert!(steps == steps_all, "the step times differ");
-        assert!(poses == poses_all, "the poses differ");
+        assert!(skipping.steps == all.steps, "the step times differ");
+        assert!(skipping.poses == all.poses, "the poses differ");
+    }
+
+    /// What [`run_scene`] leaves: every step's end time and the final centres, as bits, the
+    /// most apples riding at once, and the detection's test counters.
+    struct SceneRun {
+        steps: Vec<u64>,
+        poses: Vec<[u64; 3]>,
+        riding: usize,
+        detection: Detection,
+    }
+
+    /// Runs the scenario `json` to its end, after `set` (a test switch) on its detection.
+    fn run_scene(json: &str, set: fn(&mut Detection)) -> SceneRun {
+        let sc = crate::scenario::from_json(json, "scene.json").unwrap();
+        let mut sim = crate::sim::Simulation::new(&sc, std::path::Path::new(".")).unwrap();
+        set(&mut sim.world_mut().layer.detection);
+        let (mut steps, mut riding) = (Vec::new(), 0);
+        while !sim.done() {
+            sim.step(&mut crate::record::series::NoSamples).unwrap();
+            steps.push(sim.time_s().to_bits());
+            riding = riding.max(sim.world().layer.sleep.riding_count());
+        }
+        let layer = &mut sim.world_mut().layer;
+        let poses = layer
+            .frame
+            .pos
+            .iter()
+            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .collect();
+        SceneRun {
+            steps,
+            poses,
+            riding,
+            detection: std::mem::replace(&mut layer.detection, Detection::new()),
+        }
     }
 
     /// The pairs examined in several runs (on one thread in turn, or on two at once) leave the
