@@ -146,8 +146,8 @@ impl RestingBound {
         u <= self.u_m && rate * rate <= self.rate2
     }
 
-    /// The bound over overlaps up to `u` (1 + 1/64) (0.4 % below the limit at `u`: a resting
-    /// contact's overlap wanders by less than that between refreshes) for the pair's normal mass
+    /// The bound over overlaps up to `u` (1 + 1/64) (0.4 % below the limit at `u`; detection
+    /// makes a new one when the overlap or its rate passes it) for the pair's normal mass
     /// `m_n` and stiffness `k`; `tangential(u)` gives the stick spring's half period and the
     /// dashpot's stable step at overlap `u`, as the exact limit takes them.
     pub(super) fn new(
