@@ -788,6 +788,8 @@ impl Detection {
                                     (f64::INFINITY, f64::INFINITY)
                                 }
                             };
+                            // A free roller needs them at every step (below): once.
+                            let on_roller = turned.map(|_| tangential());
                             let lim = limit_in_contact(
                                 &c,
                                 record,
@@ -797,11 +799,10 @@ impl Detection {
                                 rate,
                                 ke,
                                 time_s,
-                                tangential,
+                                || on_roller.unwrap_or_else(tangential),
                             );
                             cx.out.stats.limit(lim.0, lim.1);
-                            if turned.is_some() {
-                                let (t_stick, h_damping) = tangential();
+                            if let Some((t_stick, h_damping)) = on_roller {
                                 // A light free roller's spin rings on the stick spring faster
                                 // than the impact: four steps per half period at all times
                                 // (k_t h^2 / m_t = 0.62, stable; docs/physics.md 12.5).
