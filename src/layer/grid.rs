@@ -13,6 +13,10 @@
 //! each apple). Pairs are sorted by (i, j): the order of force accumulation is fixed, and results
 //! are bit-identical whatever the history of rebuilds or the scan. Each pair carries the index of
 //! its open contact (or [`NONE`]) across rebuilds.
+//!
+//! Most rebuilds of a line are set off by a few fast apples while the others moved little: the
+//! pairs then come from a wider outer list kept up by listing again only the apples that moved
+//! far (`NeighborList::list_pairs`), the same pairs in the same order as a build from the grid.
 
 use crate::math::Vec3;
 
@@ -41,6 +45,19 @@ pub struct NeighborList {
     pairs: Vec<Pair>,
     reference: Vec<Vec3>,
     rebuilds: u64,
+    /// The outer list (see [`NeighborList::update`]): each apple's anchor, its position when its
+    /// outer pairs were last listed.
+    anchor: Vec<Vec3>,
+    /// Per apple, the apples whose anchors are closer than R_i + R_j + the outer skin (each pair
+    /// in both lists, in no order).
+    outer: Vec<Vec<u32>>,
+    /// Whether `anchor` and `outer` hold the outer list.
+    outer_valid: bool,
+    movers: Vec<u32>,
+    is_mover: Vec<bool>,
+    /// Builds by kind: the pairs listed from the grid directly, the outer list listed again in
+    /// full, the outer list kept (its movers listed again).
+    builds: [u64; 3],
     // Build scratch, kept to avoid allocating at every build.
     coords: Vec<[i64; 3]>,
     cell_of: Vec<usize>,
@@ -69,6 +86,12 @@ impl NeighborList {
     /// Number of rebuilds so far.
     pub fn rebuilds(&self) -> u64 {
         self.rebuilds
+    }
+
+    /// Rebuilds by how their pairs were listed: from the grid directly, from the outer list
+    /// listed again in full, from the outer list kept (see [`NeighborList::update`]).
+    pub fn builds(&self) -> [u64; 3] {
+        self.builds
     }
 
     /// The candidate pairs, sorted by (i, j).
@@ -109,7 +132,7 @@ impl NeighborList {
         if !force && !self.needs_rebuild(pos, awake) {
             return false;
         }
-        self.build(pos, radius);
+        self.list_pairs(pos, radius);
         // Merge: carry the contacts of pairs present in both lists (both sorted by (i, j)).
         let old = std::mem::take(&mut self.pairs);
         let mut merged = Vec::with_capacity(self.fresh.len());
@@ -147,14 +170,155 @@ impl NeighborList {
     }
 
     /// Lists every pair closer than R_i + R_j + skin into `fresh`, sorted by (i, j).
-    fn build(&mut self, pos: &[Vec3], radius: &[f64]) {
+    ///
+    /// Most rebuilds are set off by a few fast apples (one falling into a bin) while most of
+    /// the others moved little since the last (apples riding a belt). The pairs then come from
+    /// an outer list, of the pairs closer than R_i + R_j + [`OUTER_SKIN`] skins at their
+    /// anchors, kept by listing again only the apples that moved more than half the difference of
+    /// the skins from their anchors: any two apples have then moved less than that difference
+    /// together, so each pair within reach now is in the outer list, and the pairs are the same,
+    /// in the same order, as from the grid. When many apples moved (a falling pile) the pairs
+    /// come from the grid directly, as the outer list would have to be built again each time.
+    fn list_pairs(&mut self, pos: &[Vec3], radius: &[f64]) {
+        let n = pos.len();
+        let skin = self.skin_m;
+        let outer_skin = OUTER_SKIN * skin;
+        // A thousandth of the margin kept back for rounding.
+        let lim = 0.5 * (outer_skin - skin) * (1.0 - 1e-3);
+        let lim2 = lim * lim;
+        let usable = n >= 2 && skin > 0.0;
+        if usable && self.outer_valid && self.anchor.len() <= n {
+            self.movers.clear();
+            let anchor = &self.anchor;
+            self.movers.extend((0..n as u32).filter(|&k| {
+                let k = k as usize;
+                k >= anchor.len() || (pos[k] - anchor[k]).length_squared() > lim2
+            }));
+            if self.movers.len() <= n / MAX_MOVER_SHARE {
+                self.keep_outer(pos, radius, outer_skin);
+                self.filter_outer(pos, radius);
+                self.builds[2] += 1;
+                return;
+            }
+        }
+        // The outer list is listed in full (about a third more pairs than the list) only at a
+        // calm rebuild, when few apples moved since the last one.
+        let calm = usable
+            && self.reference.len() == n
+            && (0..n)
+                .filter(|&k| (pos[k] - self.reference[k]).length_squared() > lim2)
+                .count()
+                <= n / MAX_MOVER_SHARE;
+        if calm {
+            self.build(pos, radius, outer_skin);
+            self.anchor.clear();
+            self.anchor.extend_from_slice(pos);
+            self.outer.resize_with(n, Vec::new);
+            self.outer.iter_mut().for_each(Vec::clear);
+            for &(i, j) in &self.fresh {
+                self.outer[i as usize].push(j);
+                self.outer[j as usize].push(i);
+            }
+            self.outer_valid = true;
+            self.filter_outer(pos, radius);
+            self.builds[1] += 1;
+        } else {
+            self.outer_valid = false;
+            self.build(pos, radius, skin);
+            self.builds[0] += 1;
+        }
+    }
+
+    /// Lists the movers' outer pairs again from their new anchors (their positions now).
+    fn keep_outer(&mut self, pos: &[Vec3], radius: &[f64], outer_skin: f64) {
+        let n = pos.len();
+        let movers = std::mem::take(&mut self.movers);
+        self.is_mover.clear();
+        self.is_mover.resize(n, false);
+        for &k in &movers {
+            self.is_mover[k as usize] = true;
+        }
+        self.outer.resize_with(n, Vec::new);
+        // The movers' old pairs leave their partners' lists.
+        for &k in &movers {
+            let mut list = std::mem::take(&mut self.outer[k as usize]);
+            for &j in &list {
+                if !self.is_mover[j as usize] {
+                    let partner = &mut self.outer[j as usize];
+                    if let Some(at) = partner.iter().position(|&m| m == k) {
+                        partner.swap_remove(at);
+                    }
+                }
+            }
+            list.clear();
+            self.outer[k as usize] = list;
+        }
+        self.anchor.resize(n, Vec3::ZERO);
+        for &k in &movers {
+            self.anchor[k as usize] = pos[k as usize];
+        }
+        let anchor = std::mem::take(&mut self.anchor);
+        let mut outer = std::mem::take(&mut self.outer);
+        if let Some(cells) = self.bin(&anchor, radius, outer_skin) {
+            for &k in &movers {
+                let k = k as usize;
+                let (ak, rk) = (anchor[k], radius[k]);
+                let (outer, is_mover) = (&mut outer, &self.is_mover);
+                let mut found = |m: usize| {
+                    let reach = rk + radius[m] + outer_skin;
+                    if m != k && (anchor[m] - ak).length_squared() < reach * reach {
+                        outer[k].push(m as u32);
+                        if !is_mover[m] {
+                            outer[m].push(k as u32);
+                        }
+                    }
+                };
+                self.around(&cells, k, &mut found);
+            }
+        }
+        self.outer = outer;
+        self.anchor = anchor;
+        self.movers = movers;
+    }
+
+    /// The list's pairs, those of the outer list within R_i + R_j + skin now, sorted by (i, j),
+    /// into `fresh` (the grid's test, to the bit).
+    fn filter_outer(&mut self, pos: &[Vec3], radius: &[f64]) {
         self.fresh.clear();
+        let skin = self.skin_m;
+        for (i, partners) in self.outer.iter().enumerate().take(pos.len()) {
+            let from = self.fresh.len();
+            for &j in partners {
+                let b = j as usize;
+                let reach = radius[i] + radius[b] + skin;
+                if b > i && (pos[b] - pos[i]).length_squared() < reach * reach {
+                    self.fresh.push((i as u32, j));
+                }
+            }
+            self.fresh[from..].sort_unstable();
+        }
+    }
+
+    /// Lists every pair closer than R_i + R_j + `skin` into `fresh`, sorted by (i, j).
+    fn build(&mut self, pos: &[Vec3], radius: &[f64], skin: f64) {
+        self.fresh.clear();
+        match self.bin(pos, radius, skin) {
+            Some(Cells::Dense(dims)) => self.build_dense(pos, radius, skin, dims),
+            Some(Cells::Sparse) => self.build_sparse(pos, radius, skin),
+            None => {}
+        }
+    }
+
+    /// Bins the apples into cells of edge 2 R_max + skin: a dense grid (`start`, `sorted`) by a
+    /// counting sort, or a sparse one (`keyed`) when a dense one would be mostly empty. None
+    /// for fewer than two apples.
+    fn bin(&mut self, pos: &[Vec3], radius: &[f64], skin: f64) -> Option<Cells> {
         let n = pos.len();
         if n < 2 {
-            return;
+            return None;
         }
         let r_max = radius.iter().cloned().fold(0.0, f64::max);
-        let cell = (2.0 * r_max + self.skin_m).max(1e-9);
+        let cell = (2.0 * r_max + skin).max(1e-9);
         let inv = 1.0 / cell;
         let mut lo = Vec3::splat(f64::INFINITY);
         for p in pos {
@@ -173,35 +337,77 @@ impl NeighborList {
         let dims = [hi[0] + 1, hi[1] + 1, hi[2] + 1];
         let cells = dims[0].saturating_mul(dims[1]).saturating_mul(dims[2]);
         if cells <= (8 * n as i64).max(1 << 16) {
-            self.build_dense(pos, radius, dims, cells as usize);
+            let cells = cells as usize;
+            let id = |c: [i64; 3]| ((c[0] * dims[1] + c[1]) * dims[2] + c[2]) as usize;
+            // Counting sort of the apples by cell: cell c holds sorted[start[c]..start[c + 1]],
+            // in increasing apple index.
+            self.start.clear();
+            self.start.resize(cells + 1, 0);
+            self.cell_of.clear();
+            for c in &self.coords {
+                let k = id(*c);
+                self.cell_of.push(k);
+                self.start[k + 1] += 1;
+            }
+            for k in 0..cells {
+                self.start[k + 1] += self.start[k];
+            }
+            self.sorted.clear();
+            self.sorted.resize(n, 0);
+            let mut fill: Vec<u32> = self.start[..cells].to_vec();
+            for (m, &k) in self.cell_of.iter().enumerate() {
+                self.sorted[fill[k] as usize] = m as u32;
+                fill[k] += 1;
+            }
+            Some(Cells::Dense(dims))
         } else {
-            self.build_sparse(pos, radius);
+            self.keyed.clear();
+            for (m, c) in self.coords.iter().enumerate() {
+                self.keyed.push((*c, m as u32));
+            }
+            self.keyed.sort_unstable();
+            Some(Cells::Sparse)
         }
     }
 
-    fn build_dense(&mut self, pos: &[Vec3], radius: &[f64], dims: [i64; 3], cells: usize) {
+    /// Calls `f` with every apple binned in the 27 cells around apple `k`'s (itself included).
+    fn around(&self, cells: &Cells, k: usize, f: &mut impl FnMut(usize)) {
+        let c = self.coords[k];
+        match *cells {
+            Cells::Dense(dims) => {
+                let id = |c: [i64; 3]| ((c[0] * dims[1] + c[1]) * dims[2] + c[2]) as usize;
+                for x in (c[0] - 1).max(0)..=(c[0] + 1).min(dims[0] - 1) {
+                    for y in (c[1] - 1).max(0)..=(c[1] + 1).min(dims[1] - 1) {
+                        let (z0, z1) = ((c[2] - 1).max(0), (c[2] + 1).min(dims[2] - 1));
+                        let run = self.start[id([x, y, z0])]..self.start[id([x, y, z1]) + 1];
+                        for &m in &self.sorted[run.start as usize..run.end as usize] {
+                            f(m as usize);
+                        }
+                    }
+                }
+            }
+            Cells::Sparse => {
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            let key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                            let s = self.keyed.partition_point(|e| e.0 < key);
+                            for &(kk, m) in &self.keyed[s..] {
+                                if kk != key {
+                                    break;
+                                }
+                                f(m as usize);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn build_dense(&mut self, pos: &[Vec3], radius: &[f64], skin: f64, dims: [i64; 3]) {
         let id = |c: [i64; 3]| ((c[0] * dims[1] + c[1]) * dims[2] + c[2]) as usize;
-        // Counting sort of the apples by cell: cell c holds sorted[start[c]..start[c + 1]],
-        // in increasing apple index.
-        self.start.clear();
-        self.start.resize(cells + 1, 0);
-        self.cell_of.clear();
-        for c in &self.coords {
-            let k = id(*c);
-            self.cell_of.push(k);
-            self.start[k + 1] += 1;
-        }
-        for k in 0..cells {
-            self.start[k + 1] += self.start[k];
-        }
-        self.sorted.clear();
-        self.sorted.resize(pos.len(), 0);
-        let mut fill: Vec<u32> = self.start[..cells].to_vec();
-        for (m, &k) in self.cell_of.iter().enumerate() {
-            self.sorted[fill[k] as usize] = m as u32;
-            fill[k] += 1;
-        }
-        let (start, sorted, skin) = (&self.start, &self.sorted, self.skin_m);
+        let (start, sorted) = (&self.start, &self.sorted);
         // Each pair of apples in neighbouring cells is tested once: from the lower index within
         // a cell, and from the cell behind it across cells (the 13 cells ahead of a cell in
         // (x, y, z) order, read as 5 runs of cells consecutive in z). Half the tests of a scan of
@@ -248,13 +454,8 @@ impl NeighborList {
 
     /// For apples spread over a region whose dense grid would be mostly empty: cells sorted by
     /// their key (exactly, never a hash: colliding hashes interleave cells), found by binary search.
-    fn build_sparse(&mut self, pos: &[Vec3], radius: &[f64]) {
-        self.keyed.clear();
-        for (m, c) in self.coords.iter().enumerate() {
-            self.keyed.push((*c, m as u32));
-        }
-        self.keyed.sort_unstable();
-        let (keyed, skin) = (&self.keyed, self.skin_m);
+    fn build_sparse(&mut self, pos: &[Vec3], radius: &[f64], skin: f64) {
+        let keyed = &self.keyed;
         let scan = |i: usize, out: &mut Vec<(u32, u32)>| {
             let c = self.coords[i];
             let first = out.len();
@@ -281,6 +482,22 @@ impl NeighborList {
         };
         scan_apples(pos.len(), &mut self.fresh, scan);
     }
+}
+
+/// The outer list's skin, in list skins (see [`NeighborList::list_pairs`]): the wider, the
+/// fewer apples to list again at a rebuild, and the more pairs to filter.
+const OUTER_SKIN: f64 = 2.0;
+
+/// The outer list is kept while at most one apple in this many moved past its anchor's limit
+/// (else the pairs come from the grid).
+const MAX_MOVER_SHARE: usize = 4;
+
+/// How [`NeighborList::bin`] binned the apples.
+enum Cells {
+    /// A dense grid of these dimensions.
+    Dense([i64; 3]),
+    /// Cells sorted by key.
+    Sparse,
 }
 
 /// Apples from which a build scans its cells in parallel, on rayon's current pool, when it has
@@ -531,6 +748,68 @@ mod tests {
         let r = vec![0.04; pos.len()];
         let list = listed_all(&pos, &r, 0.01);
         assert_eq!(listed(&list), brute(&pos, &r, 0.01));
+    }
+
+    /// The outer list gives, at every rebuild, the pairs and order the grid gives (and brute
+    /// force): 600 apples in a box, a third riding along x at 0.6 mm a step, five falling at 3
+    /// mm a step, every 40th step all of them shaken by 4 mm, every 50th step ten more apples;
+    /// and, in a second run, the same with a far cluster (the sparse grid). Every kind of build
+    /// occurs.
+    #[test]
+    fn an_outer_list_kept_lists_the_pairs_of_the_grid() {
+        for far in [false, true] {
+            let (mut pos, mut r) = random_cloud(600, 1.2);
+            if far {
+                for p in pos.iter_mut().skip(500) {
+                    *p += Vec3::new(1000.0, 0.0, 0.0);
+                }
+            }
+            let skin = 0.01;
+            let mut list = NeighborList::new(skin);
+            let mut seed = 99u64;
+            let mut rnd = || {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            };
+            let mut rebuilt = 0;
+            for step in 0..400 {
+                for (k, p) in pos.iter_mut().enumerate() {
+                    if k % 3 == 0 {
+                        *p += Vec3::new(6e-4, 0.0, 0.0);
+                    }
+                    if k % 120 == 7 {
+                        *p += Vec3::new(0.0, 0.0, -3e-3);
+                    }
+                    if step % 40 == 39 {
+                        *p += Vec3::new(rnd(), rnd(), rnd()).normalize() * 4e-3;
+                    }
+                }
+                if step % 50 == 49 {
+                    for k in 0..10 {
+                        pos.push(Vec3::new(0.1 * k as f64 - 0.5, 0.3, 0.2 + 0.01 * rnd()));
+                        r.push(0.04);
+                    }
+                }
+                let all: Vec<u32> = (0..pos.len() as u32).collect();
+                if list.update(&pos, &r, &all, false, |_| {}) {
+                    rebuilt += 1;
+                    let direct = listed_all(&pos, &r, skin);
+                    assert_eq!(direct.builds(), [1, 0, 0]);
+                    assert_eq!(listed(&list), listed(&direct), "far {far}, step {step}");
+                    assert_eq!(
+                        listed(&list),
+                        brute(&pos, &r, skin),
+                        "far {far}, step {step}"
+                    );
+                }
+            }
+            let builds = list.builds();
+            assert_eq!(builds.iter().sum::<u64>(), rebuilt);
+            assert!(builds.iter().all(|&b| b > 0), "far {far}: {builds:?}");
+            assert!(builds[2] > builds[0] + builds[1], "far {far}: {builds:?}");
+        }
     }
 
     #[test]
