@@ -45,7 +45,7 @@ pub struct NeighborList {
     pairs: Vec<Pair>,
     reference: Vec<Vec3>,
     rebuilds: u64,
-    /// The outer list (see [`NeighborList::update`]): each apple's anchor, its position when its
+    /// The outer list (see `NeighborList::list_pairs`): each apple's anchor, its position when its
     /// outer pairs were last listed.
     anchor: Vec<Vec3>,
     /// Per apple, the apples whose anchors are closer than R_i + R_j + the outer skin (each pair
@@ -89,7 +89,7 @@ impl NeighborList {
     }
 
     /// Rebuilds by how their pairs were listed: from the grid directly, from the outer list
-    /// listed again in full, from the outer list kept (see [`NeighborList::update`]).
+    /// listed again in full, from the outer list kept (see `NeighborList::list_pairs`).
     pub fn builds(&self) -> [u64; 3] {
         self.builds
     }
