@@ -455,32 +455,21 @@ impl NeighborList {
     /// For apples spread over a region whose dense grid would be mostly empty: cells sorted by
     /// their key (exactly, never a hash: colliding hashes interleave cells), found by binary search.
     fn build_sparse(&mut self, pos: &[Vec3], radius: &[f64], skin: f64) {
-        let keyed = &self.keyed;
+        let mut fresh = std::mem::take(&mut self.fresh);
+        let this = &*self;
         let scan = |i: usize, out: &mut Vec<(u32, u32)>| {
-            let c = self.coords[i];
             let first = out.len();
             let mut near = NearPairs::default();
-            for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let key = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        let s = keyed.partition_point(|e| e.0 < key);
-                        for &(k, m) in &keyed[s..] {
-                            if k != key {
-                                break;
-                            }
-                            let m = m as usize;
-                            if m > i {
-                                near.offer(out, pos, radius, skin, i, m);
-                            }
-                        }
-                    }
+            this.around(&Cells::Sparse, i, &mut |m| {
+                if m > i {
+                    near.offer(out, pos, radius, skin, i, m);
                 }
-            }
+            });
             near.flush(out);
             out[first..].sort_unstable();
         };
-        scan_apples(pos.len(), &mut self.fresh, scan);
+        scan_apples(pos.len(), &mut fresh, scan);
+        self.fresh = fresh;
     }
 }
 
