@@ -1,7 +1,9 @@
 //! Every shipped scenario under scenarios/, sub-folders included, runs through the CLI: plain
 //! scenarios with `applesim run`, batch specs (a JSON object with `base` and `parameters`) with
 //! `applesim batch` and `applesim merge`. Only scenarios/bench/ is left out: its LIGGGHTS piles
-//! take minutes (README, Shipped scenarios).
+//! take minutes (README, Shipped scenarios). The two 500-apple bin fills ([`RUN_ELSEWHERE`]) are
+//! run, whole, by tests/line_shapes.rs, which checks their heaps; running them here again cost
+//! the suite a minute of CI's 15.
 //!
 //! The figures the README and docs state about them are checked here: the drop's ~100 N and
 //! 5.6 ms, the slip-to-roll description's 48.5 ms and 5/7, the impact sweep's table
@@ -22,6 +24,19 @@ use std::sync::OnceLock;
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_applesim"))
 }
+
+/// Shipped scenarios that another test runs whole (path under scenarios/, and the test): left out
+/// of [`shipped_runs`] so that the suite runs each of them once.
+const RUN_ELSEWHERE: [(&str, &str); 2] = [
+    (
+        "lines/bin_fill_500_spheres.json",
+        "line_shapes::a_bin_of_spheroids_against_a_bin_of_spheres",
+    ),
+    (
+        "lines/bin_fill_500_spheroids.json",
+        "line_shapes::a_bin_of_spheroids_against_a_bin_of_spheres",
+    ),
+];
 
 /// Every `*.json` under `dir`, sub-folders included, but `bench/`.
 fn shipped_files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -86,6 +101,12 @@ fn shipped_runs() -> &'static BTreeMap<String, PathBuf> {
         let mut out = BTreeMap::new();
         for p in files {
             let rel = p.strip_prefix(&dir).unwrap().to_path_buf();
+            if RUN_ELSEWHERE
+                .iter()
+                .any(|(f, _)| Path::new(f) == rel.as_path())
+            {
+                continue;
+            }
             let o = out_dir(&rel);
             let _ = std::fs::remove_dir_all(&o);
             if is_batch_spec(&p) {
@@ -152,6 +173,17 @@ fn every_shipped_scenario_runs() {
         assert!(runs.contains_key(rel), "{rel} not found: {:?}", runs.keys());
     }
     assert!(runs.keys().all(|k| !k.starts_with("bench/")));
+    // The scenarios left out are shipped, and the test named for each runs it.
+    for (f, t) in RUN_ELSEWHERE {
+        assert!(repo("scenarios").join(f).exists(), "{f} is not shipped");
+        let (file, func) = t.split_once("::").unwrap();
+        let src = std::fs::read_to_string(repo("tests").join(format!("{file}.rs"))).unwrap();
+        assert!(
+            src.contains(&format!("fn {func}()")) && src.contains(&format!("\"scenarios/{f}\"")),
+            "{t} does not run {f}"
+        );
+        assert!(!runs.contains_key(f), "{f} ran twice");
+    }
     let mut batches = 0;
     for (rel, o) in runs {
         if o.join("batch.json").exists() {
