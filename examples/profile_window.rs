@@ -57,7 +57,8 @@ fn main() {
         let n = layer.apple_count() as f64;
         let (contacts, apple_apple) = layer.contact_counts();
         println!(
-            "{from}-{to} s: {:.4} ms/step, {:.3e} apple-steps/s; at {to} s: {:.3} contacts/apple ({:.3} apple-apple), {} of {} apples asleep",
+            "{from}-{to} s: {} steps, {:.4} ms/step, {:.3e} apple-steps/s; at {to} s: {:.3} contacts/apple ({:.3} apple-apple), {} of {} apples asleep",
+            steps,
             1e3 * wall / steps,
             n * steps / wall,
             contacts as f64 / n,

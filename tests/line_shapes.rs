@@ -117,8 +117,22 @@ fn heap(rel: &str) -> (f64, f64, Vec<f64>) {
 /// sigma = sqrt(1/12 / 500) = 0.0129).
 #[test]
 fn a_bin_of_spheroids_against_a_bin_of_spheres() {
-    let (top_s, mean_s, _) = heap("scenarios/lines/bin_fill_500_spheres.json");
-    let (top_o, mean_o, tilt) = heap("scenarios/lines/bin_fill_500_spheroids.json");
+    // The two fills side by side, each on a pool of its own thread (the suite's longest test;
+    // a run's results do not depend on its thread count).
+    let alone = |rel: &'static str| {
+        move || {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .expect("a thread pool")
+                .install(|| heap(rel))
+        }
+    };
+    let ((top_s, mean_s, _), (top_o, mean_o, tilt)) = std::thread::scope(|s| {
+        let spheres = s.spawn(alone("scenarios/lines/bin_fill_500_spheres.json"));
+        let spheroids = alone("scenarios/lines/bin_fill_500_spheroids.json")();
+        (spheres.join().expect("the spheres' run"), spheroids)
+    });
     let n = tilt.len() as f64;
     let m = tilt.iter().sum::<f64>() / n;
     let upright = tilt.iter().filter(|&&x| x > 0.8).count() as f64 / n;
