@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 #[cfg(unix)]
-mod procs;
+use crate::procs;
 
 const SWEEP: &str = "scenarios/batches/impact_sweep.json";
 

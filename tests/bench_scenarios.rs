@@ -3,7 +3,7 @@
 //! run takes minutes; here the scenarios are loaded and checked, and the 1000-apple pile is
 //! stepped briefly.
 
-mod common;
+use crate::common;
 use applesim::record::series::NoSamples;
 use applesim::scenario::{self, SurfaceSpec, TimeStep};
 use applesim::sim::Simulation;

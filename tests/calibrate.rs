@@ -2,7 +2,7 @@
 //! the impact, checked here against an independent full run of the simulator; and the refusal,
 //! with its reason, of a target no ke can reach.
 
-mod common;
+use crate::common;
 use applesim::analysis::calibrate::{self, CalibrateError, ImpactSetup, KE_MIN};
 use common::*;
 

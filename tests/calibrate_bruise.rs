@@ -4,7 +4,7 @@
 //! to the coefficients; a scenario naming the written preset file uses them; bad drop files are
 //! refused naming the row and column; the published data set of docs/damage/ fits as documented.
 
-mod common;
+use crate::common;
 use applesim::analysis;
 use applesim::scenario::{self, Scenario};
 use common::*;

@@ -3,7 +3,7 @@
 //! entries. The pure models (volume, sites, grades) are unit-tested in src/analysis/damage; the
 //! line-level acceptance (transfer points, the handling line's report) is in tests/line_audit.rs.
 
-mod common;
+use crate::common;
 use applesim::analysis;
 use applesim::scenario::{self, Scenario};
 use common::*;

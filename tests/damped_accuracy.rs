@@ -4,7 +4,7 @@
 //! The figures are those of docs/accuracy.md ("Steps per contact against error: eq. 12"); each
 //! error is checked to lie within twice the figure stated there, and the steps in contact exactly.
 
-mod common;
+use crate::common;
 use applesim::scenario::{Accuracy, TimeStep};
 use common::ode::{self, Setup};
 use common::*;

@@ -15,7 +15,7 @@
 //! elastic-rest law at lambda v0 = 10 with gravity). The static overlaps are checked after 2.5 s
 //! at dt 1e-4 s.
 
-mod common;
+use crate::common;
 use applesim::record::events::ContactEvent;
 use applesim::scenario::models::Damping;
 use common::ode;

@@ -7,7 +7,7 @@
 //! calibration table against RK4 (tests/common/ode.rs), the README's error examples by
 //! reproducing the mistakes they show.
 
-mod common;
+use crate::common;
 use common::ode::Setup;
 use common::*;
 use std::process::Command;

@@ -4,7 +4,7 @@
 //! friction, the softer apple-on-apple contact, and the Fig. 1 comparison with the paper (RK4,
 //! tests/common/ode.rs). Tolerances: twice the rounding of the printed figure unless stated.
 
-mod common;
+use crate::common;
 use common::ode::{self, Setup};
 use common::*;
 

@@ -7,7 +7,7 @@
 //! acceleration of pose k (contact force / m + g). Without that correction the kinetic energy is off
 //! by m a v dt / 2, about 0.5 % at the peak of a 1.4 m/s impact, though nothing is lost.
 
-mod common;
+use crate::common;
 use common::*;
 
 #[test]

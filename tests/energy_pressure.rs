@@ -11,7 +11,7 @@
 //! docs/analysis.md states the agreement: 0.002 % on the pressure, 0.01 % on the energy at the
 //! shipped step; each is checked at twice that.
 
-mod common;
+use crate::common;
 use common::ode::{self, Setup};
 use common::*;
 use std::collections::BTreeMap;

@@ -8,7 +8,7 @@
 //! acts. The step limit is lowered to 3e5 steps to keep the test short: a run needing more is
 //! refused with its own clear message (`model.max_steps`).
 
-mod common;
+use crate::common;
 use applesim::record::series::NoSamples;
 use applesim::scenario;
 use applesim::sim::Simulation;

@@ -6,7 +6,7 @@
 //! impact (the layer lands as one: touching neighbours with the same motion exert nothing), within
 //! 0.01 % as docs/fig5.md states, checked at twice that.
 
-mod common;
+use crate::common;
 use common::ode::{self, Setup};
 use common::*;
 

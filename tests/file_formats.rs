@@ -4,7 +4,7 @@
 //! files a run writes (scenario.json is the scenario as run, defaults filled in), and the
 //! sampling rules. The lists below are the docs' own, in their order.
 
-mod common;
+use crate::common;
 use common::*;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};

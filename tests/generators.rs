@@ -1,6 +1,6 @@
 //! Generators and sources (issue 3): stable names, seeds, size distributions, feeding.
 
-mod common;
+use crate::common;
 use applesim::scenario::{self, Scenario};
 use common::*;
 use serde_json::json;

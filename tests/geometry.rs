@@ -1,7 +1,7 @@
 //! Handling-line geometry against closed forms (issue 3 acceptance): belt, chute (rolling and
 //! sliding), mesh floor against a plane, drop into a trough.
 
-mod common;
+use crate::common;
 use applesim::math::{vec3, Vec3};
 use applesim::scenario::{self, Scenario};
 use common::ode;

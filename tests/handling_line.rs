@@ -8,7 +8,7 @@
 //! that are not chaotic (each impact before apples meet) are checked against an independent
 //! RK4 integration of the impact (tests/common/ode.rs), given the apple's size and touch speed.
 
-mod common;
+use crate::common;
 use applesim::record::events::ContactEvent;
 use applesim::scenario::{Accuracy, TimeStep};
 use common::ode::{self, Setup};

@@ -4,7 +4,7 @@
 //! Tolerance: 2e-6 on every figure, twice docs/design.md's "closed forms are then met to 1e-6 at
 //! 800 steps per contact" (measured: at most 1.6e-6, the contact time at 1.4 m/s, 560 steps).
 
-mod common;
+use crate::common;
 use common::ode;
 use common::*;
 

@@ -13,7 +13,7 @@
 //! differences are regression pins of this build (docs/claims.md says so), each beside its
 //! physical check (issue 19's bounds, and applesim's pile inside LIGGGHTS's four-start range).
 
-mod common;
+use crate::common;
 
 use applesim::record::series::MemorySeries;
 use applesim::scenario::{self, Scenario};

@@ -3,7 +3,7 @@
 //! audit.csv, probe_NAME_impacts.csv). Closed forms and tolerances: docs/analysis.md, "Impacts,
 //! transfer points and the instrumented sphere".
 
-mod common;
+use crate::common;
 use applesim::analysis::impacts::STANDARD_GRAVITY;
 use applesim::record::probe::ProbeSpec;
 use applesim::scenario::{AppleSpec, Scenario};

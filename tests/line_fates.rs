@@ -6,7 +6,7 @@
 //! a person writes them, an adaptive run its step range, and no progress bar when standard
 //! error is not a terminal.
 
-mod common;
+use crate::common;
 use common::*;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};

@@ -9,7 +9,7 @@
 //! heap has no closed form (a pile is chaotic): its figures are checked within stated ranges that
 //! hold over seeds (docs/lines.md gives five), not as golden values.
 
-mod common;
+use crate::common;
 use applesim::record::events::ContactEvent;
 use applesim::record::series::MemorySeries;
 use applesim::scenario::models::{Rolling, Twisting};
@@ -881,7 +881,8 @@ fn a_higher_pour_spreads_wider_and_flatter() {
 }
 
 /// The heap's figures over five pour seeds, with and without rolling resistance (docs/lines.md's
-/// table): `cargo test --release --test line_scenarios -- --ignored --nocapture`.
+/// table): `cargo test --release --test suite line_scenarios::heap_over_seeds -- --ignored
+/// --nocapture`.
 #[test]
 #[ignore = "docs/lines.md's seed table: 12 runs, about 15 s"]
 fn heap_over_seeds() {

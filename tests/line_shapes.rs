@@ -1,7 +1,7 @@
 //! Spheroidal apples on lines (issue 29; docs/lines.md section 4b): where they sit in a roller
 //! singulator and about which axis they turn.
 
-mod common;
+use crate::common;
 use applesim::math::Vec3;
 use common::*;
 

@@ -10,7 +10,7 @@
 //! - a valley of two flat faces (each two triangles) whose normals are 28 degrees apart gives one
 //!   contact; 32 degrees apart, two; a V of two 45 degree walls, two.
 
-mod common;
+use crate::common;
 use applesim::record::events::ContactEvent;
 use applesim::scenario::{self, Scenario};
 use common::*;

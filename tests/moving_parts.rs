@@ -14,7 +14,7 @@
 //! - a sleeping apple is woken by a part that moves into it;
 //! - refusals naming the field.
 
-mod common;
+use crate::common;
 use applesim::record::series::MemorySeries;
 use applesim::scenario::{self, Scenario};
 use common::*;

@@ -11,7 +11,7 @@
 //! d'(t) + w k x (p - c - d(t)). Positions and velocities are compared to 1e-12 (rounding of a
 //! few operations on numbers of order 1).
 
-mod common;
+use crate::common;
 use applesim::math::Vec3;
 use applesim::scenario::{self, Scenario};
 use applesim::sim::{RunResult, Simulation};

@@ -2,7 +2,7 @@
 //! paper's formula written here from Dimitriadis et al. (2002), bottoming out, the shipped padded
 //! drop transfer against an energy-balance quadrature of the law, and the refusals.
 
-mod common;
+use crate::common;
 use applesim::contact::padding::PadConstants;
 use applesim::contact::Material;
 use applesim::scenario::{self, Scenario};

@@ -14,7 +14,7 @@
 //! lever-arm closed forms of physics.md section 6. Once rolling on a flat, F_t = 0 and so is the
 //! shift: a rolling apple keeps its speed (no rolling resistance from the shift on a flat).
 
-mod common;
+use crate::common;
 use applesim::record::transitions::Motion;
 use applesim::scenario::{Fidelity, Scenario};
 use common::ode;

@@ -2,7 +2,7 @@
 //! hold the expected series: one curve and one legend entry per contact or apple, several runs
 //! on one chart, axes with units.
 
-mod common;
+use crate::common;
 use applesim::output::plot::{self, PlotOptions};
 use common::*;
 use std::path::{Path, PathBuf};

@@ -6,7 +6,7 @@
 //! t^1.5 at touch), so the least-squares optimum is slightly asymmetric: (eps, tau) and its mirror
 //! image (eps (1 - tau) / tau, 1 - tau) fit a symmetric pulse equally well.
 
-mod common;
+use crate::common;
 use applesim::analysis::{self, pulse};
 use applesim::contact::theory::ELASTIC_PULSE_COEFFICIENT;
 use common::*;

@@ -5,7 +5,7 @@
 //! step now keeps every moving part within the pair-finding margin per step (as it keeps every
 //! apple): at every accuracy the apple is struck as with `auto` and a fixed step.
 
-mod common;
+use crate::common;
 use applesim::scenario;
 use common::*;
 use serde_json::{json, Value};

@@ -14,7 +14,7 @@
 //!   accepted just over it, where the rollers share the spin by the impulse balance;
 //! - the guard in the run: a spin that runs away (1e-13 kg m^2 stepped by hand) is caught.
 
-mod common;
+use crate::common;
 use applesim::contact::elliptic;
 use applesim::layer::StepRequest;
 use applesim::scenario::{self, Scenario};

@@ -2,7 +2,7 @@
 //! apples "entered" when they crossed the rim where it was at t = 0. Entry is measured against
 //! the bin's pose at that moment.
 
-mod common;
+use crate::common;
 use applesim::scenario;
 use applesim::sim::fate::Fate;
 use common::*;

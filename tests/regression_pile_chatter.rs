@@ -4,7 +4,7 @@
 //! never fell asleep, and the chatter compacted it). The rate part is now bounded by a share of
 //! m / dt (contact::damping::hysteresis_force).
 
-mod common;
+use crate::common;
 use applesim::scenario;
 use common::*;
 use serde_json::json;

@@ -5,7 +5,7 @@
 //! memory at most, 40 bytes a row): refused before the run, naming the probe's
 //! `sample_rate_hz` with the estimate, within a second and under a 300 MB address-space limit.
 
-mod common;
+use crate::common;
 use common::*;
 use serde_json::Value;
 

@@ -5,7 +5,7 @@
 //! long", naming the file and not the field. Both are refused before the run, naming the second
 //! apple's `apples[k].name`; the limit is 200 characters, and a probe of 200 writes its files.
 
-mod common;
+use crate::common;
 use common::*;
 use serde_json::{json, Value};
 

@@ -5,7 +5,7 @@
 //! `surfaces[0].count`, under a 300 MB address-space limit (no allocation of the bed), within a
 //! second. And a bed's radius of 1e308 is blamed on `radius_m`, not on `pitch_m`.
 
-mod common;
+use crate::common;
 use common::*;
 use serde_json::{json, Value};
 

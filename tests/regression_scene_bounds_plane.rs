@@ -5,7 +5,7 @@
 //! is parked. An apple rolling off the bounds at 2 m/s leaves the scene the same way on a plane
 //! floor as on a box floor: same fate, same time and place of leaving.
 
-mod common;
+use crate::common;
 use applesim::scenario;
 use applesim::sim::fate::Fate;
 use common::*;

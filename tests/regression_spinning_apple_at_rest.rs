@@ -4,7 +4,7 @@
 //! and that does not roll is at rest, whatever its spin about the contact normal; one that rolls
 //! is still moving.
 
-mod common;
+use crate::common;
 use applesim::scenario;
 use applesim::sim::fate::Fate;
 use common::*;

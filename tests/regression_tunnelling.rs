@@ -8,7 +8,7 @@
 //! at the stated step the run sees the wall and its overlap guard refuses it, naming the pair;
 //! at 5 m/s (a 50 ms step, 250 mm a step) the stated step runs and resolves the impact.
 
-mod common;
+use crate::common;
 use common::*;
 use serde_json::{json, Value};
 

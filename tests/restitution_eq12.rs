@@ -1,7 +1,7 @@
 //! Eq. 12 with the dissipative sign (physics.md section 3): restitution never exceeds 1, depends
 //! only on ke and lambda v0 without gravity, and matches the integrated table of physics.md.
 
-mod common;
+use crate::common;
 use common::*;
 
 fn restitution(ke: f64, lambda: f64, v0: f64, dt: f64) -> f64 {

@@ -4,7 +4,7 @@
 //! and off (`model.sleep.carried`): riding must not change what the run reports beyond what
 //! docs/performance.md ("Riding a belt: what it changes") prints, twice each.
 
-mod common;
+use crate::common;
 use applesim::layer::AppleId;
 use applesim::record::events::ContactEvent;
 use applesim::record::series::NoSamples;

@@ -5,7 +5,7 @@
 //! with gravity the speeds just before and after the impulse), at every step size, and no contact
 //! event is recorded.
 
-mod common;
+use crate::common;
 use applesim::scenario::{self, Fidelity, Scenario};
 use common::*;
 use serde_json::json;

@@ -3,7 +3,7 @@
 //! here from docs/physics.md section 12 (each with its tolerance and the figure measured with this
 //! build, docs/physics.md 12.6).
 
-mod common;
+use crate::common;
 use applesim::scenario::{self, Scenario};
 use common::*;
 use serde_json::{json, Value};

@@ -8,7 +8,7 @@
 //! An apple resting at its sag on a steel floor, set rocking (a small roll), at a resting step of
 //! 1 ms, where the bound acts: its spin must die out, not change sign every step.
 
-mod common;
+use crate::common;
 use applesim::record::series::NoSamples;
 use applesim::scenario;
 use applesim::sim::Simulation;

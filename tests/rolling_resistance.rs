@@ -25,7 +25,7 @@
 //! the eq. 12 dampings (tested below).
 //! Every reference is written here (no crate helper); the lever uses the closed-form static sag.
 
-mod common;
+use crate::common;
 use applesim::math::Vec3;
 use applesim::record::series::AppleState;
 use applesim::scenario::{self, Scenario};

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-mod procs;
+use crate::procs;
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).to_string()

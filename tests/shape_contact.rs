@@ -17,7 +17,7 @@
 //! - A body rolling about its own axis of symmetry on its equator (lever a, I = 2/5 m a^2),
 //!   launched sliding without spin: it ends rolling at v0 / (1 + I/(m a^2)) = 5/7 v0.
 
-mod common;
+use crate::common;
 use applesim::contact::elliptic::elliptic_hertz;
 use applesim::contact::spheroid::Spheroid;
 use applesim::contact::Material;

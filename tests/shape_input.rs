@@ -5,7 +5,7 @@
 //! here); and the world's spheroid body. No simulation runs: every test is parsing, generating
 //! or building.
 
-mod common;
+use crate::common;
 use applesim::scenario::generators::{self, FileApples};
 use applesim::scenario::{self, AppleSpec, GeneratorSpec, Scenario};
 use applesim::world::{self, roster, Origin};

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::{Arc, Mutex};
 
-mod procs;
+use crate::procs;
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).to_string()

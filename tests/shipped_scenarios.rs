@@ -13,7 +13,7 @@
 //! physics has no closed form (impacts with gravity and eq. 12). docs/handling_line.md is
 //! tests/handling_line.rs, docs/fig5.md tests/fig5_layers.rs.
 
-mod common;
+use crate::common;
 use common::ode::{self, Setup};
 use common::*;
 use std::collections::BTreeMap;

@@ -2,7 +2,7 @@
 //! docs/accuracy.md): `preview` 1 cm/s for 0.1 s, every other accuracy 5 mm/s for 0.2 s; the
 //! values used are written to the run's `scenario.json`.
 
-mod common;
+use crate::common;
 use applesim::layer::AppleId;
 use applesim::record::series::NoSamples;
 use applesim::scenario::{self, Accuracy, SleepSpec};

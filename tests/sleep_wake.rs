@@ -2,7 +2,7 @@
 //! hit by a moving apple wakes and the collision comes out as without sleeping; a sleeper whose
 //! support is moved or removed wakes and falls; an apple on a running belt never sleeps.
 
-mod common;
+use crate::common;
 use applesim::layer::AppleId;
 use applesim::record::series::NoSamples;
 use applesim::scenario::{self, Scenario};

@@ -11,7 +11,7 @@
 //! zero, interpolated linearly between the last two samples of the sliding phase (the slip falls
 //! linearly while sliding).
 
-mod common;
+use crate::common;
 use common::ode;
 use common::*;
 

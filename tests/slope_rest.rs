@@ -16,7 +16,7 @@
 //!
 //! Each bound is checked at twice its stated figure.
 
-mod common;
+use crate::common;
 use applesim::math::Vec3;
 use applesim::scenario::{self, Scenario, TimeStep};
 use common::ode;

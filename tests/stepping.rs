@@ -1,6 +1,6 @@
 //! Time-step policies, fidelity levels and the stability guard (issue 6).
 
-mod common;
+use crate::common;
 use applesim::record::series::NoSamples;
 use applesim::scenario::{Accuracy, Fidelity, TimeStep};
 use applesim::sim::{SimError, Simulation};

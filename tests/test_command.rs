@@ -4,7 +4,7 @@
 //! with stand-ins for `id`, `apt-get` and `cargo` first on the PATH (each records its arguments),
 //! so nothing is installed and the suite does not run itself.
 
-mod common;
+use crate::common;
 use common::repo;
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -8,7 +8,7 @@
 //! (The independent checks of the same policies are tests/stepping.rs, tests/damped_accuracy.rs
 //! and tests/handling_line.rs.)
 
-mod common;
+use crate::common;
 use common::*;
 
 /// The table rows of `text` (lines starting with `|`, header and rule skipped), each as its

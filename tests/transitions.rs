@@ -3,7 +3,7 @@
 //! plate and a belt; roll -> slide at a transfer onto a steep chute and none onto a gentle one;
 //! no chatter; the outputs (transitions.csv, summary.json section, metrics, bodies.csv slip).
 
-mod common;
+use crate::common;
 use applesim::contact::theory;
 use applesim::record::transitions::{Motion, Transition};
 use applesim::scenario::Scenario;

@@ -10,7 +10,7 @@
 //!
 //! The apple is the paper's Figs. 6-7 apple (D 80 mm, G 1 MPa, nu 0.18, 0.107 kg) on steel.
 
-mod common;
+use crate::common;
 use applesim::scenario::{self, Scenario};
 use common::ode;
 use common::*;

@@ -6,7 +6,7 @@
 //! The validation runs once (library call, shared by the tests) and once more through the
 //! binary, from the repository root with the default specs folder, as documented.
 
-mod common;
+use crate::common;
 use applesim::contact::Material;
 use applesim::validate::{self, reference, Options, Validation};
 use common::*;

@@ -2,7 +2,7 @@
 //! from the reference integration alone (no simulation): each claim physics.md makes with a
 //! number is reproduced here with a stated tolerance.
 
-mod common;
+use crate::common;
 use applesim::contact::Material;
 use applesim::validate::reference::{self, Eq12Sign};
 use common::*;

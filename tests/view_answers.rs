@@ -9,7 +9,7 @@
 //!
 //! Chromium is required, never skipped (tests/chromium_launch says how to install it).
 
-mod view_session;
+use crate::view_session;
 use view_session::*;
 
 use headless_chrome::browser::tab::point::Point;

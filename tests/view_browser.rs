@@ -11,7 +11,7 @@
 //! (`tools/test`, the README's test command, installs it when missing). `APPLESIM_CHROMIUM`
 //! names another binary.
 
-mod view_session;
+use crate::view_session;
 use view_session::*;
 
 use headless_chrome::browser::tab::point::Point;

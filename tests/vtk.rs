@@ -2,7 +2,7 @@
 //! independent VTK reader (the `vtkio` crate) with the right number of points and arrays per
 //! frame, the values of `bodies.csv`, and the surfaces' triangles.
 
-mod common;
+use crate::common;
 use applesim::analysis::bruise::BruiseReport;
 use applesim::contact::Material;
 use applesim::layer::SurfaceOptions;
