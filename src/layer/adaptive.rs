@@ -60,7 +60,7 @@ pub(super) fn contact_step_limit(
     rate: f64,
     unloading_ke: f64,
     age: f64,
-    tangential: impl FnOnce() -> (f64, f64),
+    tangential: impl FnOnce() -> f64,
 ) -> (f64, StepLimit) {
     let (t_a, u_a) = impact;
     let s = rate.abs();
@@ -86,28 +86,18 @@ pub(super) fn contact_step_limit(
     } else {
         u
     };
-    let (t_stick, h_damping) = tangential();
-    (
-        resting_step(c, m_n, k, u_eff, t_stick, h_damping),
-        StepLimit::Resting,
-    )
+    let t_stick = tangential();
+    (resting_step(c, m_n, k, u_eff, t_stick), StepLimit::Resting)
 }
 
 /// The step limit of a resting contact at effective overlap `u_eff` (see
 /// [`contact_step_limit`]): N/4 (at least 4) steps per contact time at `u_eff` and per half
-/// period `t_stick` of the stick spring, and no longer than the dashpot's stable step
-/// `h_damping`. Every term falls as the overlap grows.
-fn resting_step(
-    c: &StepControl,
-    m_n: f64,
-    k: f64,
-    u_eff: f64,
-    t_stick: f64,
-    h_damping: f64,
-) -> f64 {
-    (theory::contact_time_at_overlap(m_n, k, u_eff).min(t_stick)
-        / (0.25 * c.steps_per_contact).max(4.0))
-    .min(h_damping)
+/// period `t_stick` of the stick spring. Both terms fall as the overlap grows. The dashpots set
+/// no limit: each is bounded by the rate that stops its contact's motion within a step, shared
+/// among the apple's contacts (`contact::evaluate`), so none overshoots at any step.
+fn resting_step(c: &StepControl, m_n: f64, k: f64, u_eff: f64, t_stick: f64) -> f64 {
+    theory::contact_time_at_overlap(m_n, k, u_eff).min(t_stick)
+        / (0.25 * c.steps_per_contact).max(4.0)
 }
 
 /// A lower bound of a resting contact's step limit, good while its overlap stays at or below
@@ -115,8 +105,8 @@ fn resting_step(
 /// rate stays at or below `u_m` too).
 ///
 /// Why: with step control, every touching pair asks for its limit at every step, and a resting
-/// contact's costs seven square roots (its contact time, the stick spring's half period, the
-/// dashpot's stable step), while only the shortest limit sets the step. Each term is a
+/// contact's costs several square roots (its contact time, the stick spring's half period),
+/// while only the shortest limit sets the step. Each term is a
 /// monotone function of the overlap (rounded operations that never rise as it grows:
 /// `sqrt`, products and quotients of positive numbers), so the limit at a slightly larger
 /// overlap bounds it from below for as long as the overlap stays under it; detection skips the
@@ -148,40 +138,26 @@ impl RestingBound {
 
     /// The bound over overlaps up to `u` (1 + 1/64) (0.4 % below the limit at `u`; detection
     /// makes a new one when the overlap or its rate passes it) for the pair's normal mass
-    /// `m_n` and stiffness `k`; `tangential(u)` gives the stick spring's half period and the
-    /// dashpot's stable step at overlap `u`, as the exact limit takes them.
+    /// `m_n` and stiffness `k`; `tangential(u)` gives the stick spring's half period at overlap
+    /// `u`, as the exact limit takes it.
     pub(super) fn new(
         c: &StepControl,
         m_n: f64,
         k: f64,
         u: f64,
-        tangential: impl FnOnce(f64) -> (f64, f64),
+        tangential: impl FnOnce(f64) -> f64,
     ) -> Self {
         let u_m = u * (1.0 + 1.0 / 64.0);
         // Rates whose impact overlap stays within u_m: 5 m s^2 / (4 k) <= u_m^(5/2), the test of
         // `contact_step_limit`; its power is rounded, so the contact time is taken at an overlap
         // 1e-9 larger still.
         let rate2 = u_m * u_m * u_m.sqrt() * k / (1.25 * m_n);
-        let (t_stick, h_damping) = tangential(u_m);
+        let t_stick = tangential(u_m);
         Self {
             u_m,
             rate2,
-            dt_s: resting_step(c, m_n, k, u_m * (1.0 + 1e-9), t_stick, h_damping),
+            dt_s: resting_step(c, m_n, k, u_m * (1.0 + 1e-9), t_stick),
         }
-    }
-}
-
-/// The longest stable step of an explicit tangential dashpot of coefficient `gamma_t` on the
-/// tangential effective mass `m_t`: gamma_t h / m_t <= 0.6 (LIGGGHTS `tangential history`
-/// damps without bound; with e = 0.3 its damping ratio is 0.61, and at the resting steps of
-/// `preview` (gamma_t h / m_t = 0.96) the 1000-apple pile jiggled with every apple awake in
-/// 3-5 s; both LIGGGHTS and applesim settle at a fixed 5e-4 s (0.67) and jiggle at 6e-4 s
-/// (0.81); docs/liggghts_models.md). Infinite without damping.
-pub(super) fn damping_step(gamma_t: f64, m_t: f64) -> f64 {
-    if gamma_t > 0.0 {
-        0.6 * m_t / gamma_t
-    } else {
-        f64::INFINITY
     }
 }
 
@@ -208,7 +184,7 @@ pub(super) fn limit_in_contact(
     rate: f64,
     unloading_ke: f64,
     time_s: f64,
-    tangential: impl FnOnce() -> (f64, f64),
+    tangential: impl FnOnce() -> f64,
 ) -> (f64, StepLimit) {
     let (scale, start) = match record {
         Some(o) => (
@@ -268,10 +244,9 @@ mod tests {
     use super::*;
     use crate::contact::theory::reduced_mass;
 
-    /// Two 80 mm apples of the paper (G 1.1 MPa, nu 0.18, 800 kg/m^3) and the LIGGGHTS history
-    /// model's dashpot at e = 0.3: normal mass, Hertz stiffness, tangential mass, and the
-    /// stick spring's half period and the dashpot's stable step at an overlap.
-    fn pair() -> (f64, f64, impl Fn(f64) -> (f64, f64)) {
+    /// Two 80 mm apples of the paper (G 1.1 MPa, nu 0.18, 800 kg/m^3): normal mass, Hertz
+    /// stiffness, and the stick spring's half period at an overlap.
+    fn pair() -> (f64, f64, impl Fn(f64) -> f64) {
         let (r, g, nu) = (0.04, 1.1e6, 0.18);
         let m = 800.0 * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
         let e_star = 2.0 * g * (1.0 + nu) / (2.0 * (1.0 - nu * nu));
@@ -281,16 +256,7 @@ mod tests {
         let k = crate::contact::normal::stiffness(e_star, r_star);
         // A sphere's own tangential mass 2 m / 7; two of them in series.
         let m_t = m / 7.0;
-        let beta = -0.3558; // ln(0.3) / sqrt(ln(0.3)^2 + pi^2)
-        let tangential = move |u: f64| {
-            let k_t = crate::contact::friction::mindlin_stiffness(g_star, (r_star * u).sqrt());
-            let gamma_t =
-                -2.0 * crate::contact::damping::SQRT_FIVE_SIXTHS * beta * (k_t * m_n).sqrt();
-            (
-                stick_half_period(g_star, r_star, u, m_t),
-                damping_step(gamma_t, m_t),
-            )
-        };
+        let tangential = move |u: f64| stick_half_period(g_star, r_star, u, m_t);
         (m_n, k, tangential)
     }
 
@@ -300,7 +266,7 @@ mod tests {
         k: f64,
         u: f64,
         rate: f64,
-        t: &impl Fn(f64) -> (f64, f64),
+        t: &impl Fn(f64) -> f64,
     ) -> f64 {
         let impact = impact_scale(m_n, k, 0.5);
         let (dt, why) = contact_step_limit(c, m_n, k, u, impact, rate, 0.09, 1.0, || t(u));
@@ -311,8 +277,8 @@ mod tests {
     /// The bound lies below the exact limit everywhere it covers (overlaps up to 1/64 above the
     /// one it was made at, rates up to the one whose impact reaches that overlap), by the closed
     /// form at its own overlap: every term goes as u^(-1/4) (the contact time as 1 / sqrt(k
-    /// sqrt(u)); the stick spring's half period and the dashpot's step as 1 / sqrt(k_t), k_t = 8
-    /// G* sqrt(R* u)), so it is (65/64)^(-1/4) of the limit at the overlap it was made at.
+    /// sqrt(u)); the stick spring's half period as 1 / sqrt(k_t), k_t = 8 G* sqrt(R* u)), so it
+    /// is (65/64)^(-1/4) of the limit at the overlap it was made at.
     #[test]
     fn a_resting_bound_is_below_every_limit_it_covers() {
         let (m_n, k, tangential) = pair();

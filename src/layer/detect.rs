@@ -10,9 +10,7 @@
 //! seen this step); what it finds goes into the contact slab, the frame's contact counts, the
 //! finished events and the step statistics, which it borrows for the pass ([`Parts`]).
 
-use super::adaptive::{
-    damping_step, limit_in_contact, stick_half_period, time_to_touch, RestingBound,
-};
+use super::adaptive::{limit_in_contact, stick_half_period, time_to_touch, RestingBound};
 use super::clock::{StepClock, StepLimit};
 use super::config::{LayerConfig, StepControl};
 use super::contacts::{Contact, ContactStore, Shaped};
@@ -770,8 +768,8 @@ impl Detection {
                                 best.and_then(|(k, _)| cx.contacts.get_mut(k).record.as_mut());
                             let ke = if energy_loss { law.ke } else { 1.0 };
                             let turned = surf.turned_by_contacts;
-                            // The stick spring's half period and the dashpot's stable step:
-                            // asked for once the contact rests, or on a free roller.
+                            // The stick spring's half period: asked for once the contact rests,
+                            // or on a free roller.
                             let tangential = || {
                                 if friction && law.friction > 0.0 {
                                     // A free-turning roller's surface point moves with the slip
@@ -779,13 +777,9 @@ impl Detection {
                                     let m_t = 1.0
                                         / (registry.apples[a].inv_tangential_mass
                                             + turned.unwrap_or(0.0));
-                                    let u = hit.overlap_m;
-                                    (
-                                        stick_half_period(law.g_star_pa, r_star, u, m_t),
-                                        history_damping_step(law, r_star, u, m_n, m_t),
-                                    )
+                                    stick_half_period(law.g_star_pa, r_star, hit.overlap_m, m_t)
                                 } else {
-                                    (f64::INFINITY, f64::INFINITY)
+                                    f64::INFINITY
                                 }
                             };
                             // A free roller needs them at every step (below): once.
@@ -802,11 +796,11 @@ impl Detection {
                                 || on_roller.unwrap_or_else(tangential),
                             );
                             cx.out.stats.limit(lim.0, lim.1);
-                            if let Some((t_stick, h_damping)) = on_roller {
+                            if let Some(t_stick) = on_roller {
                                 // A light free roller's spin rings on the stick spring faster
                                 // than the impact: four steps per half period at all times
                                 // (k_t h^2 / m_t = 0.62, stable; docs/physics.md 12.5).
-                                cx.out.stats.limit((0.25 * t_stick).min(h_damping), lim.1);
+                                cx.out.stats.limit(0.25 * t_stick, lim.1);
                             }
                         }
                     }
@@ -1298,18 +1292,15 @@ impl PairView<'_> {
                         slot => unsafe { self.slots.get(slot) }.record.as_mut(),
                     };
                     let ke = if energy_loss { law.ke } else { 1.0 };
-                    // The stick spring's half period and the dashpot's stable step at overlap
-                    // u: asked for only once the contact rests.
+                    // The stick spring's half period at overlap u: asked for only once the
+                    // contact rests.
                     let tangential = |u: f64| {
                         if friction && law.friction > 0.0 {
                             let m_t = 1.0
                                 / (apples[i].inv_tangential_mass + apples[j].inv_tangential_mass);
-                            (
-                                stick_half_period(law.g_star_pa, r_star, u, m_t),
-                                history_damping_step(law, r_star, u, m_n, m_t),
-                            )
+                            stick_half_period(law.g_star_pa, r_star, u, m_t)
                         } else {
-                            (f64::INFINITY, f64::INFINITY)
+                            f64::INFINITY
                         }
                     };
                     let lim = limit_in_contact(&c, record, m_n, k_n, u, rate, ke, time_s, || {
@@ -1457,24 +1448,6 @@ fn close_surface_contact(cx: &mut Parts, k: u32, geometry: Option<(f64, f64)>, t
             .finished
             .push(open.finish(time_s, cx.clock.dt_back, u, sep, names));
     }
-}
-
-/// The stable step of a contact's LIGGGHTS tangential damping (see
-/// [`super::adaptive::damping_step`]); infinite for the Mindlin model, whose dashpot is bounded by
-/// the velocity-kill rate.
-fn history_damping_step(
-    law: &crate::contact::PairLaw,
-    r_star: f64,
-    u: f64,
-    m_n: f64,
-    m_t: f64,
-) -> f64 {
-    if law.models.tangential != crate::contact::TangentialModel::History {
-        return f64::INFINITY;
-    }
-    let k_t = contact::friction::mindlin_stiffness(law.g_star_pa, (r_star * u).sqrt());
-    let gamma_t = -2.0 * contact::damping::SQRT_FIVE_SIXTHS * law.beta * (k_t * m_n).sqrt();
-    damping_step(gamma_t, m_t)
 }
 
 /// The geometry of apples `i` and `j` when one of them is a spheroid (a sphere is the spheroid

@@ -82,6 +82,8 @@ struct Ctx<'a> {
     /// `relaxation / (n dt)`: the kill rate of a bound shared by n contacts (0 and 1: the
     /// whole), n < 32.
     kill_rate_by_count: [f64; 32],
+    /// `1 / (n dt)`, n < 32 (0 and 1: the whole; see `ContactKinematics::stop_rate_1_s`).
+    stop_rate_by_count: [f64; 32],
     time_s: f64,
     dt_s: f64,
     dt_back: f64,
@@ -180,16 +182,23 @@ impl Ctx<'_> {
             },
         };
         c.prev_rate = rate;
+        let (kill_rate, stop_rate) = match (
+            self.kill_rate_by_count.get(usize::from(shared)),
+            self.stop_rate_by_count.get(usize::from(shared)),
+        ) {
+            (Some(&r), Some(&s)) => (r, s),
+            _ => {
+                let n_dt = f64::from(shared) * self.dt_s;
+                (self.config.tangential_relaxation / n_dt, 1.0 / n_dt)
+            }
+        };
         let kin = ContactKinematics {
             normal: n,
             overlap_m: u,
             rel_velocity,
             resting,
             free_accel,
-        };
-        let kill_rate = match self.kill_rate_by_count.get(usize::from(shared)) {
-            Some(&r) => r,
-            None => self.config.tangential_relaxation / (f64::from(shared) * self.dt_s),
+            stop_rate_1_s: stop_rate,
         };
         let resp = contact::evaluate(
             law,
@@ -649,6 +658,7 @@ impl Kernel {
             surf_now: inputs.surf_now,
             config: inputs.config,
             kill_rate_by_count: std::array::from_fn(|n| relaxation / (n.max(1) as f64 * dt_s)),
+            stop_rate_by_count: std::array::from_fn(|n| 1.0 / (n.max(1) as f64 * dt_s)),
             time_s: inputs.clock.time_s,
             dt_s,
             dt_back: inputs.clock.dt_back,
