@@ -314,6 +314,19 @@ fn ke_out_of_range() {
     mutated("ke2", |v| v["contact"]["ke"] = json!(1.5), &["contact.ke"]);
 }
 
+/// `model.history_dashpot_bound` lies in (0, 2): at 2 LIGGGHTS's explicit tangential dashpot
+/// overshoots and grows (src/contact `HISTORY_DASHPOT_BOUND`).
+#[test]
+fn history_dashpot_bound_out_of_range() {
+    for (name, b) in [("hdb0", 0.0), ("hdb2", 2.0), ("hdb-1", -1.0)] {
+        mutated(
+            name,
+            |v| v["model"] = json!({"history_dashpot_bound": b}),
+            &["model.history_dashpot_bound", "(0 < b < 2)"],
+        );
+    }
+}
+
 #[test]
 fn negative_friction() {
     mutated(

@@ -618,7 +618,7 @@ fn approaching_or_at_rest_the_force_is_at_least_the_static_force() {
                     rel_velocity: Vec3::new(0.0, 0.0, -rate),
                     resting,
                     free_accel,
-                    stop_rate_1_s: f64::INFINITY,
+                    history_damping_limit_1_s: f64::INFINITY,
                 };
                 let mut xi = Vec3::ZERO;
                 let r = contact::evaluate(

@@ -514,12 +514,13 @@ fn summary_keys_are_as_documented() {
         json!({"enabled": true, "slip_speed_m_s": 0.005, "relative_tolerance": 0.01, "hysteresis": 2.0, "min_dwell_s": 0.01, "histogram_bin_m": 0.05})
     );
     // The scenario as run, model defaults filled in (README, Scenario format): overlap 0.5,
-    // 10 steps per impact, energy 5 %, 2e8 steps, 8192 MiB of memory and 4096 MiB of output,
-    // sleeping on at 5 mm/s for 0.2 s, riding belts on; the default fidelity is hertz-damped.
+    // 10 steps per impact, energy 5 %, the history dashpot bound 1.5, 2e8 steps, 8192 MiB of
+    // memory and 4096 MiB of output, sleeping on at 5 mm/s for 0.2 s, riding belts on; the
+    // default fidelity is hertz-damped.
     let sc = json_file(&slip.join("scenario.json"));
     assert_eq!(
         sc["model"],
-        json!({"max_overlap_ratio": 0.5, "min_steps_per_impact": 10.0, "sleep": {"enabled": true, "speed_m_s": 0.005, "time_s": 0.2, "carried": true}, "energy_tolerance": 0.05, "max_steps": 200_000_000, "max_memory_mb": 8192.0, "max_output_mb": 4096.0})
+        json!({"max_overlap_ratio": 0.5, "min_steps_per_impact": 10.0, "sleep": {"enabled": true, "speed_m_s": 0.005, "time_s": 0.2, "carried": true}, "energy_tolerance": 0.05, "history_dashpot_bound": 1.5, "max_steps": 200_000_000, "max_memory_mb": 8192.0, "max_output_mb": 4096.0})
     );
     assert_eq!(sc["fidelity"], "hertz-damped");
     assert!(s["fidelity"].as_str().unwrap().starts_with("hertz-damped"));

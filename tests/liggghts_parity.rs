@@ -1125,6 +1125,34 @@ fn applesim_bench(accuracy: &str, jitter: u32) -> (f64, f64, f64) {
     )
 }
 
+/// `model.history_dashpot_bound` reaches the law: the same-model pile at `preview` over its
+/// first 0.8 s (where the default bound of 1.5 holds in most resting contacts) takes the same
+/// steps to the same height, bit for bit, with the default written out, and other ones with a
+/// bound of 1 (docs/performance.md, "Tenth session": 1 also leaves the pile settling).
+#[test]
+fn the_history_dashpot_bound_is_the_scenarios() {
+    let run = |bound: Option<f64>| {
+        let sc = pile_twin("pile_epsd2_adaptive_preview", 0, |v| {
+            v["duration_s"] = serde_json::json!(0.8);
+            if let Some(b) = bound {
+                v["model"]["history_dashpot_bound"] = serde_json::json!(b);
+            }
+        });
+        assert_eq!(
+            sc.model.history_dashpot_bound,
+            bound.unwrap_or(applesim::contact::HISTORY_DASHPOT_BOUND)
+        );
+        let b = applesim::bench::run(&sc, &repo("bench/models/scenarios"), &[]).unwrap();
+        (b.steps, b.pile_height_m.to_bits())
+    };
+    let default = run(None);
+    assert_eq!(applesim::contact::HISTORY_DASHPOT_BOUND, 1.5);
+    assert_eq!(run(Some(1.5)), default);
+    let one = run(Some(1.0));
+    println!("0.8 s at preview: default {default:?}, bound 1: {one:?}");
+    assert_ne!(one, default);
+}
+
 /// docs/liggghts_models.md, "Time to an answer": the answers of the faster runs (their wall
 /// times are measurements of the machine, not checked). The re-measured table (gen.py's start):
 /// adaptive balanced and preview and a fixed 5e-4 s step, height and contacts against

@@ -241,10 +241,11 @@ pub struct ContactKinematics {
     /// reach; without the support's share an apple at rest was predicted to unload and sank (20 %
     /// of its overlap in 0.1 s at dt 1e-4 s: tests/damping_models.rs).
     pub free_accel: f64,
-    /// 1 / (n dt) (1/s): the rate that stops the contact's relative motion within one step, shared
-    /// among the n contacts of the busier of its apples. Bounds LIGGGHTS's tangential dashpot
-    /// ([`HISTORY_DASHPOT_BOUND`]); infinite leaves it unbounded.
-    pub stop_rate_1_s: f64,
+    /// The largest gamma_t / m_t of LIGGGHTS's tangential dashpot (1/s): the bound
+    /// ([`HISTORY_DASHPOT_BOUND`] by default) times 1 / (n dt), the rate that stops the contact's
+    /// relative motion within one step shared among the n contacts of the busier of its apples.
+    /// Infinite leaves the dashpot unbounded.
+    pub history_damping_limit_1_s: f64,
 }
 
 /// What the law returns for one contact.
@@ -285,7 +286,9 @@ pub struct ContactResponse {
 
 /// The bound of LIGGGHTS's `tangential history` dashpot, as a share of the damping m_t / (n dt)
 /// that stops a contact's slip within one step when its apple's n contacts share it
-/// ([`ContactKinematics::stop_rate_1_s`]): gamma_t dt / m_t <= 1.5 / n.
+/// ([`ContactKinematics::history_damping_limit_1_s`]): gamma_t dt / m_t <= 1.5 / n. The default
+/// of `model.history_dashpot_bound` (`LayerConfig::history_dashpot_bound`), which may replace it
+/// within (0, 2).
 ///
 /// Why: LIGGGHTS integrates that dashpot explicitly, and it does not scale with the tangential
 /// mass m_t (gamma_t = 2 sqrt(5/6) |beta| sqrt(k_t m*)). A sticking contact stepped as the layer
@@ -388,7 +391,7 @@ pub fn evaluate(
                     * damping::SQRT_FIVE_SIXTHS
                     * law.beta
                     * (stiffness_n_m * k.normal_mass_kg).sqrt())
-                .min(HISTORY_DASHPOT_BOUND * kin.stop_rate_1_s * k.tangential_mass_kg);
+                .min(kin.history_damping_limit_1_s * k.tangential_mass_kg);
                 friction::history_force(
                     law.friction,
                     stiffness_n_m,
@@ -527,7 +530,7 @@ mod tests {
             rel_velocity: vel,
             resting: false,
             free_accel: 0.0,
-            stop_rate_1_s: f64::INFINITY,
+            history_damping_limit_1_s: f64::INFINITY,
         }
     }
 
@@ -681,13 +684,13 @@ mod tests {
         let k = ContactConstants::new(&law, 0.04, m_n, m_t);
         let k_t = friction::mindlin_stiffness(law.g_star_pa, k.sqrt_r_star * u.sqrt());
         let gamma = -2.0 * damping::SQRT_FIVE_SIXTHS * law.beta * (k_t * m_n).sqrt();
-        // Slip history over `steps` of `dt` from a slip speed of 1 um/s, bounded for one contact
-        // (n = 1) or not: the last two slip speeds.
-        let run = |dt: f64, stop_rate: f64, steps: usize| {
+        // Slip history over `steps` of `dt` from a slip speed of 1 um/s, its dashpot's gamma_t /
+        // m_t at most `limit`: the last two slip speeds.
+        let run = |dt: f64, limit: f64, steps: usize| {
             let (mut xi, mut v, mut last) = (Vec3::ZERO, 1e-6, 0.0);
             for _ in 0..steps {
                 let kin = ContactKinematics {
-                    stop_rate_1_s: stop_rate,
+                    history_damping_limit_1_s: limit,
                     ..kin(u, Vec3::new(v, 0.0, 0.0))
                 };
                 let r = evaluate(&law, LawParts::default(), &k, &kin, &mut xi, 0.5 / dt, dt);
@@ -710,7 +713,8 @@ mod tests {
             after / before
         );
         // Bounded at 1.5 m_t / dt: decays by the closed form's factor, 0.833 per step.
-        let (before, after) = run(dt, 1.0 / dt, 200);
+        // (One contact, n = 1: the layer's limit HISTORY_DASHPOT_BOUND * (1 / (1 dt)).)
+        let (before, after) = run(dt, HISTORY_DASHPOT_BOUND * (1.0 / dt), 200);
         let want = stick_growth(a, HISTORY_DASHPOT_BOUND);
         assert!((want - 0.833).abs() < 1e-3, "{want}");
         assert!(
@@ -720,6 +724,9 @@ mod tests {
         );
         // Under the bound (b = 1 < 1.5): LIGGGHTS's dashpot, the same bits bounded or not.
         let small = m_t / gamma;
-        assert_eq!(run(small, 1.0 / small, 50), run(small, f64::INFINITY, 50));
+        assert_eq!(
+            run(small, HISTORY_DASHPOT_BOUND * (1.0 / small), 50),
+            run(small, f64::INFINITY, 50)
+        );
     }
 }

@@ -105,6 +105,9 @@ pub struct LayerConfig {
     /// and the rate part of eq. 12 (see [`crate::contact::damping::hysteresis_force`]). 0.5
     /// removes at most half the relative velocity per step, which keeps explicit stepping stable.
     pub tangential_relaxation: f64,
+    /// Bound of LIGGGHTS's `tangential history` dashpot: gamma_t dt / m_t <= this / n for an
+    /// apple with n contacts ([`crate::contact::HISTORY_DASHPOT_BOUND`], the default, says why).
+    pub history_dashpot_bound: f64,
     /// Verlet skin of the apple-apple list as a fraction of the largest apple radius.
     pub grid_skin_ratio: f64,
     /// Samples of force history kept per contact (0: none); long contacts are decimated.
@@ -134,6 +137,7 @@ impl Default for LayerConfig {
         Self {
             parts: LawParts::default(),
             tangential_relaxation: 0.5,
+            history_dashpot_bound: crate::contact::HISTORY_DASHPOT_BOUND,
             grid_skin_ratio: 0.25,
             force_history_cap: 0,
             force_history_span: Default::default(),

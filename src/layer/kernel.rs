@@ -82,8 +82,9 @@ struct Ctx<'a> {
     /// `relaxation / (n dt)`: the kill rate of a bound shared by n contacts (0 and 1: the
     /// whole), n < 32.
     kill_rate_by_count: [f64; 32],
-    /// `1 / (n dt)`, n < 32 (0 and 1: the whole; see `ContactKinematics::stop_rate_1_s`).
-    stop_rate_by_count: [f64; 32],
+    /// `bound * (1 / (n dt))`, n < 32 (0 and 1: the whole): the largest gamma_t / m_t of a
+    /// `history` dashpot shared by n contacts (`ContactKinematics::history_damping_limit_1_s`).
+    history_limit_by_count: [f64; 32],
     time_s: f64,
     dt_s: f64,
     dt_back: f64,
@@ -182,14 +183,17 @@ impl Ctx<'_> {
             },
         };
         c.prev_rate = rate;
-        let (kill_rate, stop_rate) = match (
+        let (kill_rate, history_limit) = match (
             self.kill_rate_by_count.get(usize::from(shared)),
-            self.stop_rate_by_count.get(usize::from(shared)),
+            self.history_limit_by_count.get(usize::from(shared)),
         ) {
-            (Some(&r), Some(&s)) => (r, s),
+            (Some(&r), Some(&h)) => (r, h),
             _ => {
                 let n_dt = f64::from(shared) * self.dt_s;
-                (self.config.tangential_relaxation / n_dt, 1.0 / n_dt)
+                (
+                    self.config.tangential_relaxation / n_dt,
+                    self.config.history_dashpot_bound * (1.0 / n_dt),
+                )
             }
         };
         let kin = ContactKinematics {
@@ -198,7 +202,7 @@ impl Ctx<'_> {
             rel_velocity,
             resting,
             free_accel,
-            stop_rate_1_s: stop_rate,
+            history_damping_limit_1_s: history_limit,
         };
         let resp = contact::evaluate(
             law,
@@ -658,7 +662,9 @@ impl Kernel {
             surf_now: inputs.surf_now,
             config: inputs.config,
             kill_rate_by_count: std::array::from_fn(|n| relaxation / (n.max(1) as f64 * dt_s)),
-            stop_rate_by_count: std::array::from_fn(|n| 1.0 / (n.max(1) as f64 * dt_s)),
+            history_limit_by_count: std::array::from_fn(|n| {
+                inputs.config.history_dashpot_bound * (1.0 / (n.max(1) as f64 * dt_s))
+            }),
             time_s: inputs.clock.time_s,
             dt_s,
             dt_back: inputs.clock.dt_back,

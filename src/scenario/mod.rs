@@ -614,6 +614,12 @@ pub struct ModelSpec {
     /// checked in scenes with a belt (a belt feeds energy in).
     #[serde(default = "default_energy_tolerance")]
     pub energy_tolerance: f64,
+    /// Bound of LIGGGHTS's `tangential history` dashpot (`contact.tangential: "history"`):
+    /// gamma_t dt / m_t <= this / n for an apple with n contacts, in (0, 2). The default 1.5 is
+    /// this project's choice ([`crate::contact::HISTORY_DASHPOT_BOUND`] says why); the explicit
+    /// dashpot overshoots and grows from 2 on.
+    #[serde(default = "default_history_dashpot_bound")]
+    pub history_dashpot_bound: f64,
     /// Largest number of steps a run may take before it is refused (a step far too small for the
     /// scene would otherwise run for days).
     #[serde(default = "default_max_steps")]
@@ -735,6 +741,10 @@ fn default_max_overlap_ratio() -> f64 {
     0.5
 }
 
+fn default_history_dashpot_bound() -> f64 {
+    crate::contact::HISTORY_DASHPOT_BOUND
+}
+
 fn default_min_steps() -> f64 {
     10.0
 }
@@ -746,6 +756,7 @@ impl Default for ModelSpec {
             min_steps_per_impact: default_min_steps(),
             sleep: SleepSpec::default(),
             energy_tolerance: default_energy_tolerance(),
+            history_dashpot_bound: default_history_dashpot_bound(),
             max_steps: default_max_steps(),
             max_memory_mb: default_max_memory_mb(),
             max_output_mb: default_max_output_mb(),

@@ -483,6 +483,19 @@ pub const APPLE_COUNT: Range = closed(
 /// Largest overlap as a fraction of the radius.
 pub const OVERLAP_RATIO: Range =
     positive("overlap ratio", "u/R", 1.0, "", "`model.max_overlap_ratio`");
+/// The bound of LIGGGHTS's tangential dashpot (`contact::HISTORY_DASHPOT_BOUND`): below 2, where
+/// the explicit dashpot overshoots and grows.
+pub const HISTORY_DASHPOT_BOUND: Range = Range {
+    quantity: "history dashpot bound",
+    symbol: "b",
+    unit: "",
+    min: 0.0,
+    min_open: true,
+    max: 2.0,
+    max_open: true,
+    fields: "`model.history_dashpot_bound`",
+    hint: "at 2 LIGGGHTS's explicit tangential dashpot overshoots and grows; the default is 1.5",
+};
 /// Energy rise tolerated, as a fraction.
 pub const ENERGY_TOLERANCE: Range = positive(
     "energy tolerance",
@@ -729,6 +742,7 @@ pub const TABLE: &[Range] = &[
     OUTPUT_BUDGET,
     OVERLAP_RATIO,
     ENERGY_TOLERANCE,
+    HISTORY_DASHPOT_BOUND,
     MAX_STEPS,
     RELATIVE_TOLERANCE,
     HYSTERESIS,

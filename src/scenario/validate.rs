@@ -394,6 +394,7 @@ fn model(sc: &Scenario) -> R {
     ranges::OVERLAP_RATIO.check("model.max_overlap_ratio", m.max_overlap_ratio)?;
     ranges::MIN_STEPS.check("model.min_steps_per_impact", m.min_steps_per_impact)?;
     ranges::ENERGY_TOLERANCE.check("model.energy_tolerance", m.energy_tolerance)?;
+    ranges::HISTORY_DASHPOT_BOUND.check("model.history_dashpot_bound", m.history_dashpot_bound)?;
     ranges::MAX_STEPS.check("model.max_steps", m.max_steps as f64)?;
     ranges::MEMORY_BUDGET.check("model.max_memory_mb", m.max_memory_mb)?;
     ranges::OUTPUT_BUDGET.check("model.max_output_mb", m.max_output_mb)?;

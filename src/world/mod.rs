@@ -285,6 +285,7 @@ pub fn build(sc: &Scenario, base_dir: &Path) -> Result<World, BuildError> {
             crate::scenario::ForceHistory::Full => crate::record::events::HistorySpan::Whole,
             _ => crate::record::events::HistorySpan::Impact,
         },
+        history_dashpot_bound: sc.model.history_dashpot_bound,
         guard: Guard {
             max_overlap_ratio: sc.model.max_overlap_ratio,
             min_steps_per_impact: sc.required_steps_per_impact(),
