@@ -93,8 +93,9 @@ pub(super) fn contact_step_limit(
 /// The step limit of a resting contact at effective overlap `u_eff` (see
 /// [`contact_step_limit`]): N/4 (at least 4) steps per contact time at `u_eff` and per half
 /// period `t_stick` of the stick spring. Both terms fall as the overlap grows. The dashpots set
-/// no limit: each is bounded by the rate that stops its contact's motion within a step, shared
-/// among the apple's contacts (`contact::evaluate`), so none overshoots at any step.
+/// no limit: each is bounded by a share of the rate that stops its contact's motion within a
+/// step, shared among the apple's contacts (`contact::evaluate`; LIGGGHTS's `history` dashpot at
+/// `crate::contact::HISTORY_DASHPOT_BOUND`), so none grows at the steps the stick spring allows.
 fn resting_step(c: &StepControl, m_n: f64, k: f64, u_eff: f64, t_stick: f64) -> f64 {
     theory::contact_time_at_overlap(m_n, k, u_eff).min(t_stick)
         / (0.25 * c.steps_per_contact).max(4.0)
