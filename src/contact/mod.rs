@@ -295,8 +295,8 @@ pub struct ContactResponse {
 /// steps it is stable iff b < 2 and a + 2 b < 4, with a = k_t dt^2 / m_t and b = gamma_t dt / m_t
 /// (docs/physics.md, "Stability of the spin"); LIGGGHTS's own 1000-apple pile jiggles at a fixed
 /// 6e-4 s (docs/liggghts_models.md), and applesim's step control had to keep every resting
-/// `history` contact under b = 0.6 (its former `damping_step`), about a third of the steps the
-/// stick spring allows. Bounded, one contact at the step control's resting steps (a <= (pi/4)^2
+/// `history` contact under b = 0.6 (its former `damping_step`): on the same-model pile about
+/// 4.5e-4 s, where the stick spring allows about 8e-4 s. Bounded, one contact at the step control's resting steps (a <= (pi/4)^2
 /// = 0.62, four steps per half period of the stick spring) has a + 2 b <= 3.62: stable at every
 /// step the spring allows, and the step control takes those. Why 1.5 and not the 1 of the eq. 12
 /// bound: above every contact of the reference runs at LIGGGHTS's dt 1e-4 s (the largest
