@@ -296,9 +296,9 @@ pub struct ContactResponse {
 /// (docs/physics.md, "Stability of the spin"); LIGGGHTS's own 1000-apple pile jiggles at a fixed
 /// 6e-4 s (docs/liggghts_models.md), and applesim's step control had to keep every resting
 /// `history` contact under b = 0.6 (its former `damping_step`): on the same-model pile about
-/// 4.5e-4 s, where the stick spring allows about 8e-4 s. Bounded, one contact at the step control's resting steps (a <= (pi/4)^2
-/// = 0.62, four steps per half period of the stick spring) has a + 2 b <= 3.62: stable at every
-/// step the spring allows, and the step control takes those. Why 1.5 and not the 1 of the eq. 12
+/// 4.5e-4 s, where the stick spring allows about 8e-4 s. Bounded, one contact at the step
+/// control's resting steps (a <= (pi/4)^2 = 0.62, four steps per half period of the stick spring)
+/// has a + 2 b <= 3.62: stable at every step the spring allows, and the step control takes those. Why 1.5 and not the 1 of the eq. 12
 /// bound: above every contact of the reference runs at LIGGGHTS's dt 1e-4 s (the largest
 /// gamma_t n dt / m_t over the four starts of the epsd2 pile and over the cdt pile is 1.27,
 /// measured: docs/performance.md, "Tenth session"), so those runs are unchanged bit for bit. A
