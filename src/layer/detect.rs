@@ -57,6 +57,11 @@ pub(super) struct Detection {
     candidates: Vec<SurfaceCandidate>,
     /// `candidates[cand_start[k]..cand_start[k + 1]]` are apple k's surface candidates.
     cand_start: Vec<u32>,
+    /// With the pairs examined in several runs: the slot at which each run's open contacts
+    /// begin in the slab ([`NONE`] for a run without one; 0 for the first), then the end of the
+    /// apple pairs' contacts; empty with one run. The force pass splits the slab by it
+    /// ([`super::kernel::share_ranges`]).
+    pub slab_shares: Vec<u32>,
     rebuild_candidates: bool,
     /// Each surface as seen this step.
     pub surf_now: Vec<SurfaceNow>,
@@ -213,6 +218,9 @@ struct Found {
     /// The run's shortest step limit, the first of equals (as `StepStats::limit` keeps it).
     limit: Option<(f64, StepLimit)>,
     touching: usize,
+    /// The slots of the first and the last open contact the run examined, in pair order
+    /// ([`NONE`] and 0 when none): where its contacts lie in the slab after a reorder.
+    slots: (u32, u32),
     /// Tests: exact limits skipped by a resting contact's bound.
     #[cfg(test)]
     bound_skips: usize,
@@ -256,6 +264,7 @@ impl Detection {
             grid: NeighborList::new(0.0),
             candidates: Vec::new(),
             cand_start: Vec::new(),
+            slab_shares: Vec::new(),
             rebuild_candidates: true,
             surf_now: Vec::new(),
             epoch: 1,
@@ -458,7 +467,12 @@ impl Detection {
             (q, k)
         };
         let bounds: Vec<(usize, usize)> = (0..=runs).map(bound).collect();
-        let mut found: Vec<Found> = (0..runs).map(|_| Found::default()).collect();
+        let mut found: Vec<Found> = (0..runs)
+            .map(|_| Found {
+                slots: (NONE, 0),
+                ..Found::default()
+            })
+            .collect();
         {
             let mut rest = self.grid.pairs_mut();
             let mut run_counts = self.run_counts.iter_mut();
@@ -537,6 +551,20 @@ impl Detection {
             }
         }
         cx.out.stats.apple_apple_contacts = touching;
+        // Where each run's contacts begin in the slab (the slab is in pair order after a
+        // reorder, the surfaces' contacts after the pairs'), for the force pass to evaluate each
+        // contact on the thread that just examined it.
+        self.slab_shares.clear();
+        if runs > 1 {
+            self.slab_shares.extend(found.iter().map(|f| f.slots.0));
+            self.slab_shares[0] = 0;
+            let end = found
+                .iter()
+                .rev()
+                .find(|f| f.slots.0 != NONE)
+                .map_or(0, |f| f.slots.1 + 1);
+            self.slab_shares.push(end);
+        }
     }
 
     fn detect_surface_contacts(
@@ -1341,6 +1369,11 @@ impl PairView<'_> {
                     // SAFETY: the pair's own contact.
                     let c = unsafe { self.slots.see(p.contact, epoch) };
                     fill_pair_contact(c, n, u, geo, frame.radius[j], false);
+                    let seen = &mut run.found.slots;
+                    if seen.0 == NONE {
+                        seen.0 = p.contact;
+                    }
+                    seen.1 = p.contact;
                     run.count[i] += 1;
                     run.count[j] += 1;
                 }

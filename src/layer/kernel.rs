@@ -12,6 +12,7 @@ use super::clock::StepClock;
 use super::config::LayerConfig;
 use super::contacts::{Contact, ContactStore};
 use super::frame::{Frame, Loads};
+use super::grid::NONE;
 use super::outputs::{Outputs, PadBottom, SlipSample};
 use super::registry::Registry;
 use super::scene::SurfaceNow;
@@ -48,7 +49,7 @@ impl Drop for Done<'_> {
 }
 
 /// What the evaluation of one contact hands to the sums.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(super) struct ContactOut {
     /// Force on apple `i` (N); the other body gets the opposite.
     force: Vec3,
@@ -70,6 +71,28 @@ pub(super) struct ContactOut {
     /// A pad bottomed out under this contact for the first time this step: which limit, and the
     /// pad's compression there.
     pad_bottomed: Option<(contact::padding::PadLimit, f64)>,
+    /// The contact's apple `i` and other body, so that the sums read the output alone (not the
+    /// contact, which stays with the thread that examines and evaluates it).
+    i: u32,
+    other: Party,
+}
+
+impl Default for ContactOut {
+    fn default() -> Self {
+        Self {
+            force: Vec3::ZERO,
+            point: Vec3::ZERO,
+            kick: 0.0,
+            normal_force_n: 0.0,
+            slip_m_s: 0.0,
+            elastic_energy_j: 0.0,
+            overlap_ratio: 0.0,
+            torque: Vec3::ZERO,
+            pad_bottomed: None,
+            i: 0,
+            other: Party::Apple(0),
+        }
+    }
 }
 
 /// Everything one contact's evaluation reads (all of it shared, none of it written): the
@@ -354,6 +377,8 @@ impl Ctx<'_> {
             overlap_ratio: ratio,
             torque,
             pad_bottomed,
+            i: c.i,
+            other: c.other,
         })
     }
 
@@ -633,6 +658,9 @@ pub(super) struct Inputs<'a> {
     pub surf_now: &'a [SurfaceNow],
     pub config: &'a LayerConfig,
     pub clock: &'a StepClock,
+    /// Detection's split of the slab among its runs of pairs
+    /// ([`super::detect::Detection::slab_shares`]; empty: none).
+    pub slab_shares: &'a [u32],
 }
 
 /// The force pass and its scratch: one output per contact slot, for the parallel evaluation.
@@ -656,6 +684,7 @@ impl Kernel {
     ) -> Result<(), LayerError> {
         out.slips.clear();
         let relaxation = inputs.config.tangential_relaxation;
+        let slab_shares = inputs.slab_shares;
         let ctx = Ctx {
             registry: inputs.registry,
             frame: inputs.frame,
@@ -700,20 +729,28 @@ impl Kernel {
             })
             .collect();
         let done: Vec<AtomicBool> = blocks.iter().map(|_| AtomicBool::new(false)).collect();
-        // Each thread first takes the blocks of its own share of the slab (the stepping thread the
-        // first: the contacts of the first pairs, whose apples it read and examined), then
-        // helps with the others'.
+        // Each thread first takes the blocks of its own share of the slab, then helps with the
+        // others'. Its share is the contacts its run of pairs just examined, and the stepping
+        // thread's also the surfaces' contacts, which it found (`share_ranges`): a contact is
+        // evaluated on the core that wrote its geometry, and the sums below read only the
+        // outputs, not the contacts. In the 2-core VM's slow spells, reading a line the other
+        // core wrote costs about 25 ns more, and the pair stage took 113-122 us a step instead
+        // of 50-59 with the contacts read across (docs/performance.md, "Eleventh session").
         let shares = rayon::current_num_threads();
-        let bounds: Vec<usize> = (0..=shares).map(|p| p * blocks.len() / shares).collect();
-        let next: Vec<AtomicUsize> = bounds[..shares]
-            .iter()
-            .map(|&b| AtomicUsize::new(b))
-            .collect();
+        let ranges: Vec<(usize, AtomicUsize, usize)> =
+            share_ranges(slab_shares, shares, blocks.len())
+                .into_iter()
+                .map(|(owner, start, end)| (owner, AtomicUsize::new(start), end))
+                .collect();
         let claim = |me: usize| {
-            (0..shares).find_map(|q| {
+            let mine = ranges.iter().filter(|r| r.0 == me);
+            let others = (1..shares).flat_map(|q| {
                 let p = (me + q) % shares;
-                let b = next[p].fetch_add(1, Ordering::Relaxed);
-                (b < bounds[p + 1]).then_some(b)
+                ranges.iter().filter(move |r| r.0 == p)
+            });
+            mine.chain(others).find_map(|(_, next, end)| {
+                let b = next.fetch_add(1, Ordering::Relaxed);
+                (b < *end).then_some(b)
             })
         };
         let claim = &claim;
@@ -759,13 +796,9 @@ impl Kernel {
                     let block = &mut *guard;
                     // The contacts before the first error (slot order) count; it is returned.
                     let end = block.error.as_ref().map_or(block.slots.len(), |e| e.0);
-                    for ((c, o), &stamp) in block.slots[..end]
-                        .iter()
-                        .zip(&block.outs[..end])
-                        .zip(block.stamps)
-                    {
+                    for (o, &stamp) in block.outs[..end].iter().zip(block.stamps) {
                         if stamp == epoch {
-                            ctx.add_load(&mut sums, c.i, c.other, o);
+                            ctx.add_load(&mut sums, o.i, o.other, o);
                         }
                     }
                     first_error = block.error.take().map(|e| e.1);
@@ -778,8 +811,8 @@ impl Kernel {
                 }
             }
             // After an error no block is evaluated any more.
-            for (n, &end) in next.iter().zip(&bounds[1..]) {
-                n.store(end, Ordering::Relaxed);
+            for (_, next, end) in &ranges {
+                next.store(*end, Ordering::Relaxed);
             }
         });
         if let Some(e) = first_error {
@@ -787,6 +820,46 @@ impl Kernel {
         }
         Ok(())
     }
+}
+
+/// The parallel force pass's shares of the slab's `n_blocks` blocks among `shares` threads, as
+/// (thread, first block, end block) ranges, each thread's in slab order: from detection's split
+/// `split` ([`super::detect::Detection::slab_shares`]: each run's first slot, [`NONE`] for a run
+/// without contacts, then the end of the pairs' contacts) run r's contacts go to thread r and the
+/// contacts after the pairs' (the surfaces') to thread 0; without a split of `shares + 1` entries,
+/// equal parts. Slots are rounded to the nearest block boundary and the split made increasing, so
+/// that any split covers every block once (a contact that started between two rebuilds sits in a
+/// free slot anywhere: it is evaluated, on whichever thread its block falls to).
+pub(super) fn share_ranges(
+    split: &[u32],
+    shares: usize,
+    n_blocks: usize,
+) -> Vec<(usize, usize, usize)> {
+    if split.len() != shares + 1 || shares < 2 {
+        return (0..shares.max(1))
+            .map(|p| {
+                (
+                    p,
+                    p * n_blocks / shares.max(1),
+                    (p + 1) * n_blocks / shares.max(1),
+                )
+            })
+            .collect();
+    }
+    let mut at = Vec::with_capacity(shares + 1);
+    for &slot in split {
+        let last = at.last().copied().unwrap_or(0);
+        let b = if slot == NONE {
+            last
+        } else {
+            ((slot as usize + SUM_BLOCK / 2) / SUM_BLOCK).min(n_blocks)
+        };
+        at.push(b.max(last));
+    }
+    let mut ranges = vec![(0, 0, at[1])];
+    ranges.extend((1..shares).map(|p| (p, at[p], at[p + 1])));
+    ranges.push((0, at[shares], n_blocks));
+    ranges
 }
 
 #[cfg(test)]
@@ -849,6 +922,47 @@ mod tests {
                 )
                 .expect_err("two pairs overlap beyond the limit")
         })
+    }
+
+    /// Every split detection can hand over gives shares that cover each block of the slab once
+    /// (so every contact is evaluated once, and the sums in slot order give the same bits), and
+    /// a split of a reordered slab gives each run's contacts to its thread, the surfaces' to the
+    /// stepping thread.
+    #[test]
+    fn the_slab_is_shared_as_detection_split_it_and_covered_once() {
+        use super::{share_ranges, NONE, SUM_BLOCK};
+        // A split measured on the eq. 12 pile: 23 blocks, run 1's contacts from slot 1302, the
+        // pairs' to 2500.
+        assert_eq!(
+            share_ranges(&[0, 1302, 2500], 2, 23),
+            vec![(0, 0, 10), (1, 10, 20), (0, 20, 23)]
+        );
+        assert_eq!(share_ranges(&[], 2, 10), vec![(0, 0, 5), (1, 5, 10)]);
+        let odd: [&[u32]; 7] = [
+            &[0, NONE, 900],
+            &[0, 900, 100],
+            &[0, 5000, 9000],
+            &[0, NONE, NONE, NONE],
+            &[0, 300, 200, 700],
+            &[0, 2 * SUM_BLOCK as u32, 4 * SUM_BLOCK as u32, 6 * SUM_BLOCK as u32],
+            &[0, 1, 2],
+        ];
+        for split in odd {
+            for shares in [2, 3] {
+                for n_blocks in [0, 1, 7, 23] {
+                    let ranges = share_ranges(split, shares, n_blocks);
+                    let mut seen = vec![0; n_blocks];
+                    for &(owner, start, end) in &ranges {
+                        assert!(owner < shares && start <= end && end <= n_blocks);
+                        (start..end).for_each(|b| seen[b] += 1);
+                    }
+                    assert!(
+                        seen.iter().all(|&k| k == 1),
+                        "{split:?}, {shares} shares, {n_blocks} blocks: {ranges:?}"
+                    );
+                }
+            }
+        }
     }
 
     /// The parallel force pass reports the error of the lowest slot, as the serial one does.

@@ -413,6 +413,7 @@ impl ContactLayer {
                 surf_now: &self.detection.surf_now,
                 config: &self.config,
                 clock: &self.clock,
+                slab_shares: &self.detection.slab_shares,
             },
             &mut self.contacts,
             self.detection.epoch,
