@@ -944,7 +944,12 @@ mod tests {
             &[0, 5000, 9000],
             &[0, NONE, NONE, NONE],
             &[0, 300, 200, 700],
-            &[0, 2 * SUM_BLOCK as u32, 4 * SUM_BLOCK as u32, 6 * SUM_BLOCK as u32],
+            &[
+                0,
+                2 * SUM_BLOCK as u32,
+                4 * SUM_BLOCK as u32,
+                6 * SUM_BLOCK as u32,
+            ],
             &[0, 1, 2],
         ];
         for split in odd {
