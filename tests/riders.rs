@@ -241,3 +241,45 @@ fn an_apple_landing_on_a_rider_wakes_it() {
         2.0 * PEAK,
     );
 }
+
+/// Regression (found in the twelfth session of issue 30): a step whose detection is redone,
+/// because an apple woke in its first pass, carried every rider's record twice, so that on the
+/// 1000-apple line 1 818 belt contacts reported more resting time than they lasted. Here a
+/// second rider 'c' rides on while the thrown apple wakes 'a': its belt contact must count each
+/// step once, as evaluated contacts do.
+#[test]
+fn a_rider_is_carried_once_a_step_when_another_apple_wakes() {
+    let thrown = json!({"name": "thrown", "material": "apple", "diameter_m": 0.08,
+                        "position_m": [-0.4, 0.0, 0.17], "velocity_m_s": [0.4, 0, 4.3544]});
+    let other = json!({"name": "c", "material": "apple", "diameter_m": 0.08,
+                       "position_m": [0.0, 0.0, 0.0401], "velocity_m_s": [0.4, 0, 0]});
+    let mut sc = scene(vec![], vec![], 1.2, true);
+    sc.apples.push(serde_json::from_value(thrown).unwrap());
+    sc.apples.push(serde_json::from_value(other).unwrap());
+    let mut sim = Simulation::new(&sc, &repo("scenarios")).unwrap();
+    // The time each step's detection sees (the poses at the step's start).
+    let mut seen_at = Vec::new();
+    let mut a_woke = false;
+    while !sim.done() {
+        seen_at.push(sim.time_s());
+        let a_rode = sim.world().layer.is_riding(AppleId(0));
+        sim.step(&mut NoSamples).unwrap();
+        let layer = &sim.world().layer;
+        a_woke |= a_rode && !layer.is_riding(AppleId(0));
+        if a_woke {
+            assert!(layer.is_riding(AppleId(2)), "'c' rides on");
+        }
+    }
+    assert!(a_woke, "the thrown apple wakes 'a'");
+    let events = sim.world().layer.open_events();
+    let belt = hit(&events, "c", "belt");
+    let steps_in_contact = seen_at.iter().filter(|&&t| t >= belt.t_start_s).count() as u64;
+    let span = sim.time_s() - belt.t_start_s;
+    let resting = belt.resting.as_ref().expect("it rests").duration_s;
+    println!(
+        "'c' on the belt: {} steps recorded, {steps_in_contact} taken; resting {resting:.6} s of {span:.6} s",
+        belt.steps
+    );
+    assert_eq!(belt.steps, steps_in_contact);
+    assert!(resting <= span, "resting {resting} s in {span} s");
+}

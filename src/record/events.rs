@@ -554,7 +554,12 @@ impl OpenContact {
     /// A frozen contact (an apple riding a belt, `layer::sleep`) held its last pose for `dt_s`
     /// more, to `time_s`: its impulse, steps and resting sums go on as if it had been evaluated
     /// (the same force and pressure), so that the contact's record is the same as without riding.
+    /// Once per step: a step whose detection is redone (an apple woke in its first pass) carries
+    /// its riders again at the same time, and that second carry adds nothing.
     pub fn carry(&mut self, dt_s: f64, time_s: f64) {
+        if time_s <= self.last_t {
+            return;
+        }
         if self.pulse.is_some() {
             let t = self.last_t;
             self.end_pulse(t);
