@@ -121,12 +121,15 @@ pub(super) struct StepClock {
     pub horizon_s: f64,
     /// Per apple: not stepped yet (its first kick spans half a step, see `frame::Loads`).
     pub first_step: Vec<bool>,
+    /// Steps begun so far (riders' lazy carries count them, `ContactStore::carry_later`).
+    pub steps: u64,
 }
 
 impl StepClock {
     /// Takes the request of the coming step.
     pub fn begin(&mut self, request: &StepRequest) {
         self.time_s = request.time_s;
+        self.steps += 1;
         self.dt_back = request.back_s();
         self.horizon_s = request.horizon_s();
     }

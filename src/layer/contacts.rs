@@ -9,11 +9,17 @@
 //! Which contacts the current detection pass saw overlapping is kept beside the slab, one stamp
 //! per slot: the force pass finds them without loading a whole contact per slot (a settled pile
 //! has thousands of frozen contacts and nothing to evaluate).
+//!
+//! A rider's frozen belt contact is carried lazily ([`ContactStore::carry_later`]): the steps it
+//! rode through are logged once, beside the slab, and replayed on its record when anything next
+//! takes the contact (detection, its end, a query), the same operations in the same order as
+//! carrying it at every step.
 
 use super::grid::NONE;
 use crate::contact::ContactConstants;
 use crate::math::Vec3;
 use crate::record::events::{OpenContact, Party};
+use std::borrow::Cow;
 
 /// One contact of an apple with another apple or with a surface.
 #[derive(Debug, Clone)]
@@ -142,6 +148,48 @@ pub struct ContactStore {
     /// older stamp.
     stamps: Vec<u64>,
     free: Vec<u32>,
+    pub(super) carries: Carries,
+}
+
+/// Rider carries not yet applied to their records ([`ContactStore::carry_later`]).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Carries {
+    /// One entry per step in which a contact was carried lazily, in step order: (step number,
+    /// the step that led to the poses, their time), as [`OpenContact::carry`] takes them.
+    log: Vec<(u64, f64, f64)>,
+    /// Per slot: the first and the last step it owes its record ([`OPEN`]: every step logged
+    /// from the first on, while it rides quietly), or [`NOT_OWED`].
+    pending: Vec<(u64, u64)>,
+    /// How many slots owe carries.
+    count: usize,
+    /// Tests: how often the log was full, and how often the slab was reordered while slots
+    /// owed carries.
+    #[cfg(test)]
+    pub full: usize,
+    #[cfg(test)]
+    pub reordered_owing: usize,
+}
+
+/// A slot that owes no carry.
+const NOT_OWED: (u64, u64) = (u64::MAX, u64::MAX);
+
+/// The last step owed by a quiet rider's contact: every step logged ([`ContactStore::carry_quietly`]).
+const OPEN: u64 = u64::MAX - 1;
+
+/// Log entries from which every pending carry is applied and the log started again (riders
+/// that ride on for many steps): at most 96 KiB of log. Tests fill it often.
+#[cfg(not(test))]
+const CARRY_LOG_MAX: usize = 4096;
+#[cfg(test)]
+const CARRY_LOG_MAX: usize = 64;
+
+impl Carries {
+    /// The log entries of steps `first..=last`.
+    fn owed(&self, (first, last): (u64, u64)) -> &[(u64, f64, f64)] {
+        let from = self.log.partition_point(|e| e.0 < first);
+        let to = self.log.partition_point(|e| e.0 <= last);
+        &self.log[from..to.max(from)]
+    }
 }
 
 impl ContactStore {
@@ -151,19 +199,166 @@ impl ContactStore {
             Some(k) => {
                 self.slots[k as usize] = c;
                 self.stamps[k as usize] = NEW;
+                debug_assert_eq!(self.carries.pending[k as usize], NOT_OWED);
                 k
             }
             None => {
                 self.slots.push(c);
                 self.stamps.push(NEW);
+                self.carries.pending.push(NOT_OWED);
                 (self.slots.len() - 1) as u32
             }
         }
     }
 
+    /// Logs step `step` (the poses at `time_s`, reached by a step of `dt_back_s`) as one in
+    /// which riders are carried lazily, once however many detection passes the step makes.
+    #[inline]
+    pub fn log_carry_step(&mut self, step: u64, dt_back_s: f64, time_s: f64) {
+        if self.carries.log.last().is_some_and(|e| e.0 == step) {
+            return;
+        }
+        if self.carries.log.len() >= CARRY_LOG_MAX {
+            self.apply_all_carries(step);
+        }
+        self.carries.log.push((step, dt_back_s, time_s));
+    }
+
+    /// The rider's frozen contact in slot `k` rode through step `step` ([`Self::log_carry_step`]'s
+    /// arguments): its record is carried ([`OpenContact::carry`]) when the contact is next
+    /// taken (detection, its end, a query). The steps a slot owes follow one another; after a
+    /// gap the earlier ones are applied first.
+    pub fn carry_later(&mut self, k: u32, step: u64, dt_back_s: f64, time_s: f64) {
+        self.owe(k, step, dt_back_s, time_s, step);
+    }
+
+    /// As [`Self::carry_later`], and the contact goes on owing every step logged from now on,
+    /// its rider skipped by detection without a call per step, until [`Self::end_quiet`].
+    pub fn carry_quietly(&mut self, k: u32, step: u64, dt_back_s: f64, time_s: f64) {
+        self.owe(k, step, dt_back_s, time_s, OPEN);
+    }
+
+    fn owe(&mut self, k: u32, step: u64, dt_back_s: f64, time_s: f64, last: u64) {
+        self.log_carry_step(step, dt_back_s, time_s);
+        let (f, l) = self.carries.pending[k as usize];
+        if (f, l) == NOT_OWED {
+            self.carries.pending[k as usize] = (step, last);
+            self.carries.count += 1;
+        } else if l == OPEN || l == step || l + 1 == step {
+            self.carries.pending[k as usize].1 = l.max(last);
+        } else {
+            self.apply_carries(k);
+            self.carries.pending[k as usize] = (step, last);
+            self.carries.count += 1;
+        }
+    }
+
+    /// The quiet rider of slot `k` was last skipped in step `through`: it owes no step after
+    /// that.
+    pub fn end_quiet(&mut self, k: u32, through: u64) {
+        let c = &mut self.carries;
+        let Some(p) = c.pending.get_mut(k as usize) else {
+            return;
+        };
+        if p.1 == OPEN {
+            if through < p.0 {
+                *p = NOT_OWED;
+                c.count -= 1;
+                if c.count == 0 {
+                    c.log.clear();
+                }
+            } else {
+                p.1 = through;
+            }
+        }
+    }
+
+    /// Applies the carries slot `k` owes to its record. A quiet rider's contact goes on owing
+    /// the steps logged after these.
+    #[inline]
+    fn apply_carries(&mut self, k: u32) {
+        let c = &mut self.carries;
+        let owed = c.pending[k as usize];
+        if owed == NOT_OWED {
+            return;
+        }
+        let entries = c.owed(owed);
+        if let Some(r) = self.slots[k as usize].record.as_mut() {
+            for &(_, dt, t) in entries {
+                r.carry(dt, t);
+            }
+        }
+        match (owed.1, c.log.last()) {
+            (OPEN, Some(e)) => c.pending[k as usize].0 = owed.0.max(e.0 + 1),
+            (OPEN, None) => {}
+            _ => {
+                c.pending[k as usize] = NOT_OWED;
+                c.count -= 1;
+                if c.count == 0 {
+                    c.log.clear();
+                }
+            }
+        }
+    }
+
+    /// Applies every pending carry and starts the log again (when it is full, before step
+    /// `next` is logged).
+    fn apply_all_carries(&mut self, next: u64) {
+        #[cfg(test)]
+        {
+            self.carries.full += 1;
+        }
+        if self.carries.count > 0 {
+            for k in 0..self.slots.len() as u32 {
+                self.apply_carries(k);
+            }
+        }
+        self.carries.log.clear();
+        for p in &mut self.carries.pending {
+            if p.1 == OPEN {
+                p.0 = next;
+            }
+        }
+    }
+
+    /// The live contacts, each with its record as it stands after the carries it owes (applied
+    /// to a copy), for reading without taking the slab mutably.
+    pub fn iter_records_now(
+        &self,
+    ) -> impl Iterator<Item = (&Contact, Option<Cow<'_, OpenContact>>)> {
+        self.slots
+            .iter()
+            .zip(&self.stamps)
+            .zip(&self.carries.pending)
+            .filter(|((_, &s), _)| s != FREE)
+            .map(|((c, _), &owed)| {
+                let r = c.record.as_ref().map(|r| {
+                    if owed == NOT_OWED {
+                        Cow::Borrowed(r)
+                    } else {
+                        let mut r = r.clone();
+                        for &(_, dt, t) in self.carries.owed(owed) {
+                            r.carry(dt, t);
+                        }
+                        Cow::Owned(r)
+                    }
+                });
+                (c, r)
+            })
+    }
+
     /// Removes the contact in slot `k` and returns its record.
     pub fn remove(&mut self, k: u32) -> Option<OpenContact> {
         debug_assert!(self.is_live(k));
+        self.apply_carries(k);
+        if self.carries.pending[k as usize] != NOT_OWED {
+            // A quiet rider's contact ended: it owes nothing more.
+            self.carries.pending[k as usize] = NOT_OWED;
+            self.carries.count -= 1;
+            if self.carries.count == 0 {
+                self.carries.log.clear();
+            }
+        }
         self.stamps[k as usize] = FREE;
         self.free.push(k);
         let c = &mut self.slots[k as usize];
@@ -192,7 +387,8 @@ impl ContactStore {
         &self.stamps
     }
 
-    /// The slots (free ones included) and their stamps, for the force pass.
+    /// The slots (free ones included) and their stamps, for the force pass (which evaluates only
+    /// contacts seen by the current pass: none owes a carry, see [`Self::carry_later`]).
     pub fn slots_and_stamps(&mut self) -> (&mut [Contact], &[u64]) {
         (&mut self.slots, &self.stamps)
     }
@@ -208,8 +404,11 @@ impl ContactStore {
         &self.slots[k as usize]
     }
 
-    /// The contact in slot `k`, mutable.
+    /// The contact in slot `k`, mutable (its record carried as far as it rode).
     pub fn get_mut(&mut self, k: u32) -> &mut Contact {
+        if self.carries.count > 0 {
+            self.apply_carries(k);
+        }
         &mut self.slots[k as usize]
     }
 
@@ -228,6 +427,10 @@ impl ContactStore {
     /// memory from 42 to 77 MiB through the allocator's reuse of freed blocks).
     pub fn reorder(&mut self, order: &[u32]) -> Vec<u32> {
         debug_assert_eq!(order.len(), self.live_count());
+        #[cfg(test)]
+        {
+            self.carries.reordered_owing += usize::from(self.carries.count > 0);
+        }
         let n = self.slots.len();
         let mut new_of = vec![NONE; n];
         for (new, &old) in order.iter().enumerate() {
@@ -257,6 +460,7 @@ impl ContactStore {
             unsafe {
                 let held = std::ptr::read(slots.add(start));
                 let held_stamp = self.stamps[start];
+                let held_carries = self.carries.pending[start];
                 let mut j = start;
                 loop {
                     done[j] = true;
@@ -264,16 +468,19 @@ impl ContactStore {
                     if from == start {
                         std::ptr::write(slots.add(j), held);
                         self.stamps[j] = held_stamp;
+                        self.carries.pending[j] = held_carries;
                         break;
                     }
                     std::ptr::copy_nonoverlapping(slots.add(from), slots.add(j), 1);
                     self.stamps[j] = self.stamps[from];
+                    self.carries.pending[j] = self.carries.pending[from];
                     j = from;
                 }
             }
         }
         self.slots.truncate(order.len());
         self.stamps.truncate(order.len());
+        self.carries.pending.truncate(order.len());
         for c in &mut self.slots {
             if c.next != NONE {
                 c.next = new_of[c.next as usize];

@@ -76,6 +76,15 @@ pub(super) struct Detection {
     chain: Vec<u32>,
     /// Apples taken out of the run ([`Detection::retire`]): they touch nothing any more.
     retired: Vec<bool>,
+    /// Per apple: a quiet rider, whose one candidate is its belt and took the riders' fast path
+    /// at its last look. Until its ride over the belt's face ends (or the belt changes, or
+    /// another candidate comes near) nothing of it can change: it is skipped, its record carried
+    /// lazily ([`ContactStore::carry_quietly`]). On the 1000-apple line's late steps this is
+    /// most of 950 riders among about 1 540 awake apples (docs/performance.md, "Twelfth
+    /// session"). Its belt contact's slot, or [`NONE`].
+    quiet: Vec<u32>,
+    /// Per apple: the last step in which it was skipped as a quiet rider.
+    skipped_through: Vec<u64>,
     /// The fastest moving surface this step (m/s; see [`SurfaceNow::shape_speed_m_s`]).
     pub surface_speed_m_s: f64,
     /// Contact counts per apple of the pair runs after the first (see `detect_apple_pairs`).
@@ -99,6 +108,11 @@ pub(super) struct Detection {
     face_skip: bool,
     #[cfg(test)]
     face_skips: usize,
+    /// Tests: whether riders are carried lazily and quiet ones skipped, and how many were.
+    #[cfg(test)]
+    lazy_carry: bool,
+    #[cfg(test)]
+    quiet_skips: usize,
 }
 
 /// The relative drift of a rider's belt contact overlap that wakes it (see
@@ -274,6 +288,8 @@ impl Detection {
             spheroid_scratch: surface::SpheroidScratch::default(),
             chain: Vec::new(),
             retired: Vec::new(),
+            quiet: Vec::new(),
+            skipped_through: Vec::new(),
             surface_speed_m_s: 0.0,
             run_counts: Vec::new(),
             #[cfg(test)]
@@ -288,6 +304,10 @@ impl Detection {
             face_skip: true,
             #[cfg(test)]
             face_skips: 0,
+            #[cfg(test)]
+            lazy_carry: true,
+            #[cfg(test)]
+            quiet_skips: 0,
         }
     }
 
@@ -384,6 +404,26 @@ impl Detection {
         }
         if rebuilt {
             self.reorder_contacts(cx.contacts);
+        }
+        if candidates {
+            // A quiet rider stays quiet while its belt is still its one candidate (a candidate
+            // that stays keeps its contacts, renumbered with the slab).
+            for k in 0..self.quiet.len() {
+                let slot = self.quiet[k];
+                if slot != NONE {
+                    let (c0, c1) = (self.cand_start[k] as usize, self.cand_start[k + 1] as usize);
+                    let stays = c1 == c0 + 1
+                        && self.candidates[c0].first == slot
+                        && cx
+                            .sleep
+                            .ride(k)
+                            .is_some_and(|r| r.surface == self.candidates[c0].surface);
+                    if !stays {
+                        cx.contacts.end_quiet(slot, self.skipped_through[k]);
+                        self.quiet[k] = NONE;
+                    }
+                }
+            }
         }
         if candidates {
             timer.stop(Stage::Rebuild);
@@ -586,9 +626,40 @@ impl Detection {
         let mut chain = std::mem::take(&mut self.chain);
         let mut hits = std::mem::take(&mut self.scratch);
         let mut shaped_hits = std::mem::take(&mut self.shaped_scratch);
+        self.quiet.resize(cx.frame.pos.len(), NONE);
+        self.skipped_through.resize(cx.frame.pos.len(), 0);
+        let (step, dt_back) = (cx.clock.steps, cx.clock.dt_back);
+        #[cfg(test)]
+        let lazy = self.lazy_carry;
+        #[cfg(not(test))]
+        let lazy = true;
         // A sleeper's surface contacts are frozen: only the awake apples' candidates.
         for w in 0..cx.sleep.awake().len() {
             let k = cx.sleep.awake()[w] as usize;
+            if self.quiet[k] != NONE {
+                // What the fast path below tested of the candidate and its one contact cannot
+                // change while the apple is skipped: only its ride, its belt and the time.
+                match cx.sleep.ride_ref(k) {
+                    Some(ride)
+                        if time_s <= ride.face_until_s
+                            && self.surf_now[ride.surface as usize].carries(ride.velocity) =>
+                    {
+                        cx.contacts.log_carry_step(step, dt_back, time_s);
+                        self.skipped_through[k] = step;
+                        #[cfg(test)]
+                        {
+                            self.quiet_skips += 1;
+                        }
+                        continue;
+                    }
+                    _ => {
+                        cx.contacts
+                            .end_quiet(self.quiet[k], self.skipped_through[k]);
+                        self.quiet[k] = NONE;
+                    }
+                }
+            }
+            let one_candidate = self.cand_start[k + 1] == self.cand_start[k] + 1;
             for ci in self.cand_start[k] as usize..self.cand_start[k + 1] as usize {
                 let cand = self.candidates[ci];
                 let a = cand.apple as usize;
@@ -633,8 +704,14 @@ impl Detection {
                             }
                         }
                     {
-                        if let Some(r) = cx.contacts.get_mut(chain[0]).record.as_mut() {
-                            r.carry(cx.clock.dt_back, time_s);
+                        if lazy && one_candidate {
+                            cx.contacts.carry_quietly(chain[0], step, dt_back, time_s);
+                            self.quiet[a] = chain[0];
+                            self.skipped_through[a] = step;
+                        } else if lazy {
+                            cx.contacts.carry_later(chain[0], step, dt_back, time_s);
+                        } else if let Some(r) = cx.contacts.get_mut(chain[0]).record.as_mut() {
+                            r.carry(dt_back, time_s);
                         }
                         continue;
                     }
@@ -1102,6 +1179,11 @@ impl Detection {
         for c in &mut self.candidates {
             if c.first != NONE {
                 c.first = new_of[c.first as usize];
+            }
+        }
+        for q in &mut self.quiet {
+            if *q != NONE {
+                *q = new_of[*q as usize];
             }
         }
     }
@@ -1716,8 +1798,8 @@ mod tests {
         }"#;
         let skipping = run_scene(json, |d| d.bound_skip = true);
         let all = run_scene(json, |d| d.bound_skip = false);
-        assert_eq!(all.detection.bound_skips, 0);
-        let skipped = skipping.detection.bound_skips;
+        assert_eq!(all.bound_skips, 0);
+        let skipped = skipping.bound_skips;
         let steps = skipping.steps.len();
         assert!(skipped > steps, "{skipped} skips in {steps} steps");
         assert!(skipping.steps == all.steps, "the step times differ");
@@ -1745,13 +1827,61 @@ mod tests {
         }"#;
         let skipping = run_scene(json, |d| d.face_skip = true);
         let all = run_scene(json, |d| d.face_skip = false);
-        assert_eq!(all.detection.face_skips, 0);
+        assert_eq!(all.face_skips, 0);
         // All eight ride; 929 riders were listed without a query when this was written.
         assert_eq!(skipping.riding, 8);
-        let skipped = skipping.detection.face_skips;
+        let skipped = skipping.face_skips;
         assert!(skipped > 929 / 2, "{skipped} riders listed without a query");
         assert!(skipping.steps == all.steps, "the step times differ");
         assert!(skipping.poses == all.poses, "the poses differ");
+    }
+
+    /// Riders carried lazily, the quiet ones skipped: apples fed onto a running belt ride it,
+    /// one of them is woken by an apple thrown onto it (its step's detection redone while the
+    /// others ride on) and all leave the belt's end. The steps, the poses, the open contacts'
+    /// records read during the run and every contact event at its end are the same, bit for
+    /// bit, as with each rider carried at every step.
+    #[test]
+    fn riders_carried_lazily_move_and_record_the_same_bits() {
+        let json = r#"{
+            "duration_s": 5.0, "time_step_s": "adaptive",
+            "gravity_m_s2": [0, 0, -9.81],
+            "output": {"sample_interval_s": 0.5, "force_history": false},
+            "materials": {"apple": {"preset": "apple-paper"},
+                "rubber": {"youngs_modulus_pa": 5e6, "poisson_ratio": 0.45},
+                "steel": {"youngs_modulus_pa": 2e11, "poisson_ratio": 0.3}},
+            "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
+            "apples": [{"name": "thrown", "material": "apple", "diameter_m": 0.08,
+                "position_m": [-1.4, 0.0, 0.3], "velocity_m_s": [0.4, 0, 4.74]}],
+            "sources": [{"name": "feed", "material": "apple",
+                "diameter_m": {"mean_m": 0.075, "spread_m": 0.005},
+                "position_m": [-1.4, 0, 0.0601], "jitter_m": 0.0, "velocity_m_s": [0.4, 0, 0],
+                "rate_per_s": 4, "count": 8, "seed": 5}],
+            "surfaces": [{"name": "belt", "type": "conveyor", "material": "rubber",
+                "size_m": [3.0, 0.5, 0.04], "position_m": [0, 0, 0], "belt_velocity_m_s": 0.4},
+                {"name": "floor", "type": "plane", "material": "steel",
+                "point_m": [0, 0, -0.3], "normal": [0, 0, 1]}]
+        }"#;
+        let lazy = run_scene(json, |d| d.lazy_carry = true);
+        let eager = run_scene(json, |d| d.lazy_carry = false);
+        assert_eq!(eager.quiet_skips, 0);
+        let skipped = lazy.quiet_skips;
+        println!(
+            "{skipped} quiet riders skipped; {} riding at most; carry log full {} times, slab reordered {} times owing carries",
+            lazy.riding, lazy.carry_log_full, lazy.reordered_owing
+        );
+        assert!(lazy.carry_log_full > 0 && lazy.reordered_owing > 0);
+        assert!(lazy.riding >= 6, "{} ride", lazy.riding);
+        assert!(skipped > 1000, "{skipped} skipped");
+        assert!(lazy.steps == eager.steps, "the step times differ");
+        assert!(lazy.poses == eager.poses, "the poses differ");
+        assert_eq!(lazy.open.len(), eager.open.len());
+        for (k, (a, b)) in lazy.open.iter().zip(&eager.open).enumerate() {
+            assert!(a == b, "open contacts differ at look {k}:\n{a}\n{b}");
+        }
+        assert!(lazy.events == eager.events, "the contact events differ");
+        // The thrown apple landed on the first apple fed, riding since about 0.4 s, at 1 s.
+        assert!(lazy.events.contains(r#"a: "thrown", b: "feed-1""#));
     }
 
     /// What [`run_scene`] leaves: every step's end time and the final centres, as bits, the
@@ -1760,7 +1890,18 @@ mod tests {
         steps: Vec<u64>,
         poses: Vec<[u64; 3]>,
         riding: usize,
-        detection: Detection,
+        /// The detection's test counters: riders listed without a query, quiet riders skipped,
+        /// resting limits skipped.
+        face_skips: usize,
+        quiet_skips: usize,
+        bound_skips: usize,
+        /// The slab's counters: carry log full, reordered while slots owed carries.
+        carry_log_full: usize,
+        reordered_owing: usize,
+        /// The open contacts' events every 50th step (`Debug`, which prints every number's
+        /// shortest exact form), and every contact's event at the end.
+        open: Vec<String>,
+        events: String,
     }
 
     /// Runs the scenario `json` to its end, after `set` (a test switch) on its detection.
@@ -1768,11 +1909,14 @@ mod tests {
         let sc = crate::scenario::from_json(json, "scene.json").unwrap();
         let mut sim = crate::sim::Simulation::new(&sc, std::path::Path::new(".")).unwrap();
         set(&mut sim.world_mut().layer.detection);
-        let (mut steps, mut riding) = (Vec::new(), 0);
+        let (mut steps, mut riding, mut open) = (Vec::new(), 0, Vec::new());
         while !sim.done() {
             sim.step(&mut crate::record::series::NoSamples).unwrap();
             steps.push(sim.time_s().to_bits());
             riding = riding.max(sim.world().layer.sleep.riding_count());
+            if steps.len() % 50 == 0 {
+                open.push(format!("{:?}", sim.world().layer.open_events()));
+            }
         }
         let layer = &mut sim.world_mut().layer;
         let poses = layer
@@ -1781,11 +1925,26 @@ mod tests {
             .iter()
             .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
             .collect();
+        let (carry_log_full, reordered_owing) = (
+            layer.contacts.carries.full,
+            layer.contacts.carries.reordered_owing,
+        );
+        let d = &layer.detection;
+        let (face_skips, quiet_skips, bound_skips) = (d.face_skips, d.quiet_skips, d.bound_skips);
+        let done = sim
+            .run(&mut crate::record::series::NoSamples, &mut |_| {})
+            .unwrap();
         SceneRun {
             steps,
             poses,
             riding,
-            detection: std::mem::replace(&mut layer.detection, Detection::new()),
+            face_skips,
+            quiet_skips,
+            bound_skips,
+            carry_log_full,
+            reordered_owing,
+            open,
+            events: format!("{:?}", done.events),
         }
     }
 

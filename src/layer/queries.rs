@@ -143,9 +143,9 @@ impl ContactLayer {
     ) -> Vec<ContactEvent> {
         let mut out: Vec<ContactEvent> = self
             .contacts
-            .iter()
-            .filter_map(|c| {
-                let o = c.record.as_ref().filter(|o| keep(o))?;
+            .iter_records_now()
+            .filter_map(|(c, o)| {
+                let o = o.filter(|o| keep(o))?;
                 Some(o.snapshot(self.registry.names(c.i, c.other)))
             })
             .collect();
@@ -160,7 +160,8 @@ impl ContactLayer {
     }
 
     /// Work done so far by the normal forces of the contacts still open (J): the energy the
-    /// contacts hold or have lost so far (see `OpenContact::work_so_far_j`).
+    /// contacts hold or have lost so far (see `OpenContact::work_so_far_j`). A rider's carries
+    /// owed (`ContactStore::carry_later`) change none of what it reads.
     pub fn open_contact_work_j(&self) -> f64 {
         self.contacts
             .iter()

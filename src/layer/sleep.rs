@@ -116,6 +116,12 @@ impl Sleep {
         self.riding.get(k).copied().flatten()
     }
 
+    /// [`Self::ride`], not copied.
+    #[inline]
+    pub fn ride_ref(&self, k: usize) -> Option<&Ride> {
+        self.riding.get(k).and_then(Option::as_ref)
+    }
+
     /// Sets until when rider `k` rides over its belt's face (see [`Ride::face_until_s`]).
     pub fn set_face_until(&mut self, k: usize, t_s: f64) {
         if let Some(r) = self.riding.get_mut(k).and_then(Option::as_mut) {
