@@ -6,6 +6,7 @@ use super::{
     SurfaceId, SurfaceShape,
 };
 use crate::math::Vec3;
+use std::borrow::Cow;
 
 impl ContactLayer {
     /// Number of apples.
@@ -146,7 +147,12 @@ impl ContactLayer {
             .iter_records_now()
             .filter_map(|(c, o)| {
                 let o = o.filter(|o| keep(o))?;
-                Some(o.snapshot(self.registry.names(c.i, c.other)))
+                let names = self.registry.names(c.i, c.other);
+                Some(match o {
+                    Cow::Borrowed(o) => o.snapshot(names),
+                    // A rider's record, carried on a copy already.
+                    Cow::Owned(o) => o.into_snapshot(names),
+                })
             })
             .collect();
         out.sort_by(|x, y| {

@@ -680,11 +680,15 @@ impl OpenContact {
 
     /// The event of a contact still open at the end of a run.
     pub fn snapshot(&self, names: Names) -> ContactEvent {
-        let mut c = self.clone();
+        self.clone().into_snapshot(names)
+    }
+
+    /// [`Self::snapshot`] of a record the caller no longer needs (not copied again).
+    pub fn into_snapshot(mut self, names: Names) -> ContactEvent {
         // An impact still in progress when the run ends: reported as far as it went.
-        let t = c.last_t;
-        c.end_pulse(t);
-        c.into_event(None, names)
+        let t = self.last_t;
+        self.end_pulse(t);
+        self.into_event(None, names)
     }
 
     fn into_event(self, end: Option<(f64, f64)>, names: Names) -> ContactEvent {
