@@ -1811,22 +1811,9 @@ mod tests {
     /// as when every candidate is queried, and the rebuilds did list riders so.
     #[test]
     fn riders_listed_without_a_query_move_the_same_bits() {
-        let json = r#"{
-            "duration_s": 3.0, "time_step_s": "adaptive",
-            "gravity_m_s2": [0, 0, -9.81],
-            "output": {"sample_interval_s": 0.5, "force_history": false},
-            "materials": {"apple": {"preset": "apple-paper"},
-                "rubber": {"youngs_modulus_pa": 5e6, "poisson_ratio": 0.45}},
-            "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
-            "sources": [{"name": "feed", "material": "apple",
-                "diameter_m": {"mean_m": 0.075, "spread_m": 0.005},
-                "position_m": [-1.4, 0, 0.0601], "jitter_m": 0.0, "velocity_m_s": [0.4, 0, 0],
-                "rate_per_s": 4, "count": 8, "seed": 5}],
-            "surfaces": [{"name": "belt", "type": "conveyor", "material": "rubber",
-                "size_m": [3.0, 0.5, 0.04], "position_m": [0, 0, 0], "belt_velocity_m_s": 0.4}]
-        }"#;
-        let skipping = run_scene(json, |d| d.face_skip = true);
-        let all = run_scene(json, |d| d.face_skip = false);
+        let json = fed_belt(3.0, "", "");
+        let skipping = run_scene(&json, |d| d.face_skip = true);
+        let all = run_scene(&json, |d| d.face_skip = false);
         assert_eq!(all.face_skips, 0);
         // All eight ride; 929 riders were listed without a query when this was written.
         assert_eq!(skipping.riding, 8);
@@ -1843,27 +1830,15 @@ mod tests {
     /// bit, as with each rider carried at every step.
     #[test]
     fn riders_carried_lazily_move_and_record_the_same_bits() {
-        let json = r#"{
-            "duration_s": 5.0, "time_step_s": "adaptive",
-            "gravity_m_s2": [0, 0, -9.81],
-            "output": {"sample_interval_s": 0.5, "force_history": false},
-            "materials": {"apple": {"preset": "apple-paper"},
-                "rubber": {"youngs_modulus_pa": 5e6, "poisson_ratio": 0.45},
-                "steel": {"youngs_modulus_pa": 2e11, "poisson_ratio": 0.3}},
-            "contact": {"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000},
-            "apples": [{"name": "thrown", "material": "apple", "diameter_m": 0.08,
-                "position_m": [-1.4, 0.0, 0.3], "velocity_m_s": [0.4, 0, 4.74]}],
-            "sources": [{"name": "feed", "material": "apple",
-                "diameter_m": {"mean_m": 0.075, "spread_m": 0.005},
-                "position_m": [-1.4, 0, 0.0601], "jitter_m": 0.0, "velocity_m_s": [0.4, 0, 0],
-                "rate_per_s": 4, "count": 8, "seed": 5}],
-            "surfaces": [{"name": "belt", "type": "conveyor", "material": "rubber",
-                "size_m": [3.0, 0.5, 0.04], "position_m": [0, 0, 0], "belt_velocity_m_s": 0.4},
-                {"name": "floor", "type": "plane", "material": "steel",
-                "point_m": [0, 0, -0.3], "normal": [0, 0, 1]}]
-        }"#;
-        let lazy = run_scene(json, |d| d.lazy_carry = true);
-        let eager = run_scene(json, |d| d.lazy_carry = false);
+        let json = fed_belt(
+            5.0,
+            r#"{"name": "thrown", "material": "apple", "diameter_m": 0.08,
+                "position_m": [-1.4, 0.0, 0.3], "velocity_m_s": [0.4, 0, 4.74]}"#,
+            r#", {"name": "floor", "type": "plane", "material": "steel",
+                "point_m": [0, 0, -0.3], "normal": [0, 0, 1]}"#,
+        );
+        let lazy = run_scene(&json, |d| d.lazy_carry = true);
+        let eager = run_scene(&json, |d| d.lazy_carry = false);
         assert_eq!(eager.quiet_skips, 0);
         let skipped = lazy.quiet_skips;
         println!(
@@ -1882,6 +1857,31 @@ mod tests {
         assert!(lazy.events == eager.events, "the contact events differ");
         // The thrown apple landed on the first apple fed, riding since about 0.4 s, at 1 s.
         assert!(lazy.events.contains(r#"a: "thrown", b: "feed-1""#));
+    }
+
+    /// Eight apples (75 +- 5 mm) fed at 4 a second onto a 3 m rubber belt running at 0.4 m/s,
+    /// for `duration_s`, with the listed `apples` (JSON objects) and `more_surfaces` (a comma
+    /// and JSON objects) besides; steel is defined for them.
+    fn fed_belt(duration_s: f64, apples: &str, more_surfaces: &str) -> String {
+        format!(
+            r#"{{
+            "duration_s": {duration_s}, "time_step_s": "adaptive",
+            "gravity_m_s2": [0, 0, -9.81],
+            "output": {{"sample_interval_s": 0.5, "force_history": false}},
+            "materials": {{"apple": {{"preset": "apple-paper"}},
+                "rubber": {{"youngs_modulus_pa": 5e6, "poisson_ratio": 0.45}},
+                "steel": {{"youngs_modulus_pa": 2e11, "poisson_ratio": 0.3}}}},
+            "contact": {{"friction": 0.5, "ke": 0.09, "lambda_s_m": 1000}},
+            "apples": [{apples}],
+            "sources": [{{"name": "feed", "material": "apple",
+                "diameter_m": {{"mean_m": 0.075, "spread_m": 0.005}},
+                "position_m": [-1.4, 0, 0.0601], "jitter_m": 0.0, "velocity_m_s": [0.4, 0, 0],
+                "rate_per_s": 4, "count": 8, "seed": 5}}],
+            "surfaces": [{{"name": "belt", "type": "conveyor", "material": "rubber",
+                "size_m": [3.0, 0.5, 0.04], "position_m": [0, 0, 0], "belt_velocity_m_s": 0.4}}
+                {more_surfaces}]
+        }}"#
+        )
     }
 
     /// What [`run_scene`] leaves: every step's end time and the final centres, as bits, the
