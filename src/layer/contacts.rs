@@ -190,6 +190,24 @@ impl Carries {
         let to = self.log.partition_point(|e| e.0 <= last);
         &self.log[from..to.max(from)]
     }
+
+    /// Carries record `r` through the steps `owed`.
+    fn replay(&self, owed: (u64, u64), r: &mut OpenContact) {
+        for &(_, dt, t) in self.owed(owed) {
+            r.carry(dt, t);
+        }
+    }
+
+    /// Slot `k` owes nothing more (the log starts again once no slot owes).
+    fn forget(&mut self, k: usize) {
+        if self.pending[k] != NOT_OWED {
+            self.pending[k] = NOT_OWED;
+            self.count -= 1;
+            if self.count == 0 {
+                self.log.clear();
+            }
+        }
+    }
 }
 
 impl ContactStore {
@@ -257,19 +275,10 @@ impl ContactStore {
     /// that.
     pub fn end_quiet(&mut self, k: u32, through: u64) {
         let c = &mut self.carries;
-        let Some(p) = c.pending.get_mut(k as usize) else {
-            return;
-        };
-        if p.1 == OPEN {
-            if through < p.0 {
-                *p = NOT_OWED;
-                c.count -= 1;
-                if c.count == 0 {
-                    c.log.clear();
-                }
-            } else {
-                p.1 = through;
-            }
+        match c.pending.get(k as usize) {
+            Some(&(first, OPEN)) if through < first => c.forget(k as usize),
+            Some(&(_, OPEN)) => c.pending[k as usize].1 = through,
+            _ => {}
         }
     }
 
@@ -282,22 +291,13 @@ impl ContactStore {
         if owed == NOT_OWED {
             return;
         }
-        let entries = c.owed(owed);
         if let Some(r) = self.slots[k as usize].record.as_mut() {
-            for &(_, dt, t) in entries {
-                r.carry(dt, t);
-            }
+            c.replay(owed, r);
         }
         match (owed.1, c.log.last()) {
             (OPEN, Some(e)) => c.pending[k as usize].0 = owed.0.max(e.0 + 1),
             (OPEN, None) => {}
-            _ => {
-                c.pending[k as usize] = NOT_OWED;
-                c.count -= 1;
-                if c.count == 0 {
-                    c.log.clear();
-                }
-            }
+            _ => c.forget(k as usize),
         }
     }
 
@@ -337,9 +337,7 @@ impl ContactStore {
                         Cow::Borrowed(r)
                     } else {
                         let mut r = r.clone();
-                        for &(_, dt, t) in self.carries.owed(owed) {
-                            r.carry(dt, t);
-                        }
+                        self.carries.replay(owed, &mut r);
                         Cow::Owned(r)
                     }
                 });
@@ -351,14 +349,8 @@ impl ContactStore {
     pub fn remove(&mut self, k: u32) -> Option<OpenContact> {
         debug_assert!(self.is_live(k));
         self.apply_carries(k);
-        if self.carries.pending[k as usize] != NOT_OWED {
-            // A quiet rider's contact ended: it owes nothing more.
-            self.carries.pending[k as usize] = NOT_OWED;
-            self.carries.count -= 1;
-            if self.carries.count == 0 {
-                self.carries.log.clear();
-            }
-        }
+        // A quiet rider's contact still owes the steps to come: it ended.
+        self.carries.forget(k as usize);
         self.stamps[k as usize] = FREE;
         self.free.push(k);
         let c = &mut self.slots[k as usize];

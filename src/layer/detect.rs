@@ -416,7 +416,7 @@ impl Detection {
                         && self.candidates[c0].first == slot
                         && cx
                             .sleep
-                            .ride(k)
+                            .ride_ref(k)
                             .is_some_and(|r| r.surface == self.candidates[c0].surface);
                     if !stays {
                         cx.contacts.end_quiet(slot, self.skipped_through[k]);
