@@ -137,6 +137,29 @@ impl RestingBound {
         u <= self.u_m && rate * rate <= self.rate2
     }
 
+    /// Whether the exact limit at overlap `u` and rate `rate` may be skipped: the bound holds
+    /// there and exceeds `best`, a limit already offered, so the exact one cannot set the step.
+    #[inline]
+    pub fn skips(&self, best: f64, u: f64, rate: f64) -> bool {
+        self.dt_s > best && self.covers(u, rate)
+    }
+
+    /// After an exact resting limit at overlap `u` and rate `rate`: a new bound from there
+    /// unless the one held still covers them (arguments as [`Self::new`]).
+    pub(super) fn refresh(
+        &mut self,
+        c: &StepControl,
+        m_n: f64,
+        k: f64,
+        u: f64,
+        rate: f64,
+        tangential: impl FnOnce(f64) -> f64,
+    ) {
+        if !self.covers(u, rate) {
+            *self = Self::new(c, m_n, k, u, tangential);
+        }
+    }
+
     /// The bound over overlaps up to `u` (1 + 1/64) (0.4 % below the limit at `u`; detection
     /// makes a new one when the overlap or its rate passes it) for the pair's normal mass
     /// `m_n` and stiffness `k`; `tangential(u)` gives the stick spring's half period at overlap

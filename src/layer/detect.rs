@@ -831,11 +831,12 @@ impl Detection {
                         && surf.turned_by_contacts.is_none()
                         && best.is_some_and(|(k, _)| {
                             let c = cx.contacts.get(k);
-                            let bound = &c.resting_bound;
                             c.curvature2.to_bits() == hit.curvature_1_m.to_bits()
-                                && bound.dt_s > cx.out.stats.dt_limit_s
-                                && bound
-                                    .covers(hit.overlap_m, (v_s - cx.frame.vel[a]).dot(hit.normal))
+                                && c.resting_bound.skips(
+                                    cx.out.stats.dt_limit_s,
+                                    hit.overlap_m,
+                                    (v_s - cx.frame.vel[a]).dot(hit.normal),
+                                )
                         });
                     #[cfg(test)]
                     let bounded = bounded && self.bound_skip;
@@ -933,16 +934,14 @@ impl Detection {
                             if let (StepLimit::Resting, None, None, Some((k, _))) =
                                 (lim.1, &shape, turned, best)
                             {
-                                let bound = &mut cx.contacts.get_mut(k).resting_bound;
-                                if !bound.covers(hit.overlap_m, rate) {
-                                    *bound = RestingBound::new(
-                                        &c,
-                                        m_n,
-                                        k_n,
-                                        hit.overlap_m,
-                                        tangential_at,
-                                    );
-                                }
+                                cx.contacts.get_mut(k).resting_bound.refresh(
+                                    &c,
+                                    m_n,
+                                    k_n,
+                                    hit.overlap_m,
+                                    rate,
+                                    tangential_at,
+                                );
                             }
                             if let Some(t_stick) = on_roller {
                                 // A light free roller's spin rings on the stick spring faster
@@ -1380,7 +1379,7 @@ impl PairView<'_> {
                 && run.found.limit.is_some_and(|(best, _)| {
                     // SAFETY: the pair's own contact.
                     let bound = &unsafe { self.slots.get(p.contact) }.resting_bound;
-                    bound.dt_s > best && bound.covers(u, (frame.vel[j] - frame.vel[i]).dot(n))
+                    bound.skips(best, u, (frame.vel[j] - frame.vel[i]).dot(n))
                 });
             #[cfg(test)]
             let bounded = bounded && self.bound_skip;
@@ -1468,10 +1467,9 @@ impl PairView<'_> {
                     run.found.limit(lim.0, lim.1);
                     if lim.1 == StepLimit::Resting && shaped.is_none() && p.contact != NONE {
                         // SAFETY: the pair's own contact.
-                        let bound = &mut unsafe { self.slots.get(p.contact) }.resting_bound;
-                        if !bound.covers(u, rate) {
-                            *bound = RestingBound::new(&c, m_n, k_n, u, tangential);
-                        }
+                        unsafe { self.slots.get(p.contact) }
+                            .resting_bound
+                            .refresh(&c, m_n, k_n, u, rate, tangential);
                     }
                 }
             }
